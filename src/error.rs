@@ -1,0 +1,59 @@
+//! Typed errors of the library: one variant per failure, messages in lowercase that name the
+//! offending value and what would be valid. The binary adds context and maps them to exit codes.
+
+use thiserror::Error;
+
+/// Every error the library returns.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum Error {
+    /// A physical parameter is NaN or infinite.
+    #[error("{name} = {value} is not a finite number")]
+    NotFinite { name: &'static str, value: f64 },
+    /// A coefficient that must be non-negative is negative.
+    #[error("{name} = {value} is negative; it must be >= 0")]
+    Negative { name: &'static str, value: f64 },
+    /// The Henyey–Greenstein asymmetry is outside the open interval (-1, 1).
+    #[error("g = {0} is outside (-1, 1)")]
+    AsymmetryOutOfRange(f64),
+    /// The relative index of refraction is not positive.
+    #[error("eta = {0} must be > 0")]
+    EtaNotPositive(f64),
+    /// σ′t = σ′s + σa is zero: the medium neither scatters nor absorbs.
+    #[error("reduced extinction sigma_t' = 0 (sigma_s*(1-g) + sigma_a): the medium is vacuum")]
+    Vacuum,
+    /// A value is outside the range the quantity allows.
+    #[error("{name} = {value} is outside [{min}, {max}]")]
+    OutOfRange {
+        name: &'static str,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+}
+
+/// Result with the library's error type.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Checks that `value` is finite, naming it in the error otherwise.
+pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::NotFinite { name, value })
+    }
+}
+
+/// Checks that `value` is finite and within `[min, max]`.
+pub(crate) fn in_range(name: &'static str, value: f64, min: f64, max: f64) -> Result<f64> {
+    finite(name, value)?;
+    if (min..=max).contains(&value) {
+        Ok(value)
+    } else {
+        Err(Error::OutOfRange {
+            name,
+            value,
+            min,
+            max,
+        })
+    }
+}

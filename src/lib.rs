@@ -1,0 +1,17 @@
+//! bssrdf-zoo: tabulated BSSRDF models for physically based rendering.
+//!
+//! The core model is photon beam diffusion (PBD) evaluated at any angle of incidence
+//! (Habel, Christensen, Jarosz 2013; Ferrier 2016), with the angular table model of
+//! Ferrier's report built on top of it.
+//!
+//! Conventions used everywhere in the crate:
+//! - coefficients in mm⁻¹, distances in mm, unless a name says "reduced" or "optical":
+//!   then distances are in reduced mean free paths (σ′t = 1);
+//! - the incidence angle θ is measured from the surface normal *before* refraction;
+//! - the exit point is at polar coordinates (r, φ) around the entry point, with
+//!   **φ = 0 forward**: in the plane of incidence, on the side the refracted beam travels to;
+//! - the API takes angles in radians; the command line takes degrees.
+
+pub mod error;
+
+pub use error::{Error, Result};
