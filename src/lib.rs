@@ -15,3 +15,5 @@
 pub mod error;
 
 pub use error::{Error, Result};
+pub mod fresnel;
+pub mod quadrature;

@@ -1,0 +1,204 @@
+//! Fresnel reflectance of a smooth dielectric boundary and its hemispherical moments.
+//!
+//! - [`reflectance`]: the unpolarised reflectance for light arriving at cosine `cos_i` on one
+//!   side of a boundary whose *relative* index (far side over near side) is `eta`; total
+//!   internal reflection gives 1.
+//! - [`moment`]: the n-th hemispherical moment F_n(η) = ∫₀¹ F_r(μ) μⁿ dμ of the reflectance seen
+//!   **from inside** a medium of relative index η (so the far side has relative index 1/η).
+//!   This is the convention of pbrt's `FresnelMoment1/2` and of d'Eon & Irving's C₁ = F₁ and
+//!   C₂ = F₂: F₁(1.33) ≈ 0.2365 is large because of total internal reflection.
+//!   The exact moment is integrated numerically (split at the critical cosine, with the square
+//!   root singularity there removed by a change of variable) to ~1e-14.
+//! - [`pbrt_moment1`], [`pbrt_moment2`]: pbrt-v3's fifth-order polynomial fits (d'Eon & Irving
+//!   2011, halved and thirded), with pbrt's f32-rounded coefficients. They are accurate to about
+//!   1e-3 and go slightly negative near η = 1; they exist to reproduce pbrt's numbers.
+
+use crate::quadrature::adaptive;
+
+/// Which Fresnel moments a diffusion model uses.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Moments {
+    /// Exact moments, integrated numerically once per η.
+    #[default]
+    Exact,
+    /// pbrt-v3's polynomial fits (f32 coefficients), for comparison with pbrt.
+    Pbrt,
+}
+
+impl Moments {
+    /// (F₁, F₂) for relative index η (> 0).
+    pub fn evaluate(self, eta: f64) -> (f64, f64) {
+        match self {
+            Moments::Exact => (moment(1, eta), moment(2, eta)),
+            Moments::Pbrt => (pbrt_moment1(eta), pbrt_moment2(eta)),
+        }
+    }
+}
+
+/// Unpolarised Fresnel reflectance for incidence cosine `cos_i` ∈ [0, 1] and relative index
+/// `eta` = n_far / n_near (> 0). Returns 1 beyond the critical angle. Inputs outside the domain
+/// are clamped (cosine to [0, 1]); a non-positive or NaN `eta` gives 1 (nothing transmitted).
+pub fn reflectance(cos_i: f64, eta: f64) -> f64 {
+    if !(eta > 0.0) || !eta.is_finite() {
+        return 1.0;
+    }
+    let cos_i = if cos_i.is_nan() {
+        0.0
+    } else {
+        cos_i.clamp(0.0, 1.0)
+    };
+    // Snell: sin_t = sin_i / eta.
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let r_parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r_perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
+}
+
+/// Unpolarised Fresnel transmittance 1 − [`reflectance`].
+pub fn transmittance(cos_i: f64, eta: f64) -> f64 {
+    1.0 - reflectance(cos_i, eta)
+}
+
+/// Exact n-th hemispherical moment of the internal reflectance, F_n(η) = ∫₀¹ F_r(μ; 1/η) μⁿ dμ.
+///
+/// For η > 1, light inside is totally reflected for μ < μ_c = √(1 − 1/η²); that part integrates
+/// to μ_cⁿ⁺¹/(n+1) exactly. Above μ_c the transmitted cosine behaves like √(μ − μ_c); the
+/// substitution μ = μ_c + (1 − μ_c)s² makes the integrand smooth in s.
+pub fn moment(n: i32, eta: f64) -> f64 {
+    if !(eta > 0.0) || !eta.is_finite() {
+        return f64::NAN;
+    }
+    let eta_inside_to_out = 1.0 / eta;
+    let mu_c = if eta > 1.0 {
+        (1.0 - 1.0 / (eta * eta)).max(0.0).sqrt()
+    } else {
+        0.0
+    };
+    let total_internal = mu_c.powi(n + 1) / (n as f64 + 1.0);
+    let width = 1.0 - mu_c;
+    let partial = adaptive(
+        |s| {
+            let mu = mu_c + width * s * s;
+            reflectance(mu, eta_inside_to_out) * mu.powi(n) * 2.0 * width * s
+        },
+        &[0.0, 0.5, 1.0],
+        1e-14,
+        1e-16,
+        400,
+    );
+    total_internal + partial.value
+}
+
+/// Evaluates Σ cᵢ xⁱ with coefficients rounded to f32 first, as pbrt's literals are.
+fn poly_f32(coefficients: &[f64], x: f64) -> f64 {
+    coefficients
+        .iter()
+        .rev()
+        .fold(0.0, |acc, &c| acc * x + (c as f32) as f64)
+}
+
+/// pbrt-v3 `FresnelMoment1(η)`: polynomial fit of F₁ (coefficients in notes-pbrt §1.3).
+pub fn pbrt_moment1(eta: f64) -> f64 {
+    if eta < 1.0 {
+        poly_f32(
+            &[0.45966, -1.73965, 3.37668, -3.904945, 2.49277, -0.68441],
+            eta,
+        )
+    } else {
+        poly_f32(
+            &[-4.61686, 11.1136, -10.4646, 5.11455, -1.27198, 0.12746],
+            eta,
+        )
+    }
+}
+
+/// pbrt-v3 `FresnelMoment2(η)`: polynomial fit of F₂, with 1/η terms above η = 1.
+pub fn pbrt_moment2(eta: f64) -> f64 {
+    if eta < 1.0 {
+        poly_f32(
+            &[0.27614, -0.87350, 1.12077, -0.65095, 0.07883, 0.04860],
+            eta,
+        )
+    } else {
+        let inv = 1.0 / eta;
+        poly_f32(
+            &[-547.033, 404.557, -189.519, 54.9327, -9.00603, 0.63942],
+            eta,
+        ) + ((458.843f32 as f64) + ((-218.725f32 as f64) + (45.3087f32 as f64) * inv) * inv) * inv
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normal_incidence_reflectance_matches_the_closed_form() {
+        for eta in [0.5f64, 1.0, 1.33, 2.5] {
+            let want = ((eta - 1.0) / (eta + 1.0)).powi(2);
+            assert!((reflectance(1.0, eta) - want).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn reflectance_is_one_beyond_the_critical_angle_and_at_grazing() {
+        let eta: f64 = 1.0 / 1.33;
+        let cos_c = (1.0 - eta * eta).sqrt();
+        assert_eq!(reflectance(cos_c * 0.999, eta), 1.0);
+        assert!(reflectance(cos_c * 1.001, eta) < 1.0);
+        assert!((reflectance(0.0, 1.5) - 1.0).abs() < 1e-12);
+        assert!(reflectance(0.3, 1.0) < 1e-30);
+    }
+
+    #[test]
+    fn reflectance_is_the_same_from_both_sides_of_a_refraction() {
+        // Stokes reciprocity: R(θi, η) = R(θt, 1/η).
+        let eta = 1.4;
+        for cos_i in [0.1, 0.4, 0.9] {
+            let sin_t = (1.0f64 - cos_i * cos_i).sqrt() / eta;
+            let cos_t = (1.0 - sin_t * sin_t).sqrt();
+            assert!((reflectance(cos_i, eta) - reflectance(cos_t, 1.0 / eta)).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn moments_vanish_at_index_match_and_agree_with_pbrt_fits() {
+        assert!(moment(1, 1.0).abs() < 1e-15);
+        assert!(moment(2, 1.0).abs() < 1e-15);
+        // pbrt's fits are accurate to about 1e-3 (notes-pbrt §1.3 table: 0.236478, 0.1085).
+        for eta in [1.1, 1.33, 1.5, 2.0] {
+            assert!(
+                (moment(1, eta) - pbrt_moment1(eta)).abs() < 2e-3,
+                "eta {eta}"
+            );
+            assert!(
+                (moment(2, eta) - pbrt_moment2(eta)).abs() < 2e-3,
+                "eta {eta}"
+            );
+        }
+        assert!((pbrt_moment1(1.33) - 0.236478).abs() < 2e-6);
+        assert!((pbrt_moment2(1.33) - 0.108534).abs() < 2e-6);
+    }
+
+    #[test]
+    fn moments_match_a_brute_force_midpoint_sum() {
+        let n = 2_000_000;
+        for eta in [0.75, 1.33, 2.5] {
+            let brute: f64 = (0..n)
+                .map(|i| {
+                    let mu = (i as f64 + 0.5) / n as f64;
+                    reflectance(mu, 1.0 / eta) * mu
+                })
+                .sum::<f64>()
+                / n as f64;
+            assert!((brute - moment(1, eta)).abs() < 1e-8, "eta {eta}");
+        }
+    }
+}
