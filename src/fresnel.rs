@@ -42,7 +42,7 @@ impl Moments {
 /// `eta` = n_far / n_near (> 0). Returns 1 beyond the critical angle. Inputs outside the domain
 /// are clamped (cosine to [0, 1]); a non-positive or NaN `eta` gives 1 (nothing transmitted).
 pub fn reflectance(cos_i: f64, eta: f64) -> f64 {
-    if !(eta > 0.0) || !eta.is_finite() {
+    if !eta.is_finite() || eta <= 0.0 {
         return 1.0;
     }
     let cos_i = if cos_i.is_nan() {
@@ -72,7 +72,7 @@ pub fn transmittance(cos_i: f64, eta: f64) -> f64 {
 /// to μ_cⁿ⁺¹/(n+1) exactly. Above μ_c the transmitted cosine behaves like √(μ − μ_c); the
 /// substitution μ = μ_c + (1 − μ_c)s² makes the integrand smooth in s.
 pub fn moment(n: i32, eta: f64) -> f64 {
-    if !(eta > 0.0) || !eta.is_finite() {
+    if !eta.is_finite() || eta <= 0.0 {
         return f64::NAN;
     }
     let eta_inside_to_out = 1.0 / eta;

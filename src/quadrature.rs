@@ -228,7 +228,7 @@ pub fn adaptive(
         }
         let Some(worst) = heap.pop() else { break };
         let mid = 0.5 * (worst.a + worst.b);
-        if !(mid > worst.a && mid < worst.b) {
+        if mid <= worst.a || mid >= worst.b || mid.is_nan() {
             // The panel cannot be split further in floating point.
             heap.push(worst);
             break;
