@@ -16,4 +16,6 @@ pub mod error;
 
 pub use error::{Error, Result};
 pub mod fresnel;
+pub mod medium;
+pub mod pbd;
 pub mod quadrature;
