@@ -184,6 +184,70 @@ impl Pbd {
         }
     }
 
+    /// Effective albedo ρ_eff(θ) = ∫∫ S_p^MS(r, φ; θ) r dr dφ, the multiply scattered power
+    /// leaving per unit power entering (0 where no light enters).
+    ///
+    /// Computed independently of [`Pbd::eval`]: the plane is translation invariant, so the
+    /// order of integration can be swapped. A source at depth z = t cos θ′ contributes
+    /// 2π ∫_z^∞ κ(t, d) E_dipole(d) d dd over the plane (d the distance to the exit point), and
+    /// ρ_eff = ρ′² ∫ e^{−t} (that) dt. Only the depth of the sources depends on θ. Both integrals
+    /// are adaptive (relative tolerance 1e-9); the radial one is mapped onto [0, 1) so the
+    /// power-law tail at ρ′ = 1 is integrated to infinity.
+    pub fn effective_albedo(&self, theta: f64) -> f64 {
+        if !(0.0..=0.5 * PI).contains(&theta) {
+            return 0.0;
+        }
+        let sin_t = theta.sin() / self.boundary.eta();
+        if sin_t > 1.0 || self.diffusion.rho_prime == 0.0 {
+            return 0.0;
+        }
+        let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
+        let ReducedDiffusion {
+            rho_prime,
+            d,
+            sigma_tr,
+        } = self.diffusion;
+        let z_b = self.z_b;
+        let (c_phi, c_e) = (self.boundary.c_phi(), self.boundary.c_e());
+        let plane = |t: f64| {
+            let z = t * cos_t;
+            let z_v = z + 2.0 * z_b;
+            let dv2_minus_d2 = 4.0 * z_b * (z + z_b);
+            let radial = |y: f64| {
+                // d = z + y/(1 − y), dd = dy/(1 − y)².
+                let one_minus = 1.0 - y;
+                let dist = z + y / one_minus;
+                let jac = 1.0 / (one_minus * one_minus);
+                if dist == 0.0 {
+                    return 0.0;
+                }
+                let d_v = (dist * dist + dv2_minus_d2).sqrt();
+                let delta = dv2_minus_d2 / (d_v + dist);
+                let e_r = (-sigma_tr * dist).exp();
+                let kappa = -(-2.0 * (dist + t)).exp_m1();
+                // d·(e^{−σd}/d − e^{−σ d_v}/d_v) = e^{−σd}(1 − (d/d_v)e^{−σδ}).
+                let fluence = c_phi / (4.0 * PI * d)
+                    * e_r
+                    * -(-(sigma_tr * delta + (delta / dist).ln_1p())).exp_m1();
+                let flux = c_e / (4.0 * PI)
+                    * e_r
+                    * (z * (1.0 + sigma_tr * dist) / (dist * dist)
+                        + z_v * (1.0 + sigma_tr * d_v) * (-sigma_tr * delta).exp() * dist
+                            / (d_v * d_v * d_v));
+                2.0 * PI * kappa * (fluence + flux) * jac
+            };
+            adaptive(radial, &[0.0, 0.5, 0.9, 0.99, 1.0], 1e-10, 1e-300, 2000).value
+        };
+        let outer = adaptive(
+            |t| (-t).exp() * plane(t),
+            &[0.0, 0.05, 1.0, 4.0, 12.0, TAIL_NATS],
+            1e-9,
+            1e-300,
+            2000,
+        );
+        rho_prime * rho_prime * outer.value
+    }
+
     fn setup(&self, theta: f64, r: f64, phi: f64) -> Setup {
         let rho = self.diffusion.rho_prime;
         if !(0.0..=0.5 * PI).contains(&theta) || !r.is_finite() || r < 0.0 || !phi.is_finite() {
