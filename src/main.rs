@@ -1,1 +1,20 @@
-fn main() {}
+//! The `bssrdf` command: parses arguments, calls the library, prints.
+//!
+//! Exit codes: 0 success; 1 a check failed (validate, diff); 2 bad input or usage.
+//! A closed pipe on stdout (`bssrdf sample ... | head`) ends the program quietly with 0.
+
+mod cli;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let args = <cli::Cli as clap::Parser>::parse();
+    match cli::run(args) {
+        Ok(code) => code,
+        Err(err) if err.is_broken_pipe() => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err}");
+            ExitCode::from(err.exit_code())
+        }
+    }
+}
