@@ -1,5 +1,6 @@
-//! Catmull-Rom splines on non-uniform nodes: interpolation weights, exact integration, and
-//! inversion of a monotone spline.
+//! Catmull-Rom splines on non-uniform nodes: interpolation weights, exact integration, sampling
+//! of a density shaped like the spline (with its pdf and CDF), and inversion of a monotone
+//! spline.
 //!
 //! This is the spline pbrt uses for its BSSRDF tables (pbrt-v3 `core/interpolation.cpp`,
 //! pbrt-v4 `util/math.cpp` and `util/sampling.cpp`), after Catmull and Rom, "A class of local
@@ -23,11 +24,19 @@
 //! below zero next to steep drops (for example in the tail of an exponential profile on a
 //! geometric grid).
 //!
+//! # Sampling
+//! [`Nodes::sample`], [`Nodes::pdf`] and [`Nodes::cdf`] form a triad for a density shaped like
+//! the spline. The caller supplies the CDF table C (from [`Nodes::integrate`] or
+//! [`Nodes::integrate_positive`], possibly rounded to f32 or interpolated between rows). Each
+//! segment gets the probability its table entries give it, spread in proportion to max(s, 0):
+//! negative lobes get density 0 instead of a negative one. The triad is exact whenever C never
+//! decreases; where it does, see [`Nodes::pdf`] for the (small) discrepancy.
+//!
 //! # Conventions
 //! - Values are read through closures `Fn(usize) -> f64`, called only with node indices in
-//!   `0..n`. A caller can therefore interpolate table rows on the fly or read f32
-//!   storage. Nothing on the evaluation or sampling paths allocates.
-//! - Nothing panics. A NaN or out-of-range argument gives `None`.
+//!   `0..n`. A caller can therefore interpolate table rows on the fly (see [`Nodes::sample`]),
+//!   or read f32 storage. Nothing on the evaluation or sampling paths allocates.
+//! - Nothing panics. A NaN or out-of-range argument gives `None` (or 0 for a pdf).
 //! - Equations are solved by Newton's method safeguarded by bisection, as in Numerical
 //!   Recipes' `rtsafe`. The solve stops when a step is at most [`T_TOLERANCE`] in t, when the
 //!   residual is at rounding level (4ε times the polynomial's summed coefficient magnitudes),
@@ -44,7 +53,7 @@ pub const T_TOLERANCE: f64 = 1e-12;
 
 /// Iteration cap of the Newton–bisection solves. Each iteration is either a Newton step that at
 /// least halves the step before last, or a bisection, so the cap is a guard rather than a
-/// limit.
+/// limit: the tests' samplers average 3–4.5 iterations, at most 13.
 pub const MAX_ITERATIONS: usize = 100;
 
 /// Strictly increasing, finite spline nodes (at least 2), validated once at construction.
@@ -65,6 +74,17 @@ pub struct Weights {
     w: [f64; 4],
 }
 
+/// One draw from the density of a spline (see [`Nodes::sample`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// The sampled point, in [x₀, x_{n−1}].
+    pub x: f64,
+    /// The spline value s(x) (> 0).
+    pub value: f64,
+    /// The probability density at `x`, per unit of x (> 0 and finite).
+    pub pdf: f64,
+}
+
 /// One segment of a spline: its ends, end values and end slopes in t-units.
 #[derive(Debug, Clone, Copy)]
 struct Segment {
@@ -74,6 +94,28 @@ struct Segment {
     f1: f64,
     d0: f64,
     d1: f64,
+}
+
+/// A segment with the parts of t ∈ [0, 1] where its cubic is positive.
+#[derive(Debug, Clone, Copy)]
+struct Positive {
+    segment: Segment,
+    /// Increasing, disjoint intervals of t where s > 0; unused entries are empty (a = b).
+    parts: [(f64, f64); 4],
+    /// P(1) = ∫₀¹ max(s, 0) dt.
+    mass: f64,
+}
+
+/// One segment together with the CDF that a caller supplied for it.
+#[derive(Debug, Clone, Copy)]
+struct Piece {
+    positive: Positive,
+    /// Cumulative value at the segment's first node.
+    c0: f64,
+    /// Cumulative increase over the segment, C_{k+1} − C_k.
+    dc: f64,
+    /// Total, C_{n−1}.
+    total: f64,
 }
 
 impl Nodes {
@@ -166,13 +208,25 @@ impl Nodes {
     ///
     /// Segment i contributes wᵢ·((fᵢ + f_{i+1})/2 + (d₀ − d₁)/12), the integral of its cubic.
     /// This is pbrt's `IntegrateCatmullRom` (its total is ρ_eff). Where the spline undershoots,
-    /// C can decrease.
+    /// C can decrease; see [`Nodes::integrate_positive`] for a CDF that cannot.
     /// Returns `None` if `cumulative.len()` is not the number of nodes.
     pub fn integrate(&self, values: impl Fn(usize) -> f64, cumulative: &mut [f64]) -> Option<f64> {
         self.accumulate(values, cumulative, |segment| segment.integral())
     }
 
-    /// Running sum of wᵢ·`integral(segment i)`, for the integrals above.
+    /// Like [`Nodes::integrate`], but integrates the positive part max(s, 0): segment i
+    /// contributes wᵢ·Pᵢ with Pᵢ = ∫₀¹ max(s, 0) dt, which needs the roots of the cubic where
+    /// it undershoots. The result never decreases, so with it [`Nodes::sample`],
+    /// [`Nodes::pdf`] and [`Nodes::cdf`] describe exactly the density max(s, 0)/T.
+    pub fn integrate_positive(
+        &self,
+        values: impl Fn(usize) -> f64,
+        cumulative: &mut [f64],
+    ) -> Option<f64> {
+        self.accumulate(values, cumulative, |segment| segment.positive().mass)
+    }
+
+    /// Running sum of wᵢ·`integral(segment i)`, for the two integrals above.
     fn accumulate(
         &self,
         values: impl Fn(usize) -> f64,
@@ -190,6 +244,147 @@ impl Nodes {
             *c = total;
         }
         Some(total)
+    }
+
+    /// Draws x from the density of the spline through `values` (see [`Nodes::pdf`]) by
+    /// inverting [`Nodes::cdf`] at `u` ∈ [0, 1].
+    ///
+    /// `cumulative(k)` is the CDF table Cₖ: normally the running integral written by
+    /// [`Nodes::integrate`] or [`Nodes::integrate_positive`] for the same `values`, perhaps
+    /// stored rounded or interpolated between table rows. Its last entry is the total T. Find the segment k with Cₖ ≤ u·T < C_{k+1} by binary search, then
+    /// solve Cₖ + (C_{k+1} − Cₖ)·P(t)/P(1) = u·T for t by Newton–bisection, where
+    /// P(t) = ∫₀ᵗ max(s, 0) dt is the integrated positive part of the segment's cubic.
+    ///
+    /// Returns `None` if `u` is NaN or outside [0, 1], if T is not positive and finite (for
+    /// example all values zero), or if the density at the solution is 0 (for example u = 0
+    /// when f₀ = 0). Every returned sample has a positive, finite pdf equal to [`Nodes::pdf`]
+    /// at `x` up to rounding, and [`Nodes::cdf`] at `x` gives back `u` up to the solver
+    /// tolerance.
+    ///
+    /// # Sampling a row-interpolated table
+    /// Interpolate along the first axis with [`Weights`] and sample along the second:
+    /// ```
+    /// use bssrdf_zoo::catmull_rom::Nodes;
+    /// # fn main() -> bssrdf_zoo::Result<()> {
+    /// let albedo = Nodes::new(vec![0.0, 0.5, 0.9, 1.0])?;
+    /// let radius = Nodes::new(vec![0.0, 0.1, 0.3, 1.0, 3.0])?;
+    /// let n = radius.as_slice().len();
+    /// // One row per albedo node, stored as f32 as a table would be.
+    /// let mut profile = Vec::new();
+    /// let mut cdf = Vec::new();
+    /// for &a in albedo.as_slice() {
+    ///     let row: Vec<f64> = radius.as_slice().iter().map(|r| a * r * (-r).exp()).collect();
+    ///     let mut row_cdf = vec![0.0; n];
+    ///     radius.integrate(|j| row[j], &mut row_cdf);
+    ///     profile.extend(row.iter().map(|&v| v as f32));
+    ///     cdf.extend(row_cdf.iter().map(|&c| c as f32));
+    /// }
+    /// let w = albedo.weights(0.7).expect("0.7 is inside the albedo nodes");
+    /// let row = |j: usize| w.apply(|i| f64::from(profile[i * n + j]));
+    /// let row_cdf = |j: usize| w.apply(|i| f64::from(cdf[i * n + j]));
+    /// let s = radius.sample(row, row_cdf, 0.5).expect("the density is positive");
+    /// assert!((radius.pdf(row, row_cdf, s.x) - s.pdf).abs() < 1e-9 * s.pdf);
+    /// assert!((radius.cdf(row, row_cdf, s.x).unwrap() - 0.5).abs() < 1e-9);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn sample(
+        &self,
+        values: impl Fn(usize) -> f64,
+        cumulative: impl Fn(usize) -> f64,
+        u: f64,
+    ) -> Option<Sample> {
+        if !(0.0..=1.0).contains(&u) {
+            return None;
+        }
+        let total = cumulative(self.x.len() - 1);
+        if !positive_finite(total) {
+            return None;
+        }
+        let goal = u * total;
+        let k = find_interval(self.x.len(), |i| cumulative(i) <= goal);
+        let piece = self.piece(k, &values, &cumulative, total)?;
+        let positive = piece.positive;
+        if !positive_finite(piece.dc) || !positive_finite(positive.mass) {
+            return None;
+        }
+        let share = ((goal - piece.c0) / piece.dc).clamp(0.0, 1.0);
+        let t = positive.solve(share * positive.mass);
+        let pdf = piece.pdf(t);
+        if pdf <= 0.0 {
+            return None;
+        }
+        Some(Sample {
+            x: positive.segment.at(t),
+            value: positive.segment.value(t),
+            pdf,
+        })
+    }
+
+    /// The density that [`Nodes::sample`] draws from, per unit of x, at `x`:
+    ///
+    /// p(x) = (C_{k+1} − Cₖ)·max(s(x), 0)/(wₖ·Pₖ·T) on segment k, with Pₖ = ∫₀¹ max(s, 0) dt.
+    ///
+    /// Each segment carries the probability (C_{k+1} − Cₖ)/T that the table gives it, spread in
+    /// proportion to the positive part of the spline: negative lobes get density 0. With C
+    /// from [`Nodes::integrate_positive`] this is max(s(x), 0)/T; with C from
+    /// [`Nodes::integrate`] and a spline ≥ 0 it is s(x)/T. A table rounded to f32 only
+    /// rescales each segment slightly. Sample, pdf and cdf are an exact triad whenever C never
+    /// decreases.
+    ///
+    /// C can decrease when it comes from [`Nodes::integrate`] and a tail undershoots, or when
+    /// table rows are interpolated with Catmull-Rom weights (some are negative). Segments where
+    /// it decreases get density 0, and the sampler cannot reach the stretch before them where C
+    /// exceeds its later values. Sampler and pdf then disagree by about the total decrease of
+    /// C, relative to T (2·10⁻⁷ for the exponential profile of the tests on pbrt's radius
+    /// grid).
+    ///
+    /// Returns 0 for NaN `x`, `x` outside [x₀, x_{n−1}], a total T that is not positive and
+    /// finite, and segments where C_{k+1} − Cₖ or Pₖ is not positive.
+    pub fn pdf(
+        &self,
+        values: impl Fn(usize) -> f64,
+        cumulative: impl Fn(usize) -> f64,
+        x: f64,
+    ) -> f64 {
+        let total = cumulative(self.x.len() - 1);
+        self.find_segment(x)
+            .and_then(|k| self.piece(k, &values, &cumulative, total))
+            .map_or(0.0, |piece| piece.pdf(piece.positive.segment.t_at(x)))
+    }
+
+    /// The CDF of the sampled density at `x`, the inverse of [`Nodes::sample`]: on segment k,
+    /// u = (Cₖ + (C_{k+1} − Cₖ)·P(t)/P(1))/T, clamped to [0, 1]; 0 below x₀ and 1 above x_{n−1}.
+    ///
+    /// On a segment with P(1) ≤ 0, which the sampler never selects, P(t)/P(1) is replaced by t.
+    /// `None` if `x` is NaN or the total T is not positive and finite.
+    pub fn cdf(
+        &self,
+        values: impl Fn(usize) -> f64,
+        cumulative: impl Fn(usize) -> f64,
+        x: f64,
+    ) -> Option<f64> {
+        let total = cumulative(self.x.len() - 1);
+        if x.is_nan() || !positive_finite(total) {
+            return None;
+        }
+        let (first, last) = self.ends();
+        if x <= first {
+            return Some(0.0);
+        }
+        if x >= last {
+            return Some(1.0);
+        }
+        let k = self.find_segment(x)?;
+        let piece = self.piece(k, &values, &cumulative, total)?;
+        let positive = piece.positive;
+        let t = positive.segment.t_at(x);
+        let share = if positive_finite(positive.mass) {
+            (positive.integral_to(t) / positive.mass).clamp(0.0, 1.0)
+        } else {
+            t
+        };
+        Some(((piece.c0 + piece.dc * share) / total).clamp(0.0, 1.0))
     }
 
     /// Solves s(x) = y for x, for a spline through increasing `values` (pbrt's
@@ -266,6 +461,24 @@ impl Nodes {
             d1,
         })
     }
+
+    /// Segment k with its cumulative values.
+    fn piece(
+        &self,
+        k: usize,
+        values: &impl Fn(usize) -> f64,
+        cumulative: &impl Fn(usize) -> f64,
+        total: f64,
+    ) -> Option<Piece> {
+        let positive = self.segment(k, values)?.positive();
+        let c0 = cumulative(k);
+        Some(Piece {
+            positive,
+            c0,
+            dc: cumulative(k + 1) - c0,
+            total,
+        })
+    }
 }
 
 impl Weights {
@@ -304,6 +517,11 @@ impl Segment {
         (self.x0 + self.width() * t).clamp(self.x0, self.x1)
     }
 
+    /// The parameter t of x, clamped to [0, 1].
+    fn t_at(&self, x: f64) -> f64 {
+        ((x - self.x0) / self.width()).clamp(0.0, 1.0)
+    }
+
     /// Coefficients of s(t) = c₀ + c₁t + c₂t² + c₃t³: c₀ = f₀, c₁ = d₀,
     /// c₂ = 3(f₁ − f₀) − 2d₀ − d₁, c₃ = 2(f₀ − f₁) + d₀ + d₁.
     fn coefficients(&self) -> [f64; 4] {
@@ -328,6 +546,12 @@ impl Segment {
         c1 + t * (2.0 * c2 + t * 3.0 * c3)
     }
 
+    /// S(t) = ∫₀ᵗ s dt = c₀t + c₁t²/2 + c₂t³/3 + c₃t⁴/4 (t-units).
+    fn integral_to(&self, t: f64) -> f64 {
+        let [c0, c1, c2, c3] = self.coefficients();
+        t * (c0 + t * (c1 / 2.0 + t * (c2 / 3.0 + t * (c3 / 4.0))))
+    }
+
     /// S(1) = (f₀ + f₁)/2 + (d₀ − d₁)/12.
     fn integral(&self) -> f64 {
         (self.f0 + self.f1) / 2.0 + (self.d0 - self.d1) / 12.0
@@ -337,6 +561,157 @@ impl Segment {
     fn value_scale(&self) -> f64 {
         self.coefficients().iter().map(|c| c.abs()).sum()
     }
+
+    /// Σ|terms| of S on [0, 1], the scale of its rounding error.
+    fn integral_scale(&self) -> f64 {
+        let [c0, c1, c2, c3] = self.coefficients();
+        c0.abs() + c1.abs() / 2.0 + c2.abs() / 3.0 + c3.abs() / 4.0
+    }
+}
+
+impl Segment {
+    /// Bernstein coefficients of s on [0, 1]: f₀, f₀ + d₀/3, f₁ − d₁/3, f₁.
+    fn bernstein(&self) -> [f64; 4] {
+        [
+            self.f0,
+            self.f0 + self.d0 / 3.0,
+            self.f1 - self.d1 / 3.0,
+            self.f1,
+        ]
+    }
+
+    /// The parameters t in (0, 1) where ds/dt = 0, sorted; 1 stands in for a missing one.
+    fn critical_points(&self) -> [f64; 2] {
+        // Roots of a·t² + b·t + c = 3c₃t² + 2c₂t + c₁, in the cancellation-free form
+        let [_, c1, c2, c3] = self.coefficients();
+        let (a, b, c) = (3.0 * c3, 2.0 * c2, c1);
+        let roots = if a == 0.0 {
+            [-c / b, f64::NAN]
+        } else {
+            let q = -0.5 * (b + (b * b - 4.0 * a * c).sqrt().copysign(b));
+            [q / a, c / q]
+        };
+        let [p, q] = roots.map(|t| if t > 0.0 && t < 1.0 { t } else { 1.0 });
+        if p <= q {
+            [p, q]
+        } else {
+            [q, p]
+        }
+    }
+
+    /// The root of s in [a, b] if s changes sign there (s must be monotone on [a, b]), else b.
+    fn root_in(&self, a: f64, b: f64) -> f64 {
+        let (sa, sb) = (self.value(a), self.value(b));
+        let changes_sign = (sa < 0.0 && sb > 0.0) || (sa > 0.0 && sb < 0.0);
+        if !changes_sign {
+            return b;
+        }
+        let sign = if sb > sa { 1.0 } else { -1.0 };
+        newton_bisection(
+            |t| (sign * self.value(t), sign * self.slope(t)),
+            0.0,
+            self.value_scale(),
+            (a, b),
+            a + (b - a) * sa / (sa - sb),
+        )
+    }
+
+    /// The segment with the parts of [0, 1] where s > 0 and their integral P(1).
+    fn positive(self) -> Positive {
+        let parts = if self.bernstein().iter().all(|&c| c >= 0.0) {
+            // Convex hull property: s ≥ 0 on all of [0, 1]
+            [(0.0, 1.0), (1.0, 1.0), (1.0, 1.0), (1.0, 1.0)]
+        } else {
+            // Cut at the roots; s is monotone between critical points, so there are at most 3
+            let [p, q] = self.critical_points();
+            let [r0, r1, r2] = [(0.0, p), (p, q), (q, 1.0)].map(|(a, b)| self.root_in(a, b));
+            let mut parts = [(1.0, 1.0); 4];
+            for (part, cut) in parts.iter_mut().zip([0.0, r0, r1, r2, 1.0].windows(2)) {
+                if let [a, b] = *cut {
+                    if b > a && self.value(0.5 * (a + b)) > 0.0 {
+                        *part = (a, b);
+                    }
+                }
+            }
+            parts
+        };
+        let mass = parts
+            .iter()
+            .map(|&(a, b)| self.integral_to(b) - self.integral_to(a))
+            .sum();
+        Positive {
+            segment: self,
+            parts,
+            mass,
+        }
+    }
+}
+
+impl Positive {
+    /// P(t) = ∫₀ᵗ max(s, 0) dt.
+    fn integral_to(&self, t: f64) -> f64 {
+        let segment = self.segment;
+        self.parts
+            .iter()
+            .map(|&(a, b)| segment.integral_to(t.clamp(a, b)) - segment.integral_to(a))
+            .sum::<f64>()
+            .max(0.0)
+    }
+
+    /// The t with P(t) = `target` ∈ [0, P(1)]: the part holding it, then Newton–bisection.
+    fn solve(&self, target: f64) -> f64 {
+        let segment = self.segment;
+        let (mut before, mut end) = (0.0, 0.0);
+        for &(a, b) in &self.parts {
+            let start = segment.integral_to(a);
+            let mass = segment.integral_to(b) - start;
+            if mass <= 0.0 {
+                continue;
+            }
+            end = b;
+            let remaining = target - before;
+            if remaining <= 0.0 {
+                return a;
+            }
+            if remaining < mass {
+                // Start from the inverse of the integral of the chord over [a, b]
+                let (v0, v1) = (segment.value(a), segment.value(b));
+                let k = (v1 - v0) / (b - a);
+                let guess = a + 2.0 * remaining / (v0 + (v0 * v0 + 2.0 * k * remaining).sqrt());
+                return newton_bisection(
+                    |t| (segment.integral_to(t), segment.value(t)),
+                    start + remaining,
+                    segment.integral_scale(),
+                    (a, b),
+                    guess,
+                );
+            }
+            before += mass;
+        }
+        end
+    }
+}
+
+impl Piece {
+    /// The sampled density at parameter t, ΔC·max(s(t), 0)/(w·P(1)·T), or 0 where the
+    /// segment cannot be sampled.
+    fn pdf(&self, t: f64) -> f64 {
+        let Positive { segment, mass, .. } = self.positive;
+        if !positive_finite(self.dc) || !positive_finite(mass) || !positive_finite(self.total) {
+            return 0.0;
+        }
+        let p = self.dc * segment.value(t).max(0.0) / (segment.width() * mass * self.total);
+        if positive_finite(p) {
+            p
+        } else {
+            0.0
+        }
+    }
+}
+
+/// x > 0 and finite (false for NaN).
+fn positive_finite(x: f64) -> bool {
+    x > 0.0 && x < f64::INFINITY
 }
 
 /// Binary search for the segment k ∈ [0, len − 2] with `pred(k)` true and `pred(k + 1)` false,
