@@ -12,6 +12,7 @@
 //!   **φ = 0 forward**: in the plane of incidence, on the side the refracted beam travels to;
 //! - the API takes angles in radians; the command line takes degrees.
 
+pub mod catmull_rom;
 pub mod error;
 
 pub use error::{Error, Result};
