@@ -13,5 +13,6 @@
 //! - the API takes angles in radians; the command line takes degrees.
 
 pub mod error;
+pub mod gwc;
 
 pub use error::{Error, Result};
