@@ -14,6 +14,7 @@
 
 pub mod catmull_rom;
 pub mod error;
+pub mod gwc;
 
 pub use error::{Error, Result};
 pub mod fresnel;

@@ -1,0 +1,602 @@
+//! General Wrapped Cauchy (GWC) angular model of the multiple-scattering profile at fixed radius.
+//!
+//! At a fixed entry point, incidence angle θ and exit radius r, the angular dependence of the
+//! BSSRDF on the exit azimuth φ is approximated by
+//!
+//! ```text
+//! f(φ) = α + β·pdf_WC(φ; c),      pdf_WC(φ; c) = (1/2π)·(1 − c²)/(1 + c² − 2c·cos φ),
+//! ```
+//!
+//! a constant floor plus a wrapped Cauchy lobe (Ferrier 2016, §3.2). φ ∈ [−π, π] in radians,
+//! φ = 0 forward (the side the refracted beam travels to).
+//!
+//! | symbol | meaning                                 | unit                 | range           |
+//! |--------|-----------------------------------------|----------------------|-----------------|
+//! | α      | isotropic floor                         | unit of f            | [0, ∞)          |
+//! | β      | mass of the lobe, ∫ β·pdf_WC dφ         | unit of f × rad      | [0, ∞)          |
+//! | c      | lobe concentration (mean resultant)     | 1                    | (−1, 1)         |
+//! | E      | radial energy r·∫f dφ = (2πα + β)·r      | unit of f × rad × r  | [0, ∞)          |
+//!
+//! c > 0 peaks forward (φ = 0), c = 0 is uniform, c < 0 peaks backward (φ = ±π). The report
+//! restricts c to [0, 1); we allow negative c because pdf_WC(φ; −c) = pdf_WC(π − |φ|; c) is the
+//! same lobe mirrored, every formula below holds unchanged, and it makes the three-anchor fit
+//! total: any monotone profile, forward or backward, has an admissible fit, and the parameters
+//! pass continuously through c = 0. Photon beam diffusion itself is forward-peaked (the source
+//! is nearest the exit point at φ = 0), so its tables only hold c ≥ 0.
+//!
+//! Tables store (E, β, c) per radius (§3.1, Eq. 1) and evaluation recovers α = (E/r − β)/2π
+//! (§4.1, [`Gwc::from_table`]). The normalised density is the mixture
+//! λ/2π + (1 − λ)·pdf_WC with λ = 2πα/(2πα + β), the λ of the report's §7.3 rewriting.
+//!
+//! # Wrapped Cauchy density and distribution
+//!
+//! With h = |φ|/2, 1 + c² − 2c·cos φ = (1 − c)² + 4c·sin²h = (1 + c)² − 4c·cos²h; the first form
+//! has no cancellation for c ≥ 0, the second for c < 0. The report's (§4.2)
+//! cdf_WC = 1/2 + arctan(((1+c)/(1−c))·tan(φ/2))/π uses tan(φ/2), which diverges at φ = ±π.
+//! We use the equivalent one-sided tail T(|φ|) = ∫_{|φ|}^{π} pdf_WC = atan2((1−c)·cos h,
+//! (1+c)·sin h)/π, so cdf_WC = 1 − T for φ ≥ 0 and T for φ < 0. cos h is computed as
+//! sin((π − |φ|)/2), which is exactly 0 at the float |φ| = π: the cdf is exactly 0 and 1 at ±π
+//! and continuous up to them. The inverse solves the same relation for h.
+//!
+//! # Sampling
+//!
+//! cdf(φ) = λ(φ + π)/2π + (1 − λ)·cdf_WC(φ; c) is inverted by Newton steps safeguarded by a
+//! bisection bracket (§4.2), started at cdf_WC⁻¹(u) (the α = 0 answer, usually close because
+//! 2πα ≪ β in practice). Stops when |cdf(φ) − u| ≤ 10⁻¹³ or the bracket is down to adjacent
+//! floats; at most 100 iterations (bisection alone needs about 60).
+//!
+//! # Three-anchor fit (§3.3), derived
+//!
+//! Let x = cos φ and w = 2c/(1 + c²) ∈ (−1, 1), so c = w/(1 + √(1 − w²)) and
+//! (1 − c²)/(1 + c²) = √(1 − w²). Dividing numerator and denominator of pdf_WC by 1 + c²,
+//!
+//! ```text
+//! f = α + D/(1 − w·x),   D = β·√(1 − w²)/2π ≥ 0.
+//! ```
+//!
+//! (The report's variables are a = 1/w, b = √(a² − 1), c = a − b for a > 1, B = D/w.) Differences
+//! f_i − f_j = D·w·(x_i − x_j)/((1 − w·x_i)(1 − w·x_j)) lose α, and their ratio loses D:
+//!
+//! ```text
+//! K = (f1 − f2)/(f2 − f3) = k·(1 − w·x3)/(1 − w·x1),   k = (x1 − x2)/(x2 − x3),
+//! w = (K − k)/(K·x1 − k·x3)          (= 1/a, the report's a),
+//! ```
+//!
+//! evaluated multiplied through by (f2 − f3)(x2 − x3) so that f2 = f3 needs no division by zero.
+//! Then α and D follow from anchors 1 and 3:
+//!
+//! ```text
+//! D = (f1 − f3)(1 − w·x1)(1 − w·x3) / (w·(x1 − x3)),
+//! α = (f1·x1 − f3·x3)·(w − w0) / (w·(x1 − x3)),   w0 = (f1 − f3)/(f1·x1 − f3·x3),
+//! β = 2π·D/√(1 − w²) = 2π·D·(1 + c²)/(1 − c²).
+//! ```
+//!
+//! In the report's variables: β = (2π/b)·(f1 − f2)·[1/(a − x1) − 1/(a − x2)]⁻¹ and
+//! α = f1 − β·b/(2π·(a − x1)). **The report prints [1/(a − x1) − 1/(a − x3)]⁻¹**, pairing the
+//! difference f1 − f2 with anchors 1 and 3; the correct bracket uses anchor 2 (or, equivalently,
+//! keeps anchor 3 and uses f1 − f3). Its a, b, c and α are right. The test
+//! `paper_printed_beta_misses_the_anchors` shows the printed β failing.
+//!
+//! # Admissible fits and fallbacks
+//!
+//! Admissible means α ≥ 0, β ≥ 0 and |c| ≤ [`C_MAX_FIT`], so the stored profile is ≥ 0 on
+//! [−π, π]. Samples are first divided by their maximum, so the fit is scale-invariant from
+//! subnormal to 10³⁰⁰ (a sample over 10³⁰⁰ times smaller than the largest becomes subnormal and
+//! loses precision). Orient by the larger of f1, f3 (the *peak anchor* p: 1 forward, 3
+//! backward) and write t = ±w, positive for a lobe on that side; W = 2·C/(1 + C²) is the t of
+//! C = C_MAX_FIT. With α = 0, 1/f = (1 − w·x)/D is linear in x; let t0 be the α = 0 profile
+//! through anchors 1 and 3, t_pair the one through p and anchor 2. Then:
+//!
+//! - along the family through anchors 1 and 3 (w free), α has the sign of t − t0 and the value
+//!   at anchor 2 is strictly monotone in w, so the exact fit has α ≥ 0 iff t_exact ≥ t0, iff
+//!   anchor 2 lies on or above the α = 0 curve through 1 and 3, iff t_pair ≥ t0;
+//! - for fixed anchor values β grows like 1/(1 − |c|) (a spike inside |φ| < φ1 that no anchor
+//!   sees), so fallbacks keep the anchors nearest the peak, which carry the energy.
+//!
+//! The rules, in order, each meeting its neighbours where their results coincide (the fit is
+//! continuous in the samples):
+//!
+//! | case                                                   | result                                         | branch                |
+//! |--------------------------------------------------------|------------------------------------------------|-----------------------|
+//! | NaN, ±∞ or negative f_i                                 | `Err` naming the sample                        | —                     |
+//! | f1 = f2 = f3 = 0 (underflow far out in r)               | α = β = c = 0                                  | `Zero`                |
+//! | f1 = f2 = f3 > 0                                        | α = f1, β = 0, c = 0                           | `Uniform`             |
+//! | t_pair < t0: exact fit needs α < 0, e.g. the cosine limit K = k (w = 0 with β → ∞, α → −∞), a von Mises profile, f1 = f2 > f3 | α = 0 through p and anchor 2 (t = t_pair; t = 0, the constant f_p, if f2 = f_p) | `AlphaClamped` |
+//! | … and t_pair > W (f_p/f2 > 12.65 forward)               | α = 0, \|c\| = C_MAX_FIT through p              | `PeakAndAlphaClamped` |
+//! | t0 > W: α ≥ 0 cannot reach the contrast f1/f3 (> 37.2 forward), e.g. f3 = 0 | α = 0, \|c\| = C_MAX_FIT through p | `PeakAndAlphaClamped` |
+//! | t_exact > W: needs \|c\| > C_MAX_FIT or has no real c (a ≤ 1, K > k(1 − x3)/(1 − x1) ≈ 17.65), e.g. f2 = f3 ≠ f1 | \|c\| = C_MAX_FIT, α ≥ 0 and β through anchors 1 and 3 | `PeakClamped` |
+//! | otherwise                                               | all three anchors                              | `Exact`               |
+//! | f2 outside [min(f1, f3), max(f1, f3)]                   | f2 moved to the nearer of f1, f3, then as above (only p is kept); f1 = f3 gives α = f1, β = 0 (α = max(f1, f3) when they agree only relative to f2) | `NonMonotone` |
+//!
+//! The report's choice for f2 = f3 (c = 0, β = 2π·f1, α = 0) is the constant f1: it misses
+//! anchors 2 and 3 unless the profile is flat. For a flat profile we put the constant in α,
+//! the limit of the exact branch as a profile flattens (β → 0); flattening through
+//! `AlphaClamped` (f2 → f1) reaches the same function with the constant in β instead.
+//!
+//! # Where it breaks down
+//!
+//! - A GWC profile is monotone in |φ|; bumps between the anchors cannot be represented.
+//! - With α ≥ 0 the contrast of any GWC is bounded by its c → 1 limit 1/(1 − cos φ):
+//!   f(φ1)/f(φ2) < 12.7 and f(φ1)/f(φ3) < 37.3. Sharper profiles land in
+//!   `PeakAndAlphaClamped`, whose spike at c = C_MAX_FIT can overestimate the energy many times
+//!   (about 20× for e^(5·cos φ)).
+//! - Profiles flatter than lobe plus floor need α < 0 and land in `AlphaClamped`: every von
+//!   Mises e^(κ·cos φ) does (energy +5 % at κ = 0.5, +14 % at κ = 2, +31 % at κ = 4, the far
+//!   anchor overestimated). Photon beam diffusion at large r is of this kind: on the report's
+//!   grid (η = 1.33, all ρ′, θ, r) the crate's PBD gives 75 % `Exact`, 15 % `AlphaClamped`
+//!   (energy within 7 %, all at large r), 10 % `Uniform` (θ = 0), 1 % `Zero`, and no
+//!   `PeakClamped` or `PeakAndAlphaClamped`.
+//! - Three anchors say nothing about |φ| < φ1 ≈ 17.6°: a narrow peak there is a guess. Hence
+//!   C_MAX_FIT = 0.99 for the fit: a lobe of half-width ≈ 1 − c ≈ 0.6° is far below what
+//!   anchors at 17.6° resolve, and K is already within 0.1 % of its c → 1 limit.
+//! - For 1 − |c| below about 10⁻¹⁰ the lobe is narrower than the float spacing allows to sample
+//!   accurately; evaluation stays finite but the cdf round trip degrades.
+//!
+//! Source: A. Ferrier, *Non-perpendicular incidence BSSRDF model*, internship report, 2016:
+//! §3.2 (model, Eq. 1), §3.3 (anchors, fit), §4.1 (evaluation), §4.2 (sampling), §7.3.
+
+use std::f64::consts::{PI, TAU};
+
+use crate::error::{finite, in_range, Error, Result};
+
+/// Anchor cosines (cos φ1, cos φ2, cos φ3) of the three-anchor fit (Ferrier 2016, §3.3).
+pub const ANCHOR_COS: [f64; 3] = [0.9530, 0.4050, -0.7527];
+
+/// Largest |c| the three-anchor fit produces (see the module docs, "Where it breaks down").
+pub const C_MAX_FIT: f64 = 0.99;
+
+/// Largest |c| used in evaluation: inputs beyond it (or NaN, taken as 0) are clamped to it.
+pub const C_LIMIT: f64 = 1.0 - f64::EPSILON;
+
+/// Tolerance on |cdf(φ) − u| at which [`Gwc::sample`] stops.
+pub const SAMPLE_U_TOL: f64 = 1e-13;
+
+/// Iteration cap of the Newton–bisection in [`Gwc::sample`].
+const SAMPLE_MAX_ITER: usize = 100;
+
+/// Checks that `value` is finite and ≥ 0 (−0 allowed), naming it in the error otherwise.
+fn non_negative(name: &'static str, value: f64) -> Result<f64> {
+    finite(name, value)?;
+    if value < 0.0 {
+        return Err(Error::Negative { name, value });
+    }
+    Ok(value)
+}
+
+/// The float next to 0 on the side of `sign`: strict bounds 0 < x or x < 0 as closed ones.
+fn next_after_zero(sign: f64) -> f64 {
+    f64::from_bits(1).copysign(sign)
+}
+
+/// The float next to finite `x` in the direction of `towards` (`x` itself if they are equal),
+/// so that strict bounds become closed ones (`f64::next_up` needs Rust 1.86).
+fn next_towards(x: f64, towards: f64) -> f64 {
+    if x == towards || !x.is_finite() {
+        return x;
+    }
+    if x == 0.0 {
+        return next_after_zero(towards);
+    }
+    // Away from zero increments the bit pattern, towards zero decrements it
+    let bits = x.to_bits();
+    let away = (towards > x) == (x > 0.0);
+    f64::from_bits(if away { bits + 1 } else { bits - 1 })
+}
+
+/// Whether φ lies in [−π, π] (false for NaN).
+fn in_domain(phi: f64) -> bool {
+    phi.abs() <= PI
+}
+
+/// Clamps c into [−C_LIMIT, C_LIMIT], NaN to 0.
+fn clamp_c(c: f64) -> f64 {
+    if c.is_nan() {
+        0.0
+    } else {
+        c.clamp(-C_LIMIT, C_LIMIT)
+    }
+}
+
+/// (sin h, cos h) for h = |φ|/2, with cos h exactly 0 at |φ| = π (the float `PI`).
+fn half_angle(phi: f64) -> (f64, f64) {
+    let a = phi.abs();
+    ((0.5 * a).sin(), (0.5 * (PI - a)).sin())
+}
+
+/// One-sided tail mass ∫_{|φ|}^{π} pdf_WC, from (sin h, cos h), in [0, 1/2].
+fn tail_wc(s: f64, co: f64, c: f64) -> f64 {
+    ((1.0 - c) * co).atan2((1.0 + c) * s) / PI
+}
+
+/// Wrapped Cauchy density pdf_WC(φ; c) = (1/2π)(1 − c²)/(1 + c² − 2c·cos φ), in rad⁻¹.
+///
+/// Zero for φ outside [−π, π] or NaN; c is clamped into [−[`C_LIMIT`], `C_LIMIT`] (NaN → 0).
+pub fn pdf_wc(phi: f64, c: f64) -> f64 {
+    if !in_domain(phi) {
+        return 0.0;
+    }
+    let c = clamp_c(c);
+    let (s, co) = half_angle(phi);
+    // Denominator 1 + c² − 2c·cos φ without cancellation
+    let den = if c >= 0.0 {
+        (1.0 - c) * (1.0 - c) + 4.0 * c * s * s
+    } else {
+        (1.0 + c) * (1.0 + c) - 4.0 * c * co * co
+    };
+    (1.0 - c) * (1.0 + c) / (TAU * den)
+}
+
+/// Wrapped Cauchy distribution function ∫_{−π}^{φ} pdf_WC, exactly 0 at −π and 1 at π.
+///
+/// Equal to 1/2 + arctan(((1+c)/(1−c))·tan(φ/2))/π (Ferrier 2016, §4.2) inside (−π, π), but
+/// evaluated without tan so it is continuous up to ±π. φ ≤ −π or NaN gives 0, φ ≥ π gives 1;
+/// c is clamped as in [`pdf_wc`].
+pub fn cdf_wc(phi: f64, c: f64) -> f64 {
+    if phi.is_nan() || phi <= -PI {
+        return 0.0;
+    }
+    if phi >= PI {
+        return 1.0;
+    }
+    let (s, co) = half_angle(phi);
+    let t = tail_wc(s, co, clamp_c(c));
+    if phi >= 0.0 {
+        1.0 - t
+    } else {
+        t
+    }
+}
+
+/// Inverse of [`cdf_wc`]: the φ ∈ [−π, π] with cdf_WC(φ; c) = u.
+///
+/// Equal to 2·arctan(((1−c)/(1+c))·tan(π(u − 1/2))) (Ferrier 2016, §4.2), evaluated without
+/// tan. u is clamped into [0, 1] (NaN → 0); c is clamped as in [`pdf_wc`].
+pub fn inv_cdf_wc(u: f64, c: f64) -> f64 {
+    let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
+    let c = clamp_c(c);
+    // Tail mass t beyond |φ| and its complement m = 1/2 − t, both without cancellation
+    let (t, m, sign) = if u >= 0.5 {
+        (1.0 - u, u - 0.5, 1.0)
+    } else {
+        (u, 0.5 - u, -1.0)
+    };
+    // Solve π·t = atan2((1−c)·cos h, (1+c)·sin h) for h = |φ|/2
+    let h = ((1.0 - c) * (PI * m).sin()).atan2((1.0 + c) * (PI * t).sin());
+    sign * (2.0 * h).min(PI)
+}
+
+/// A General Wrapped Cauchy profile f(φ) = α + β·pdf_WC(φ; c) (see the module docs).
+///
+/// Invariants: α, β finite and ≥ 0, 2πα + β finite, |c| < 1.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gwc {
+    alpha: f64,
+    beta: f64,
+    c: f64,
+    /// Weight of the uniform part in the normalised density, 2πα/(2πα + β); 1 if both are 0.
+    lambda: f64,
+}
+
+impl Gwc {
+    /// Builds a profile from α (unit of f), β (unit of f × rad) and c (dimensionless).
+    ///
+    /// Errors ([`Error::NotFinite`], [`Error::Negative`], [`Error::OutOfRange`]) if α or β is
+    /// not finite or negative, if c is NaN or outside [−[`C_LIMIT`], `C_LIMIT`] (the floats in
+    /// (−1, 1)), or if 2πα + β overflows. α = β = 0 is allowed (the zero profile).
+    pub fn new(alpha: f64, beta: f64, c: f64) -> Result<Self> {
+        for (name, value) in [("alpha", alpha), ("beta", beta)] {
+            non_negative(name, value)?;
+        }
+        in_range("c", c, -C_LIMIT, C_LIMIT)?;
+        finite("2*pi*alpha + beta", TAU * alpha + beta)?;
+        Ok(Self::from_parts(alpha, beta, c))
+    }
+
+    /// Builds from values already known to satisfy the invariants (up to 2πα + β overflow,
+    /// which only affects [`Gwc::integral`]).
+    fn from_parts(alpha: f64, beta: f64, c: f64) -> Self {
+        let iso = TAU * alpha;
+        let lambda = if iso + beta > 0.0 {
+            // 1/(1 + β/2πα) keeps λ in [0, 1] even if 2πα + β overflows
+            if alpha > 0.0 {
+                1.0 / (1.0 + beta / iso)
+            } else {
+                0.0
+            }
+        } else {
+            1.0
+        };
+        Self {
+            alpha,
+            beta,
+            c,
+            lambda,
+        }
+    }
+
+    /// Builds the profile a table cell (E, β, c) describes at radius r > 0, with
+    /// α = (E/r − β)/2π (Ferrier 2016, §4.1).
+    ///
+    /// Interpolated cells may be slightly inconsistent; this never fails and clamps as follows:
+    /// - c: NaN → 0, then into [−[`C_LIMIT`], `C_LIMIT`];
+    /// - β: NaN or ±∞ → 0, negative → 0;
+    /// - E/r: negative → 0; then β is clamped to at most E/r, so α ≥ 0 and the stored energy E
+    ///   is kept exactly (2πα + β = E/r) while the lobe shape c is kept;
+    /// - E/r not finite (r = 0 row, r ≤ 0, E non-finite): the energy carries no information,
+    ///   α = 0 and the profile is β·pdf_WC alone.
+    pub fn from_table(e: f64, beta: f64, c: f64, r: f64) -> Self {
+        let c = clamp_c(c);
+        let beta = if beta.is_finite() { beta.max(0.0) } else { 0.0 };
+        let e_per_r = e / r;
+        if r > 0.0 && e_per_r.is_finite() {
+            let e_per_r = e_per_r.max(0.0);
+            let beta = beta.min(e_per_r);
+            Self::from_parts((e_per_r - beta) / TAU, beta, c)
+        } else {
+            Self::from_parts(0.0, beta, c)
+        }
+    }
+
+    /// Isotropic floor α (unit of f).
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// Lobe mass β (unit of f × rad).
+    pub fn beta(&self) -> f64 {
+        self.beta
+    }
+
+    /// Lobe concentration c ∈ (−1, 1); negative peaks backward.
+    pub fn c(&self) -> f64 {
+        self.c
+    }
+
+    /// ∫_{−π}^{π} f dφ = 2πα + β (Ferrier 2016, Eq. 1), unit of f × rad.
+    pub fn integral(&self) -> f64 {
+        TAU * self.alpha + self.beta
+    }
+
+    /// The table cell (E, β, c) of this profile at radius r, with E = r·(2πα + β).
+    pub fn table_cell(&self, r: f64) -> [f64; 3] {
+        [r * self.integral(), self.beta, self.c]
+    }
+
+    /// f(φ) = α + β·pdf_WC(φ; c); 0 for φ outside [−π, π] or NaN. Even in φ.
+    ///
+    /// Overflows to +∞ only when the true value exceeds `f64::MAX`.
+    pub fn eval(&self, phi: f64) -> f64 {
+        if !in_domain(phi) {
+            return 0.0;
+        }
+        self.alpha + self.beta * pdf_wc(phi, self.c)
+    }
+
+    /// Normalised density f(φ)/∫f in rad⁻¹; 0 outside [−π, π] or for NaN.
+    ///
+    /// The zero profile is given the uniform density 1/2π, consistent with [`Gwc::sample`].
+    pub fn pdf(&self, phi: f64) -> f64 {
+        if !in_domain(phi) {
+            return 0.0;
+        }
+        self.lambda / TAU + (1.0 - self.lambda) * pdf_wc(phi, self.c)
+    }
+
+    /// Distribution function ∫_{−π}^{φ} pdf, the inverse of [`Gwc::sample`]:
+    /// λ(φ + π)/2π + (1 − λ)·cdf_WC(φ; c) (Ferrier 2016, §4.2).
+    ///
+    /// Exactly 0 at −π and 1 at π; 0 below −π or for NaN, 1 above π.
+    pub fn cdf(&self, phi: f64) -> f64 {
+        if phi.is_nan() || phi <= -PI {
+            return 0.0;
+        }
+        if phi >= PI {
+            return 1.0;
+        }
+        let uniform = (phi + PI) / TAU;
+        (self.lambda * uniform + (1.0 - self.lambda) * cdf_wc(phi, self.c)).clamp(0.0, 1.0)
+    }
+
+    /// Samples φ ∈ [−π, π] with density [`Gwc::pdf`] from u ∈ [0, 1], inverting [`Gwc::cdf`]
+    /// (clamped into [0, 1], NaN → 0).
+    ///
+    /// Newton–bisection started at cdf_WC⁻¹(u; c); see the module docs for the stopping rule.
+    pub fn sample(&self, u: f64) -> f64 {
+        let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
+        // Pure floor or pure lobe: invert directly
+        if self.lambda >= 1.0 {
+            return (TAU * u - PI).clamp(-PI, PI);
+        }
+        let start = inv_cdf_wc(u, self.c);
+        if self.lambda <= 0.0 {
+            return start;
+        }
+        // Newton steps kept inside a shrinking bracket [lo, hi] around the root
+        let (mut lo, mut hi) = (-PI, PI);
+        let mut phi = start;
+        for _ in 0..SAMPLE_MAX_ITER {
+            let g = self.cdf(phi) - u;
+            if g.abs() <= SAMPLE_U_TOL {
+                break;
+            }
+            if g > 0.0 {
+                hi = phi;
+            } else {
+                lo = phi;
+            }
+            let newton = phi - g / self.pdf(phi);
+            let next = if newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if next <= lo || next >= hi {
+                // Bracket down to adjacent floats
+                break;
+            }
+            phi = next;
+        }
+        phi
+    }
+}
+
+/// Which branch of the three-anchor fit produced a [`GwcFit`] (see the table in the module
+/// docs), for table statistics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FitBranch {
+    /// The fit passes through all three anchors.
+    Exact,
+    /// All samples are 0: the zero profile.
+    Zero,
+    /// All samples are equal and positive: α = f1, β = 0, c = 0.
+    Uniform,
+    /// The exact fit needs α < 0: α = 0, through the peak anchor (the larger of anchors 1 and
+    /// 3) and anchor 2.
+    AlphaClamped,
+    /// The exact fit needs |c| > [`C_MAX_FIT`] or has no real c: |c| = C_MAX_FIT, through
+    /// anchors 1 and 3.
+    PeakClamped,
+    /// The samples are more contrasted than any admissible GWC: α = 0, |c| = C_MAX_FIT, through
+    /// the peak anchor only.
+    PeakAndAlphaClamped,
+    /// f2 lies outside the range of f1 and f3: it is moved to the nearer of the two first.
+    NonMonotone,
+}
+
+/// Result of a three-anchor fit: an admissible profile and the branch taken.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GwcFit {
+    /// The fitted profile (α ≥ 0, β ≥ 0, |c| ≤ [`C_MAX_FIT`]).
+    pub gwc: Gwc,
+    /// How it was obtained.
+    pub branch: FitBranch,
+}
+
+/// Fits a GWC profile to samples f_i = f(φ_i) at the report's anchors [`ANCHOR_COS`]
+/// (Ferrier 2016, §3.3). See [`fit_anchors`].
+pub fn fit_three_anchors(f1: f64, f2: f64, f3: f64) -> Result<GwcFit> {
+    fit_anchors(ANCHOR_COS, [f1, f2, f3])
+}
+
+/// Fits a GWC profile to samples `f` = [f(φ1), f(φ2), f(φ3)] at anchors with cosines
+/// `cos_phi` = [cos φ1, cos φ2, cos φ3], 1 ≥ cos φ1 > cos φ2 > cos φ3 ≥ −1, cos φ1 > 0 > cos φ3.
+///
+/// Closed form and fallbacks are derived in the module docs. Errors ([`Error::OutOfRange`],
+/// [`Error::NotFinite`], [`Error::Negative`]) if an anchor cosine is invalid, a sample is NaN,
+/// infinite or negative, or the fitted α or β overflows (samples within a factor of about 10³
+/// of `f64::MAX`). Never returns NaN.
+pub fn fit_anchors(cos_phi: [f64; 3], f: [f64; 3]) -> Result<GwcFit> {
+    let [x1, x2, x3] = cos_phi;
+    in_range("cos_phi1", x1, next_after_zero(1.0), 1.0)?;
+    in_range("cos_phi3", x3, -1.0, next_after_zero(-1.0))?;
+    in_range("cos_phi2", x2, next_towards(x3, x1), next_towards(x1, x3))?;
+    for (name, value) in ["f1", "f2", "f3"].into_iter().zip(f) {
+        non_negative(name, value)?;
+    }
+
+    // Zero profile; then work in units of the largest sample (scale invariance, no overflow)
+    let scale = f[0].max(f[1]).max(f[2]);
+    if scale == 0.0 {
+        return done(0.0, 0.0, 0.0, FitBranch::Zero);
+    }
+    let [g1, g2, g3] = f.map(|v| v / scale);
+    if g1 == g2 && g2 == g3 {
+        return done(f[0], 0.0, 0.0, FitBranch::Uniform);
+    }
+    if g1 == g3 {
+        // Anchors 1 and 3 agree (to the precision of the largest sample) but anchor 2 does not:
+        // no monotone profile, keep the constant
+        return done(f[0].max(f[2]), 0.0, 0.0, FitBranch::NonMonotone);
+    }
+
+    // Orient towards the peak: peak anchor p, and t = side·w > 0 for a lobe on that side
+    let forward = g1 > g3;
+    let side = if forward { 1.0 } else { -1.0 };
+    let (gp, xp) = if forward { (g1, x1) } else { (g3, x3) };
+    let t_max = 2.0 * C_MAX_FIT / (1.0 + C_MAX_FIT * C_MAX_FIT);
+
+    // A monotone profile cannot take f2 outside [min(f1, f3), max(f1, f3)]
+    let g2c = g2.clamp(g1.min(g3), g1.max(g3));
+    let label = |branch| {
+        if g2c == g2 {
+            branch
+        } else {
+            FitBranch::NonMonotone
+        }
+    };
+
+    // α = 0 profiles (1/f linear in cos φ) through anchors 1 and 3, and through p and 2
+    let den0 = g1 * x1 - g3 * x3;
+    let w0 = (g1 - g3) / den0;
+    let w_pair = (gp - g2c) / (gp * xp - g2c * x2);
+    let (t0, t_pair) = (side * w0, side * w_pair);
+    if t_pair < t0 {
+        // The exact fit needs α < 0: α = 0 through the peak anchor and anchor 2
+        let (t, branch) = if t_pair > t_max {
+            (t_max, FitBranch::PeakAndAlphaClamped)
+        } else {
+            (t_pair.max(0.0), FitBranch::AlphaClamped)
+        };
+        let w = side * t;
+        return done_w(0.0, gp * (1.0 - w * xp), w, t_max, scale, label(branch));
+    }
+    if t0 > t_max {
+        // α ≥ 0 through anchors 1 and 3 needs |c| > C_MAX_FIT: α = 0 through the peak anchor
+        let w = side * t_max;
+        let branch = label(FitBranch::PeakAndAlphaClamped);
+        return done_w(0.0, gp * (1.0 - w * xp), w, t_max, scale, branch);
+    }
+
+    // Exact w from K = (f1 − f2)/(f2 − f3), multiplied through by (f2 − f3)(x2 − x3)
+    let (d12, d23) = (g1 - g2c, g2c - g3);
+    let (c12, c23) = (x1 - x2, x2 - x3);
+    let w_exact = (d12 * c23 - c12 * d23) / (d12 * c23 * x1 - c12 * d23 * x3);
+    // t_exact ≥ t0 here up to rounding; beyond t_max the lobe is capped
+    let t_exact = side * w_exact;
+    let (t, branch) = if t_exact > t_max {
+        (t_max, FitBranch::PeakClamped)
+    } else {
+        (t_exact.max(t0), FitBranch::Exact)
+    };
+
+    // α and D through anchors 1 and 3
+    let w = side * t;
+    let span = w * (x1 - x3);
+    let alpha = den0 * (w - w0) / span;
+    let d = (g1 - g3) * (1.0 - w * x1) * (1.0 - w * x3) / span;
+    done_w(alpha, d, w, t_max, scale, label(branch))
+}
+
+/// Wraps (α, β, c) in a fit result.
+fn done(alpha: f64, beta: f64, c: f64, branch: FitBranch) -> Result<GwcFit> {
+    Ok(GwcFit {
+        gwc: Gwc::new(alpha, beta, c)?,
+        branch,
+    })
+}
+
+/// Converts the normalised (α, D, w) to (α, β, c) in the samples' unit and wraps it; |w| at
+/// `t_max` maps to exactly ±C_MAX_FIT.
+fn done_w(alpha: f64, d: f64, w: f64, t_max: f64, scale: f64, branch: FitBranch) -> Result<GwcFit> {
+    // c = w/(1 + √(1 − w²)), β = 2π·D·(1 + c²)/(1 − c²)
+    let c = if w.abs() == t_max {
+        C_MAX_FIT.copysign(w)
+    } else {
+        w / (1.0 + ((1.0 - w) * (1.0 + w)).sqrt())
+    };
+    let beta = TAU * d * (1.0 + c * c) / ((1.0 - c) * (1.0 + c));
+    done(alpha * scale, beta * scale, c, branch)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn half_angle_cosine_vanishes_exactly_at_pi() {
+        assert_eq!(half_angle(PI), (FRAC_PI_2.sin(), 0.0));
+        assert_eq!(half_angle(-PI).1, 0.0);
+        assert_eq!(half_angle(0.0), (0.0, 1.0));
+    }
+}

@@ -1,0 +1,88 @@
+//! Helpers shared by the GWC integration tests: a seeded RNG and adaptive quadrature.
+
+#![allow(dead_code)]
+
+/// SplitMix64 (Steele, Lea, Flood 2014): tiny, seedable, good enough for test inputs.
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1) with 53 random bits.
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.uniform()
+    }
+}
+
+/// Adaptive Simpson quadrature of `f` over [a, b] to absolute tolerance `tol`.
+pub fn simpson(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    let m = 0.5 * (a + b);
+    let (fa, fm, fb) = (f(a), f(m), f(b));
+    let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
+    simpson_step(f, a, b, fa, fm, fb, whole, tol, 60)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn simpson_step(
+    f: &dyn Fn(f64) -> f64,
+    a: f64,
+    b: f64,
+    fa: f64,
+    fm: f64,
+    fb: f64,
+    whole: f64,
+    tol: f64,
+    depth: u32,
+) -> f64 {
+    let m = 0.5 * (a + b);
+    let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));
+    let (flm, frm) = (f(lm), f(rm));
+    let left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
+    let right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
+    let delta = left + right - whole;
+    if depth == 0 || delta.abs() <= 15.0 * tol {
+        return left + right + delta / 15.0;
+    }
+    simpson_step(f, a, m, fa, flm, fm, left, 0.5 * tol, depth - 1)
+        + simpson_step(f, m, b, fm, frm, fb, right, 0.5 * tol, depth - 1)
+}
+
+/// ∫_a^b f with the interval split at 0 and ±π/2, where GWC lobes peak or bend.
+pub fn integrate(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    let mut cuts = vec![a];
+    for x in [
+        -std::f64::consts::FRAC_PI_2,
+        0.0,
+        std::f64::consts::FRAC_PI_2,
+    ] {
+        if x > a && x < b {
+            cuts.push(x);
+        }
+    }
+    cuts.push(b);
+    let n = (cuts.len() - 1) as f64;
+    cuts.windows(2)
+        .map(|w| simpson(f, w[0], w[1], tol / n))
+        .sum()
+}
+
+/// Upper critical value of χ² with `dof` degrees of freedom at upper-tail probability 1e-6,
+/// by the Wilson–Hilferty cube-root normal approximation (accurate to about 1 % here).
+pub fn chi2_critical_1e6(dof: usize) -> f64 {
+    // Standard normal quantile for upper tail 1e-6
+    const Z: f64 = 4.753_424_308_822_899;
+    let k = dof as f64;
+    let h = 2.0 / (9.0 * k);
+    k * (1.0 - h + Z * h.sqrt()).powi(3)
+}
