@@ -21,6 +21,9 @@ pub enum Error {
     /// σ′t = σ′s + σa is zero: the medium neither scatters nor absorbs.
     #[error("reduced extinction sigma_t' = 0 (sigma_s*(1-g) + sigma_a): the medium is vacuum")]
     Vacuum,
+    /// A table's arrays are inconsistent with its axes or hold non-finite values.
+    #[error(transparent)]
+    Table(#[from] crate::table::TableError),
     /// A value is outside the range the quantity allows.
     #[error("{name} = {value} is outside [{min}, {max}]")]
     OutOfRange {

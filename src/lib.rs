@@ -14,10 +14,12 @@
 
 pub mod catmull_rom;
 pub mod error;
-pub mod gwc;
-
-pub use error::{Error, Result};
 pub mod fresnel;
+pub mod gwc;
 pub mod medium;
 pub mod pbd;
 pub mod quadrature;
+pub mod rng;
+pub mod table;
+
+pub use error::{Error, Result};

@@ -34,8 +34,9 @@
 //! just under the exit point at grazing incidence, and the log singularity as r → 0) become
 //! smooth bumps of unit width in u. The exponentials are scaled by e^{m}, m = min_t (t + σtr d_r)
 //! in closed form, so nothing underflows before the end; the dipole difference is computed as
-//! e^{−σtr d_r}/d_r · (−expm1(−σtr δ − ln1p(δ/d_r))) with δ = d_v − d_r = 4z_b(z_r+z_b)/(d_v+d_r),
-//! so it keeps full relative precision where the two monopoles nearly cancel (large r, σtr → 0).
+//! e^{−σtr d_r}/d_r · (−expm1(−σtr δ) + e^{−σtr δ} δ/d_v), with δ = d_v − d_r = 4z_b(z_r+z_b)/(d_v+d_r):
+//! two non-negative terms, so it keeps full relative precision where the two monopoles nearly
+//! cancel (large r, σtr → 0).
 //! The integral is cut where t + σtr d_r exceeds m + 46 (a neglected tail below e⁻⁴⁶ ≈ 10⁻²⁰).
 //! - [`Rule::Reference`]: adaptive Gauss–Kronrod in u to 10⁻¹⁰ relative (error estimate returned).
 //! - [`Rule::Fast`]: a fixed composite Gauss–Legendre rule in u for baking (error in the README).
@@ -316,11 +317,13 @@ impl Pbd {
             return 0.0;
         }
         let kappa = -(-2.0 * (d_r + t)).exp_m1();
-        let fluence = self.boundary.c_phi() / (4.0 * PI * d)
-            * -(-(sigma_tr * delta + (delta / d_r).ln_1p())).exp_m1();
+        // d_r·(e^{−σ d_r}/d_r − e^{−σ d_v}/d_v) = e^{−σ d_r}·(1 − (d_r/d_v)e^{−σδ}), and
+        // 1 − (d_r/d_v)e^{−σδ} = −expm1(−σδ) + e^{−σδ}·δ/d_v: two non-negative terms.
+        let em = (-sigma_tr * delta).exp_m1();
+        let image_ratio = 1.0 + em;
+        let fluence = self.boundary.c_phi() / (4.0 * PI * d) * (-em + image_ratio * delta / d_v);
         let flux_real = z_r * (1.0 + sigma_tr * d_r) / (d_r * d_r);
-        let flux_virtual =
-            z_v * (1.0 + sigma_tr * d_v) * (-sigma_tr * delta).exp() * d_r / (d_v * d_v * d_v);
+        let flux_virtual = z_v * (1.0 + sigma_tr * d_v) * image_ratio * d_r / (d_v * d_v * d_v);
         let flux = self.boundary.c_e() / (4.0 * PI) * (flux_real + flux_virtual);
         rho_prime * rho_prime * kappa * e_r * (fluence + flux)
     }

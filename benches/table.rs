@@ -1,0 +1,100 @@
+//! The angular table: bake of the default grid, evaluate, sample, pdf and the path-tracing draw,
+//! with the perpendicular model (pbrt's assumption: θ = 0 slice, uniform φ) measured in the same
+//! run as the baseline. Run: `cargo bench --bench table`.
+
+use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::table::{bake, Grid, GridPreset};
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+
+fn bench(c: &mut Criterion) {
+    let grid = Grid::preset(GridPreset::Default);
+    let mut group = c.benchmark_group("bake");
+    group.sample_size(10);
+    group.bench_function("default_grid_eta1.33", |b| {
+        b.iter(|| bake(1.33, Moments::Exact, black_box(&grid), true).unwrap())
+    });
+    group.finish();
+
+    let (table, _) = bake(1.33, Moments::Exact, &grid, true).unwrap();
+    let view = table.view();
+    let mut rng = SplitMix64::new(1);
+    // Random lookups over the whole domain, so caches and branches see realistic traffic.
+    let points: Vec<[f64; 4]> = (0..4096)
+        .map(|_| loop {
+            let (rho, theta) = (0.05 + 0.95 * rng.next_f64(), 1.5 * rng.next_f64());
+            if let Some(s) = view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
+                break [rho, theta, s.r, s.phi];
+            }
+        })
+        .collect();
+    let uniforms: Vec<[f64; 4]> = (0..4096)
+        .map(|_| {
+            [
+                rng.next_f64(),
+                rng.next_f64(),
+                rng.next_f64(),
+                rng.next_f64(),
+            ]
+        })
+        .collect();
+
+    let mut group = c.benchmark_group("lookup");
+    let mut i = 0usize;
+    let mut next = |n: usize| {
+        i = (i + 1) % n;
+        i
+    };
+    group.bench_function("eval", |b| {
+        b.iter(|| {
+            let [rho, theta, r, phi] = points[next(points.len())];
+            view.eval(
+                black_box(rho),
+                black_box(theta),
+                black_box(r),
+                black_box(phi),
+            )
+        })
+    });
+    group.bench_function("eval_perpendicular_baseline", |b| {
+        b.iter(|| {
+            let [rho, _, r, _] = points[next(points.len())];
+            view.eval_perpendicular(black_box(rho), black_box(r))
+        })
+    });
+    group.bench_function("sample", |b| {
+        b.iter(|| {
+            let [rho, theta, _, _] = points[next(points.len())];
+            let u = uniforms[next(uniforms.len())];
+            view.sample(black_box(rho), black_box(theta), u[0], u[1])
+        })
+    });
+    group.bench_function("sample_perpendicular_baseline", |b| {
+        b.iter(|| {
+            let [rho, _, _, _] = points[next(points.len())];
+            let u = uniforms[next(uniforms.len())];
+            view.sample_perpendicular(black_box(rho), u[0], u[1])
+        })
+    });
+    group.bench_function("pdf", |b| {
+        b.iter(|| {
+            let [rho, theta, r, phi] = points[next(points.len())];
+            view.pdf(
+                black_box(rho),
+                black_box(theta),
+                black_box(r),
+                black_box(phi),
+            )
+        })
+    });
+    group.bench_function("sample_path", |b| {
+        b.iter(|| {
+            let [rho, _, _, _] = points[next(points.len())];
+            view.sample_path(black_box(rho), uniforms[next(uniforms.len())])
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

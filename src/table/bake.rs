@@ -1,0 +1,239 @@
+//! Baking an angular table: three PBD samples per (ρ′, θ, r) node at the anchor azimuths,
+//! the closed-form GWC fit, and the radial and θ CDFs.
+
+use super::{AngularTable, Axes, PARAMS_PER_NODE};
+use crate::catmull_rom::Nodes;
+use crate::error::{Error, Result};
+use crate::fresnel::Moments;
+use crate::gwc::{fit_three_anchors, FitBranch, ANCHOR_COS};
+use crate::medium::Boundary;
+use crate::pbd::{Pbd, Rule};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::f64::consts::{PI, TAU};
+use std::time::Instant;
+
+/// Named grid sizes (accuracy and bake time of each are in the README).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GridPreset {
+    /// 50 × 7 × 40: a quick look.
+    Coarse,
+    /// 100 × 10 × 64: the report's grid (≈ 1 MiB of f32).
+    Default,
+    /// 160 × 19 × 96: for reference renders.
+    Fine,
+}
+
+/// Node values of the three axes to bake.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// Reduced albedo nodes in [0, 1].
+    pub rho: Vec<f64>,
+    /// Incidence nodes in [0, π/2], radians.
+    pub theta: Vec<f64>,
+    /// Radius nodes ≥ 0, reduced mean free paths.
+    pub r: Vec<f64>,
+}
+
+/// The largest radius node of every preset, as in pbrt: 0.0025·1.2⁶³ ≈ 202.85 mean free paths.
+const R_MAX: f64 = 202.850_184_525_988;
+
+impl Grid {
+    /// The grid of a preset.
+    pub fn preset(preset: GridPreset) -> Self {
+        let (n_rho, n_theta, n_r) = match preset {
+            GridPreset::Coarse => (50, 7, 40),
+            GridPreset::Default => (100, 10, 64),
+            GridPreset::Fine => (160, 19, 96),
+        };
+        Self::ferrier(n_rho, n_theta, n_r)
+    }
+
+    /// Ferrier's node placement for any counts (each ≥ 2): ρ_i = (1 − e^{−8i/(n−1)})/(1 − e^{−8}),
+    /// θ uniform over [0, 90°], r₀ = 0 and r_i = 0.0025·q^i up to ≈ 202.85 (q = 1.2 for 64 nodes).
+    pub fn ferrier(n_rho: usize, n_theta: usize, n_r: usize) -> Self {
+        let (n_rho, n_theta, n_r) = (n_rho.max(2), n_theta.max(2), n_r.max(3));
+        let rho = (0..n_rho)
+            .map(|i| {
+                let x = -8.0 * i as f64 / (n_rho - 1) as f64;
+                // −expm1 keeps the smallest nodes accurate.
+                (-x.exp_m1() / -(-8.0f64).exp_m1()).min(1.0)
+            })
+            .collect();
+        let theta = (0..n_theta)
+            .map(|j| 0.5 * PI * j as f64 / (n_theta - 1) as f64)
+            .collect();
+        let q = (R_MAX / 0.0025).powf(1.0 / (n_r - 2) as f64);
+        let r = std::iter::once(0.0)
+            .chain((1..n_r).map(|i| 0.0025 * q.powi(i as i32)))
+            .collect();
+        Self { rho, theta, r }
+    }
+}
+
+/// What a bake did: time, and how often each branch of the GWC fit was taken.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct BakeReport {
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// Threads used.
+    pub threads: usize,
+    /// Count of nodes per fit branch (by name).
+    pub fit_branches: BTreeMap<String, usize>,
+}
+
+/// Bakes the angular table for one η with the fast PBD quadrature.
+///
+/// Deterministic: every node is computed independently and written to its own slot, so the
+/// table is bit-identical on any thread count. Runs on the current rayon pool (wrap the call in
+/// `ThreadPool::install` to choose the thread count). `theta_sampling` keeps the CDF over θ
+/// used by path tracing.
+pub fn bake(
+    eta: f64,
+    moments: Moments,
+    grid: &Grid,
+    theta_sampling: bool,
+) -> Result<(AngularTable, BakeReport)> {
+    let start = Instant::now();
+    let boundary = Boundary::new(eta, moments)?;
+    for &rho in &grid.rho {
+        crate::error::in_range("rho node", rho, 0.0, 1.0)?;
+    }
+    for &theta in &grid.theta {
+        // π/2 rounded to f32 is 1.5707964, a hair above the f64 π/2: allowed and clamped.
+        crate::error::in_range("theta node", theta, 0.0, f64::from((0.5 * PI) as f32))?;
+    }
+    for &r in &grid.r {
+        crate::error::in_range("r node", r, 0.0, f64::MAX)?;
+    }
+    // Nodes are stored as f32: bake at the f32 values so a table read back from a file has
+    // exactly the axes it was baked on.
+    let round = |v: &[f64]| -> Vec<f64> { v.iter().map(|&x| f64::from(x as f32)).collect() };
+    let grid = &Grid {
+        rho: round(&grid.rho),
+        theta: round(&grid.theta),
+        r: round(&grid.r),
+    };
+    let axes = Axes::new(grid.rho.clone(), grid.theta.clone(), grid.r.clone())?;
+    let (n_rho, n_theta, n_r) = axes.dims();
+    let anchors = ANCHOR_COS.map(f64::acos);
+
+    // One row = one (ρ′, θ) pair: nr nodes of (E, E_β, c), plus the branch of each fit.
+    let rows: Vec<(usize, usize)> = (0..n_rho)
+        .flat_map(|i| (0..n_theta).map(move |j| (i, j)))
+        .collect();
+    let baked: Vec<Result<(Vec<f32>, Vec<FitBranch>)>> = rows
+        .par_iter()
+        .map(|&(i, j)| {
+            let pbd = Pbd::new(grid.rho[i], boundary)?;
+            let theta = grid.theta[j].min(0.5 * PI);
+            let mut row = Vec::with_capacity(n_r * PARAMS_PER_NODE);
+            let mut branches = Vec::with_capacity(n_r);
+            for &r in &grid.r {
+                if r == 0.0 {
+                    // Limit r → 0: E = r∫S dφ ~ r ln(1/r) → 0, and the profile is isotropic.
+                    row.extend([0.0f32; PARAMS_PER_NODE]);
+                    branches.push(FitBranch::Zero);
+                    continue;
+                }
+                if theta == 0.0 {
+                    let (cell, branch) = normal_incidence_node(&pbd, r, anchors)?;
+                    row.extend(cell);
+                    branches.push(branch);
+                    continue;
+                }
+                let f = anchors.map(|phi| pbd.eval(theta, r, phi, Rule::Fast));
+                let fit = fit_three_anchors(f[0], f[1], f[2])?;
+                let g = fit.gwc;
+                row.extend([to_f32(r * g.integral()), to_f32(r * g.beta()), g.c() as f32]);
+                branches.push(fit.branch);
+            }
+            Ok((row, branches))
+        })
+        .collect();
+
+    let mut params = Vec::with_capacity(n_rho * n_theta * n_r * PARAMS_PER_NODE);
+    let mut fit_branches = BTreeMap::new();
+    for row in baked {
+        let (values, branches) = row?;
+        params.extend(values);
+        for b in branches {
+            *fit_branches.entry(format!("{b:?}")).or_insert(0) += 1;
+        }
+    }
+
+    // Radial CDF of the spline through the stored (f32) E of each row.
+    let mut radial_cdf = vec![0.0f32; n_rho * n_theta * n_r];
+    let mut cumulative = vec![0.0f64; n_r];
+    for (row, out) in radial_cdf.chunks_mut(n_r).enumerate() {
+        let e = |k: usize| f64::from(params[(row * n_r + k) * PARAMS_PER_NODE]);
+        axes.r().integrate_positive(e, &mut cumulative);
+        for (o, c) in out.iter_mut().zip(&cumulative) {
+            *o = to_f32(*c);
+        }
+    }
+
+    let theta_cdf =
+        theta_sampling.then(|| theta_cdf(axes.theta(), &radial_cdf, n_rho, n_theta, n_r));
+    let table = AngularTable::from_parts(eta, moments, axes, params, radial_cdf, theta_cdf)
+        .map_err(Error::from)?;
+    let report = BakeReport {
+        seconds: start.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+        fit_branches,
+    };
+    Ok((table, report))
+}
+
+/// Incidence at which the θ → 0 limit of the lobe mass is taken (radians).
+const THETA_LIMIT: f64 = 1e-3;
+
+/// A node at θ = 0. The profile is isotropic there, so any split of E between the floor and a
+/// lobe with c = 0 describes it exactly; the split matters only for interpolation towards 10°.
+/// As θ → 0 the anisotropy vanishes like c ~ sin θ′ while β tends to a finite limit (the ratio of
+/// the first two Fourier harmonics of the profile), so the node stores c = 0, E from the exact
+/// isotropic value and E_β = r·β(θ = 10⁻³ rad), at most E (β is even in θ: the limit is off
+/// by ~10⁻⁶).
+/// The flat-profile fit would store β = 0, halving the anisotropy interpolated at 5° (a 1–2 %
+/// error, measured).
+fn normal_incidence_node(pbd: &Pbd, r: f64, anchors: [f64; 3]) -> Result<([f32; 3], FitBranch)> {
+    let e = TAU * r * pbd.eval(0.0, r, 0.0, Rule::Fast);
+    let f = anchors.map(|phi| pbd.eval(THETA_LIMIT, r, phi, Rule::Fast));
+    let fit = fit_three_anchors(f[0], f[1], f[2])?;
+    // Where the small-θ profile is flatter than a lobe over a non-negative floor the fit clamps
+    // α = 0; its lobe is still the admissible shape closest to the limit.
+    let e_beta = (r * fit.gwc.beta()).min(e);
+    Ok(([to_f32(e), to_f32(e_beta), 0.0], fit.branch))
+}
+
+/// CDF over θ of ρ_eff(ρ′, θ) (the last radial CDF node), per albedo row.
+fn theta_cdf(
+    theta: &Nodes,
+    radial_cdf: &[f32],
+    n_rho: usize,
+    n_theta: usize,
+    n_r: usize,
+) -> Vec<f32> {
+    let mut out = vec![0.0f32; n_rho * n_theta];
+    let mut cumulative = vec![0.0f64; n_theta];
+    for (i, chunk) in out.chunks_mut(n_theta).enumerate() {
+        let rho_eff = |j: usize| f64::from(radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]);
+        theta.integrate_positive(rho_eff, &mut cumulative);
+        for (o, c) in chunk.iter_mut().zip(&cumulative) {
+            *o = to_f32(*c);
+        }
+    }
+    out
+}
+
+/// f64 → f32, flushing values below the smallest normal f32 to 0 (far tails underflow; keeping
+/// subnormals would only slow lookups down).
+fn to_f32(v: f64) -> f32 {
+    let f = v as f32;
+    if f.abs() < f32::MIN_POSITIVE {
+        0.0
+    } else {
+        f
+    }
+}

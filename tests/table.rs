@@ -1,0 +1,339 @@
+//! The angular table model: bake determinism, sampling against pdf (chi-square), normalisation,
+//! the report's accuracy protocol (fast form), stability at the extremes, world units.
+
+use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::pbd::{Pbd, Rule};
+use bssrdf_zoo::quadrature::GaussLegendre;
+use bssrdf_zoo::table::{bake, AngularTable, Grid, GridPreset, World};
+use std::f64::consts::PI;
+use std::sync::OnceLock;
+
+/// The default grid at η = 1.33, baked once for the whole file.
+fn default_table() -> &'static AngularTable {
+    static TABLE: OnceLock<AngularTable> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        bake(
+            1.33,
+            Moments::Exact,
+            &Grid::preset(GridPreset::Default),
+            true,
+        )
+        .unwrap()
+        .0
+    })
+}
+
+/// SplitMix64: a fixed, portable stream of uniforms in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Critical value of χ² with k degrees of freedom at p = 1e-6 (Wilson–Hilferty; z = 4.753).
+/// With a fixed seed a test is deterministic; the 1e-6 is its false-failure rate over seeds.
+fn chi2_critical(k: usize) -> f64 {
+    let k = k as f64;
+    let z = 4.753;
+    k * (1.0 - 2.0 / (9.0 * k) + z * (2.0 / (9.0 * k)).sqrt()).powi(3)
+}
+
+#[test]
+fn bake_is_bit_identical_on_any_thread_count() {
+    let grid = Grid::preset(GridPreset::Coarse);
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| bake(1.33, Moments::Exact, &grid, true).unwrap().0)
+    };
+    let (one, two) = (run(1), run(2));
+    let bits = |t: &AngularTable| -> Vec<u32> {
+        t.params()
+            .iter()
+            .chain(t.radial_cdf())
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    assert_eq!(bits(&one), bits(&two));
+    assert_eq!(one, two);
+}
+
+#[test]
+fn default_table_is_at_most_one_mebibyte() {
+    let t = default_table();
+    assert_eq!(t.axes().dims(), (100, 10, 64));
+    // (E, E_β, c) + radial CDF per node, plus the 100 × 10 θ CDF.
+    assert_eq!(t.size_bytes(), 100 * 10 * 64 * 4 * 4 + 100 * 10 * 4);
+    assert!(t.size_bytes() <= 1 << 20);
+}
+
+/// Expected fraction of samples per (r, φ) bin from the pdf, by Gauss–Legendre in each bin.
+fn expected_fractions(
+    table: &AngularTable,
+    rho: f64,
+    theta: f64,
+    r_edges: &[f64],
+    n_phi: usize,
+) -> Vec<f64> {
+    let view = table.view();
+    let gl_r = GaussLegendre::new(12);
+    let gl_phi = GaussLegendre::new(6);
+    let mut out = Vec::new();
+    for w in r_edges.windows(2) {
+        for j in 0..n_phi {
+            let (p0, p1) = (
+                -PI + 2.0 * PI * j as f64 / n_phi as f64,
+                -PI + 2.0 * PI * (j + 1) as f64 / n_phi as f64,
+            );
+            out.push(gl_r.integrate(w[0], w[1], |r| {
+                r * gl_phi.integrate(p0, p1, |phi| view.pdf(rho, theta, r, phi))
+            }));
+        }
+    }
+    out
+}
+
+#[test]
+fn samples_follow_the_pdf_chi_square() {
+    let table = default_table();
+    let view = table.view();
+    let r_nodes = table.axes().r().as_slice();
+    // Bin edges: every radius node (bins follow the spline segments), 12 φ bins.
+    let n_phi = 12;
+    for (case, (rho, theta_deg)) in [
+        (0.5, 0.0),
+        (0.9, 60.0),
+        (0.999, 89.0),
+        (0.999, 0.0),
+        (0.3, 89.0),
+        (0.99, 35.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let theta = f64::to_radians(theta_deg);
+        let expected = expected_fractions(table, rho, theta, r_nodes, n_phi);
+        let total: f64 = expected.iter().sum();
+        // ∫∫ pdf dA = 1 within the quadrature error of the bins.
+        assert!(
+            (total - 1.0).abs() < 1e-5,
+            "{rho} {theta_deg}: ∫pdf = {total}"
+        );
+        let n = 200_000;
+        let mut counts = vec![0usize; expected.len()];
+        let mut rng = Rng(0xC0FFEE + case as u64);
+        for _ in 0..n {
+            let s = view
+                .sample(rho, theta, rng.next(), rng.next())
+                .expect("energy is stored here");
+            assert!((view.pdf(rho, theta, s.r, s.phi) / s.pdf_area - 1.0).abs() < 1e-9);
+            let k = r_nodes
+                .partition_point(|&x| x <= s.r)
+                .clamp(1, r_nodes.len() - 1)
+                - 1;
+            let j = (((s.phi + PI) / (2.0 * PI)) * n_phi as f64)
+                .floor()
+                .clamp(0.0, n_phi as f64 - 1.0) as usize;
+            counts[k * n_phi + j] += 1;
+        }
+        // Pool bins expecting fewer than 20 samples.
+        let (mut chi2, mut dof, mut pooled_e, mut pooled_o) = (0.0, 0usize, 0.0, 0.0);
+        for (e, &o) in expected.iter().zip(&counts) {
+            let e = e * n as f64;
+            if e < 20.0 {
+                pooled_e += e;
+                pooled_o += o as f64;
+            } else {
+                chi2 += (o as f64 - e).powi(2) / e;
+                dof += 1;
+            }
+        }
+        if pooled_e > 0.0 {
+            chi2 += (pooled_o - pooled_e).powi(2) / pooled_e.max(1.0);
+            dof += 1;
+        }
+        let crit = chi2_critical(dof - 1);
+        assert!(
+            chi2 < crit,
+            "{rho} {theta_deg}: chi2 {chi2:.1} > {crit:.1} (dof {dof})"
+        );
+    }
+}
+
+/// Mean relative error of the table against the reference quadrature over points drawn with
+/// `sample` (the report's table 2 protocol).
+fn protocol_error(rho: f64, theta_deg: f64, n: usize, seed: u64) -> (f64, f64, f64) {
+    let view = default_table().view();
+    let pbd = Pbd::new(
+        rho,
+        bssrdf_zoo::medium::Boundary::new(1.33, Moments::Exact).unwrap(),
+    )
+    .unwrap();
+    let theta = f64::to_radians(theta_deg);
+    let mut rng = Rng(seed);
+    let mut errors: Vec<f64> = (0..n)
+        .filter_map(|_| view.sample(rho, theta, rng.next(), rng.next()))
+        .map(|s| {
+            let reference = pbd.eval(theta, s.r, s.phi, Rule::Reference);
+            (view.eval(rho, theta, s.r, s.phi).unwrap() / reference - 1.0).abs()
+        })
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+    (
+        mean,
+        errors[errors.len() * 99 / 100],
+        errors[errors.len() - 1],
+    )
+}
+
+/// The report's table 2 (Ferrier 2016), mean relative error in %, the ceiling.
+const REPORT: [(f64, f64, f64); 9] = [
+    (0.5, 0.0, 0.026),
+    (0.9, 0.0, 0.026),
+    (0.99, 0.0, 0.021),
+    (0.5, 60.0, 0.08),
+    (0.9, 60.0, 0.26),
+    (0.99, 60.0, 0.25),
+    (0.5, 89.0, 0.22),
+    (0.9, 89.0, 0.53),
+    (0.99, 89.0, 0.48),
+];
+
+#[test]
+fn accuracy_protocol_fast_form() {
+    // 2 000 points per case (the full 100 000 are in the ignored test below and in
+    // `bssrdf validate`); a mean over 2 000 points is within ~10 % of the full one, so the
+    // bound here is the report's figure with that margin.
+    for (i, (rho, theta, report)) in REPORT.into_iter().enumerate() {
+        let (mean, _, _) = protocol_error(rho, theta, 2_000, 7 + i as u64);
+        assert!(
+            mean * 100.0 < 1.15 * report,
+            "rho {rho} theta {theta}: {:.4} % vs {report} %",
+            mean * 100.0
+        );
+    }
+}
+
+#[test]
+#[ignore = "full protocol: 900 000 reference evaluations, about a minute in release"]
+fn accuracy_protocol_full() {
+    for (i, (rho, theta, report)) in REPORT.into_iter().enumerate() {
+        let (mean, p99, max) = protocol_error(rho, theta, 100_000, 7 + i as u64);
+        println!(
+            "rho {rho} theta {theta}: mean {:.4} % (report {report} %), p99 {:.3} %, max {:.2} %",
+            mean * 100.0,
+            p99 * 100.0,
+            max * 100.0
+        );
+        assert!(mean * 100.0 <= report, "rho {rho} theta {theta}");
+    }
+}
+
+#[test]
+fn stable_at_the_extremes() {
+    for eta in [0.75, 1.0, 1.0001, 2.5] {
+        let (table, _) =
+            bake(eta, Moments::Exact, &Grid::preset(GridPreset::Coarse), true).unwrap();
+        let view = table.view();
+        let r_max = *table.axes().r().as_slice().last().unwrap();
+        for rho in [0.0, 1e-9, 1.0 - 1e-9, 1.0] {
+            for theta in [0.0, f64::to_radians(89.99), PI / 2.0] {
+                for r in [0.0, 1e-12, r_max, 1e4] {
+                    for phi in [0.0, PI, -PI] {
+                        let v = view.eval(rho, theta, r, phi).expect("inside the axes");
+                        assert!(
+                            v.is_finite() && v >= 0.0,
+                            "eta {eta} rho {rho} theta {theta} r {r}: {v}"
+                        );
+                        let p = view.pdf(rho, theta, r, phi);
+                        assert!(p.is_finite() && p >= 0.0);
+                    }
+                }
+                for u in [0.0, 0.3, 0.999_999, 1.0] {
+                    if let Some(s) = view.sample(rho, theta, u, 1.0 - u) {
+                        assert!(
+                            s.r > 0.0 && s.r <= r_max && s.phi.abs() <= PI,
+                            "{eta} {rho} {theta}: {s:?}"
+                        );
+                        assert!(s.pdf_area.is_finite() && s.pdf_area > 0.0);
+                    }
+                }
+                if let Some(p) = view.sample_path(rho, [0.5, 0.5, 0.5, 0.5]) {
+                    assert!(p.pdf.is_finite() && p.pdf > 0.0 && p.theta <= PI / 2.0);
+                }
+            }
+        }
+        // Outside the axes: no value, never an extrapolation.
+        assert!(view.eval(1.5, 0.0, 1.0, 0.0).is_none());
+        assert!(view.sample(0.5, 2.0, 0.5, 0.5).is_none());
+    }
+}
+
+#[test]
+fn perpendicular_model_is_the_normal_incidence_slice_with_uniform_phi() {
+    let view = default_table().view();
+    for (rho, r) in [(0.5, 0.3), (0.99, 4.0)] {
+        let want = view.eval(rho, 0.0, r, 0.0).unwrap();
+        let got = view.eval_perpendicular(rho, r).unwrap();
+        assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
+        let mut rng = Rng(3);
+        for _ in 0..100 {
+            let s = view
+                .sample_perpendicular(rho, rng.next(), rng.next())
+                .unwrap();
+            // Uniform φ: the perpendicular density is the θ = 0 table's density.
+            let p0 = view.pdf(rho, 0.0, s.r, 0.0);
+            assert!((s.pdf_area / p0 - 1.0).abs() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn path_tracing_theta_samples_follow_their_pdf() {
+    let view = default_table().view();
+    let rho = 0.9;
+    let n = 100_000;
+    let n_bins = 18;
+    let mut counts = vec![0usize; n_bins];
+    let mut rng = Rng(11);
+    for _ in 0..n {
+        let s = view
+            .sample_path(rho, [rng.next(), rng.next(), rng.next(), rng.next()])
+            .unwrap();
+        // The joint pdf is the product of its parts.
+        let want = view.pdf_theta(rho, s.theta) * view.pdf(rho, s.theta, s.r, s.phi) / (2.0 * PI);
+        assert!((s.pdf / want - 1.0).abs() < 1e-9);
+        counts[((s.theta / (PI / 2.0)) * n_bins as f64).min(n_bins as f64 - 1.0) as usize] += 1;
+    }
+    let gl = GaussLegendre::new(16);
+    let mut chi2 = 0.0;
+    for (k, &o) in counts.iter().enumerate() {
+        let (a, b) = (
+            k as f64 * PI / 2.0 / n_bins as f64,
+            (k + 1) as f64 * PI / 2.0 / n_bins as f64,
+        );
+        let e = n as f64 * gl.integrate(a, b, |t| view.pdf_theta(rho, t));
+        chi2 += (o as f64 - e).powi(2) / e;
+    }
+    assert!(chi2 < chi2_critical(n_bins - 1), "chi2 {chi2}");
+}
+
+#[test]
+fn world_units_scale_r_by_one_over_sigma_t_and_s_by_sigma_t_squared() {
+    let view = default_table().view();
+    let world = World::new(view, 2.5).unwrap();
+    let (rho, theta, r_mm, phi) = (0.9, 0.7, 0.4, 0.3);
+    let want = 2.5 * 2.5 * view.eval(rho, theta, 2.5 * r_mm, phi).unwrap();
+    assert!((world.eval(rho, theta, r_mm, phi).unwrap() / want - 1.0).abs() < 1e-14);
+    let s = world.sample(rho, theta, 0.4, 0.6).unwrap();
+    assert!((world.pdf(rho, theta, s.r, s.phi) / s.pdf_area - 1.0).abs() < 1e-9);
+    assert!(World::new(view, 0.0).is_err());
+}
