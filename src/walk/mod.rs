@@ -47,8 +47,8 @@
 //!   through the phase function (where ω meets the surface) instead of uniformly in a bin's
 //!   (r, φ) box. With that density, p(ω)|cos|/d² per unit area, the phase function and the
 //!   geometry term cancel and the score is bounded by w. The paper's uniform choice is also
-//!   unbiased once the walk stops scoring its own escapes (the notes add connections to a walk
-//!   that still scores them, which counts those exits twice), but its kernel behaves like
+//!   unbiased once the walk stops scoring its own escapes (the notes do not say that it does;
+//!   if it does not, those exits are counted twice), but its kernel behaves like
 //!   |z|/d³ near a vertex at depth z, so a connection's second moment grows like 1/z²; vertices
 //!   come arbitrarily close to the surface and the variance is infinite, which would make the
 //!   per-bin standard errors meaningless. The paper also skips the first vertex; here the first
