@@ -32,6 +32,25 @@ pub enum Error {
         min: f64,
         max: f64,
     },
+    /// A quantity that must be strictly positive is zero or negative.
+    #[error("{name} = {value} must be > 0")]
+    NotPositive { name: &'static str, value: f64 },
+    /// Two edges of a range are not in increasing order.
+    #[error("{lo_name} = {lo} must be below {hi_name} = {hi}")]
+    EdgesNotIncreasing {
+        lo_name: &'static str,
+        lo: f64,
+        hi_name: &'static str,
+        hi: f64,
+    },
+    /// A count (photons, bins) is outside the range the code accepts.
+    #[error("{name} = {value} is outside [{min}, {max}]")]
+    CountOutOfRange {
+        name: &'static str,
+        value: u64,
+        min: u64,
+        max: u64,
+    },
 }
 
 /// Result with the library's error type.

@@ -21,5 +21,6 @@ pub mod pbd;
 pub mod quadrature;
 pub mod rng;
 pub mod table;
+pub mod walk;
 
 pub use error::{Error, Result};
