@@ -17,6 +17,7 @@ pub mod error;
 
 pub use error::{Error, Result};
 pub mod fresnel;
+pub mod materials;
 pub mod medium;
 pub mod pbd;
 pub mod quadrature;
