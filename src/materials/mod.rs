@@ -34,10 +34,14 @@
 //! underscores as hyphens, so `"White Grapefruit Juice"` finds `white-grapefruit-juice`; a miss
 //! suggests close ids (optimal-string-alignment distance, see `suggest.rs`).
 
+mod builtin;
 mod error;
+mod library;
 mod parse;
+mod suggest;
 
 pub use error::MaterialError;
+pub use library::Library;
 
 use crate::medium::Medium;
 use serde::{Deserialize, Serialize, Serializer};
