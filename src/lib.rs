@@ -16,6 +16,7 @@ pub mod catmull_rom;
 pub mod error;
 pub mod fresnel;
 pub mod gwc;
+pub mod materials;
 pub mod medium;
 pub mod pbd;
 pub mod quadrature;
