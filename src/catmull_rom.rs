@@ -57,9 +57,13 @@ pub const T_TOLERANCE: f64 = 1e-12;
 pub const MAX_ITERATIONS: usize = 100;
 
 /// Strictly increasing, finite spline nodes (at least 2), validated once at construction.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Nodes {
     x: Box<[f64]>,
+    /// Per segment i: [1/wᵢ, s₀, s₁], the inverse width and the factors wᵢ/(x_{i+1} − x_{i−1})
+    /// and wᵢ/(x_{i+2} − xᵢ) of the two end slopes (NaN where the end is one-sided; unused
+    /// there). Derived from `x` once so that [`Nodes::weights`] does no division.
+    segment_factors: Box<[[f64; 3]]>,
 }
 
 /// The Catmull-Rom weights of the four nodes around one point.
@@ -118,6 +122,13 @@ struct Piece {
     total: f64,
 }
 
+/// Two node sets are equal when their positions are (the rest is derived from them).
+impl PartialEq for Nodes {
+    fn eq(&self, other: &Self) -> bool {
+        self.x == other.x
+    }
+}
+
 impl Nodes {
     /// Validates the nodes: at least 2, all finite, strictly increasing.
     ///
@@ -140,7 +151,19 @@ impl Nodes {
                 }
             }
         }
-        Ok(Self { x })
+        let segment_factors = (0..x.len() - 1)
+            .map(|i| {
+                let width = x[i + 1] - x[i];
+                let s0 = i
+                    .checked_sub(1)
+                    .map_or(f64::NAN, |h| width / (x[i + 1] - x[h]));
+                let s1 = x
+                    .get(i + 2)
+                    .map_or(f64::NAN, |&after| width / (after - x[i]));
+                [1.0 / width, s0, s1]
+            })
+            .collect();
+        Ok(Self { x, segment_factors })
     }
 
     /// The node positions.
@@ -160,35 +183,26 @@ impl Nodes {
     /// node, its weight is exactly 1 and the others exactly 0.
     pub fn weights(&self, x: f64) -> Option<Weights> {
         let i = self.find_segment(x)?;
-        let (x0, x1) = (*self.x.get(i)?, *self.x.get(i + 1)?);
-        let width = x1 - x0;
-        let t = ((x - x0) / width).clamp(0.0, 1.0);
+        let (x0, [inv_width, s0, s1]) = (*self.x.get(i)?, *self.segment_factors.get(i)?);
+        let t = ((x - x0) * inv_width).clamp(0.0, 1.0);
         let (t2, t3) = (t * t, t * t * t);
         let mut w = [0.0, 2.0 * t3 - 3.0 * t2 + 1.0, -2.0 * t3 + 3.0 * t2, 0.0];
         let (h10, h11) = (t3 - 2.0 * t2 + t, t3 - t2);
         // Slope at xᵢ: central difference, or one-sided on the first segment
-        match i.checked_sub(1).and_then(|h| self.x.get(h)) {
-            Some(&x_before) => {
-                let s0 = width / (x1 - x_before);
-                w[0] -= h10 * s0;
-                w[2] += h10 * s0;
-            }
-            None => {
-                w[1] -= h10;
-                w[2] += h10;
-            }
+        if i > 0 {
+            w[0] -= h10 * s0;
+            w[2] += h10 * s0;
+        } else {
+            w[1] -= h10;
+            w[2] += h10;
         }
         // Slope at x_{i+1}: central difference, or one-sided on the last segment
-        match self.x.get(i + 2) {
-            Some(&x_after) => {
-                let s1 = width / (x_after - x0);
-                w[1] -= h11 * s1;
-                w[3] += h11 * s1;
-            }
-            None => {
-                w[1] -= h11;
-                w[2] += h11;
-            }
+        if i + 2 < self.x.len() {
+            w[1] -= h11 * s1;
+            w[3] += h11 * s1;
+        } else {
+            w[1] -= h11;
+            w[2] += h11;
         }
         Some(Weights {
             segment: i,
@@ -434,9 +448,9 @@ impl Nodes {
         if x.is_nan() || x < first || x > last {
             return None;
         }
-        Some(find_interval(self.x.len(), |i| {
-            self.x.get(i).is_some_and(|&xi| xi <= x)
-        }))
+        // Nodes ≤ x (at least one, since x ≥ x₀), as a segment index in [0, n − 2].
+        let below = self.x.partition_point(|&xi| xi <= x);
+        Some(below.saturating_sub(1).min(self.x.len() - 2))
     }
 
     /// Segment i of the spline through `values`, with the slopes of the module docs.

@@ -39,8 +39,9 @@ pub struct PathSample {
 /// ln(1/r) growth of S there.
 #[derive(Debug, Clone, Copy)]
 struct Slice {
-    rows: [usize; 16],
-    weights: [f64; 16],
+    rows: [u32; 16],
+    /// f32: the table's values are f32 and are blended in f32 (see `window_params`).
+    weights: [f32; 16],
     rho: f64,
     theta: f64,
 }
@@ -69,8 +70,9 @@ impl<'a> TableRef<'a> {
         };
         for a in 0..4 {
             for b in 0..4 {
-                s.rows[4 * a + b] = rho_nodes[a] * n_theta + theta_nodes[b];
-                s.weights[4 * a + b] = wr[a] * wt[b];
+                // Row indices fit u32: the format caps a table far below 2³² rows.
+                s.rows[4 * a + b] = (rho_nodes[a] * n_theta + theta_nodes[b]) as u32;
+                s.weights[4 * a + b] = (wr[a] * wt[b]) as f32;
             }
         }
         Some(s)
@@ -90,7 +92,7 @@ impl<'a> TableRef<'a> {
         let mut sum = 0.0;
         for (&row, &w) in s.rows.iter().zip(&s.weights) {
             if w != 0.0 {
-                sum += w * value(row);
+                sum += f64::from(w) * value(row as usize);
             }
         }
         sum
@@ -108,13 +110,16 @@ impl<'a> TableRef<'a> {
         // 12-wide window vectorises.
         let mut acc = [0.0f32; WINDOW];
         for (&row, &w) in s.rows.iter().zip(&s.weights) {
-            let base = (row * n_r + first) * PARAMS_PER_NODE;
+            if w == 0.0 {
+                continue;
+            }
+            let base = (row as usize * n_r + first) * PARAMS_PER_NODE;
             if let Some(window) = self
                 .params
                 .get(base..base + WINDOW)
                 .and_then(|v| <&[f32; WINDOW]>::try_from(v).ok())
             {
-                axpy12(&mut acc, w as f32, window);
+                axpy12(&mut acc, w, window);
             }
         }
         acc
