@@ -35,6 +35,7 @@ pub enum Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// Checks that `value` is finite, naming it in the error otherwise.
+#[allow(dead_code)] // for the model constructors, which are not in yet
 pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
@@ -44,6 +45,7 @@ pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64> {
 }
 
 /// Checks that `value` is finite and within `[min, max]`.
+#[allow(dead_code)] // for the model constructors, which are not in yet
 pub(crate) fn in_range(name: &'static str, value: f64, min: f64, max: f64) -> Result<f64> {
     finite(name, value)?;
     if (min..=max).contains(&value) {
