@@ -522,6 +522,15 @@ fn parse_entry(
             raw_len,
         });
     }
+    let flags = raw.flags.get();
+    if strict && flags & !SECTION_REQUIRED != 0 {
+        return Err(FormatError::SectionFlags {
+            section: i,
+            kind: raw.kind.get(),
+            flags,
+            expected: flags & SECTION_REQUIRED,
+        });
+    }
     if strict {
         check_reserved(
             &format!("directory entry {i}"),
@@ -539,7 +548,7 @@ fn parse_entry(
         },
         dtype,
         codec,
-        required: raw.flags.get() & SECTION_REQUIRED != 0,
+        required: flags & SECTION_REQUIRED != 0,
         dims,
         offset: usize::try_from(raw.offset.get()).unwrap_or(usize::MAX),
         stored_len,

@@ -228,3 +228,91 @@ pub mod kind {
     pub const ALBEDO: u32 = 0x22;
     pub const FILE: u32 = u32::MAX;
 }
+
+/// One section taken out of a file (or to be put into one by [`Raw::build`]).
+#[derive(Clone, Debug)]
+pub struct Sec {
+    pub kind: u32,
+    pub table: u32,
+    pub dtype: u16,
+    pub codec: u16,
+    pub flags: u16,
+    pub dims: Vec<u32>,
+    /// Stored bytes.
+    pub data: Vec<u8>,
+    /// Decoded length; `None` means the stored length.
+    pub raw_len: Option<u64>,
+}
+
+impl Sec {
+    /// Compresses the data with zstd (level 3) and marks the section so.
+    pub fn zstd(mut self) -> Sec {
+        self.raw_len = Some(self.data.len() as u64);
+        self.data = zstd::bulk::compress(&self.data, 3).unwrap();
+        self.codec = 1;
+        self
+    }
+}
+
+impl Raw {
+    /// The sections of a well-formed file, in directory order.
+    pub fn sections(&self) -> Vec<Sec> {
+        (0..self.section_count())
+            .map(|i| {
+                let e = self.entry(i);
+                let ndim = self.u16(e + 14) as usize;
+                Sec {
+                    kind: self.u32(e),
+                    table: self.u32(e + 4),
+                    dtype: self.u16(e + 8),
+                    codec: self.u16(e + 10),
+                    flags: self.u16(e + 12),
+                    dims: (0..ndim).map(|d| self.u32(e + 16 + 4 * d)).collect(),
+                    data: self.bytes[self.offset(i)..self.offset(i) + self.stored_len(i)].to_vec(),
+                    raw_len: Some(self.u64(e + 48)),
+                }
+            })
+            .collect()
+    }
+
+    /// A file laid out as the spec says, from its parts, with every CRC right.
+    pub fn build(minor: u16, required: u64, optional: u64, alignment: u32, secs: &[Sec]) -> Raw {
+        let dir_end = HEADER + ENTRY * secs.len();
+        let mut bytes = vec![0u8; dir_end];
+        let mut offsets = Vec::new();
+        for s in secs {
+            let a = alignment as usize;
+            let offset = bytes.len().div_ceil(a) * a;
+            bytes.resize(offset, 0);
+            bytes.extend_from_slice(&s.data);
+            offsets.push(offset);
+        }
+        let mut raw = Raw::new(bytes);
+        raw.bytes[..12].copy_from_slice(b"\x89BSSRDF\r\n\x1a\n\0");
+        raw.set_u16(12, 1);
+        raw.set_u16(14, minor);
+        raw.set_u32(16, 0x0A0B_0C0D);
+        raw.set_u32(20, secs.len() as u32);
+        raw.set_file_size();
+        raw.set_u64(32, required);
+        raw.set_u64(40, optional);
+        raw.set_u32(48, alignment);
+        for (i, (s, &offset)) in secs.iter().zip(&offsets).enumerate() {
+            let e = raw.entry(i);
+            raw.set_u32(e, s.kind);
+            raw.set_u32(e + 4, s.table);
+            raw.set_u16(e + 8, s.dtype);
+            raw.set_u16(e + 10, s.codec);
+            raw.set_u16(e + 12, s.flags);
+            raw.set_u16(e + 14, s.dims.len() as u16);
+            for (d, &v) in s.dims.iter().enumerate() {
+                raw.set_u32(e + 16 + 4 * d, v);
+            }
+            raw.set_u64(e + 32, offset as u64);
+            raw.set_u64(e + 40, s.data.len() as u64);
+            raw.set_u64(e + 48, s.raw_len.unwrap_or(s.data.len() as u64));
+        }
+        raw.fix_crcs();
+        raw
+    }
+}
