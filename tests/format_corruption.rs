@@ -111,3 +111,31 @@ fn truncation_and_trailing_bytes_are_rejected_on_disk_both_ways() {
     assert_eq!(err.code(), "io");
     assert!(err.to_string().contains("missing"), "{err}");
 }
+
+#[test]
+fn extreme_dims_and_offsets_give_errors_not_overflows() {
+    let original = common::Raw::new(tiny_builder().to_bytes(Compression::None).unwrap());
+    let gwc = original.entry(original.find(common::kind::GWC, 0));
+    type Edit<'a> = &'a dyn Fn(&mut common::Raw);
+    let cases: [(&str, Edit); 3] = [
+        ("section-too-large", &|r| {
+            for d in 0..4 {
+                r.set_u32(gwc + 16 + 4 * d, u32::MAX);
+            }
+        }),
+        ("misaligned-section", &|r| r.set_u64(gwc + 32, u64::MAX)),
+        ("section-out-of-bounds", &|r| {
+            let last = r.entry(r.section_count() - 1);
+            r.set_u64(last + 40, u64::MAX - 255);
+            r.set_u16(last + 10, 1); // zstd, so stored and raw lengths may differ
+            r.set_u64(32, 1);
+        }),
+    ];
+    for (code, make) in cases {
+        let mut raw = original.clone();
+        make(&mut raw);
+        raw.fix_crcs();
+        let err = Library::from_bytes(&raw.bytes, Verify::Full).unwrap_err();
+        assert_eq!(err.code(), code, "{err}");
+    }
+}

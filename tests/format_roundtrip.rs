@@ -263,3 +263,10 @@ fn builder_rejects_invalid_content_with_the_reader_errors() {
     assert_eq!(b.add_material(m).unwrap_err().code(), "control-character");
     assert_eq!(b.set_alignment(300).unwrap_err().code(), "bad-alignment");
 }
+
+#[test]
+fn libraries_can_be_shared_between_threads() {
+    fn assert_send_sync<T: Send + Sync>() {}
+    assert_send_sync::<Library>();
+    assert_send_sync::<bssrdf_zoo::format::Table<'static>>();
+}

@@ -12,12 +12,11 @@ use super::map::AlignedBuf;
 use super::provenance::Provenance;
 use super::records::{check_axis, check_finite, check_reserved, Material, TableHeader};
 use super::spec::{
-    align_up, crc32, optional_features, required_features, AxisKind, Codec, Dtype, RawEntry,
-    RawHeader, RawMaterial, RawTable, SectionKind, BYTE_ORDER_MARK, ENTRY_RESERVED_OFFSET,
-    ENTRY_SIZE, HEADER_CRC_OFFSET, HEADER_RESERVED_OFFSET, HEADER_SIZE, MAGIC,
-    MATERIAL_RECORD_SIZE, MAX_ALIGNMENT, MAX_MATERIALS, MAX_SECTIONS, MAX_SECTION_BYTES,
-    MAX_TABLES, MIN_ALIGNMENT, NO_TABLE, SECTION_REQUIRED, TABLE_RECORD_SIZE, VERSION_MAJOR,
-    VERSION_MINOR,
+    align_up, crc32, required_features, AxisKind, Codec, Dtype, RawEntry, RawHeader, RawMaterial,
+    RawTable, SectionKind, BYTE_ORDER_MARK, ENTRY_RESERVED_OFFSET, ENTRY_SIZE, HEADER_CRC_OFFSET,
+    HEADER_RESERVED_OFFSET, HEADER_SIZE, MAGIC, MATERIAL_RECORD_SIZE, MAX_ALIGNMENT, MAX_MATERIALS,
+    MAX_SECTIONS, MAX_SECTION_BYTES, MAX_TABLES, MIN_ALIGNMENT, NO_TABLE, SECTION_REQUIRED,
+    TABLE_RECORD_SIZE, VERSION_MAJOR, VERSION_MINOR,
 };
 
 /// How much of a file to check when opening it.
@@ -449,8 +448,7 @@ fn parse_header(bytes: &[u8]) -> FormatResult<RawHeader> {
             minor: VERSION_MINOR,
         });
     }
-    // Optional features this reader does not know are ignored by definition.
-    let _ = optional_features::KNOWN;
+    // Optional feature bits are ignored by definition (version 1.0 defines none).
     if knows_minor(header.minor.get()) {
         check_reserved("header", HEADER_RESERVED_OFFSET, &header.reserved)?;
     }
@@ -497,8 +495,13 @@ fn parse_entry(
         });
     }
     let dims = all_dims[..ndim as usize].to_vec();
-    let bytes: u128 =
-        dims.iter().map(|&d| u128::from(d)).product::<u128>() * u128::from(dtype.size());
+    // Four u32 dims times 4 can overflow even u128: saturate, then compare with the cap.
+    let bytes = dims
+        .iter()
+        .try_fold(u128::from(dtype.size()), |acc, &d| {
+            acc.checked_mul(u128::from(d))
+        })
+        .unwrap_or(u128::MAX);
     if bytes > u128::from(MAX_SECTION_BYTES) {
         return Err(FormatError::SectionTooLarge {
             section: i,

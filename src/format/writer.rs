@@ -19,8 +19,8 @@ use super::spec::{
     align_up, crc32, required_features, AxisKind, Codec, Dtype, FresnelMoments, ModelKind,
     RawEntry, RawHeader, SectionKind, BYTE_ORDER_MARK, DEFAULT_ALIGNMENT, ENTRY_SIZE,
     HEADER_CRC_OFFSET, HEADER_SIZE, MAGIC, MATERIAL_RECORD_SIZE, MAX_ALIGNMENT, MAX_MATERIALS,
-    MAX_SECTIONS, MAX_SECTION_BYTES, MAX_TABLES, MIN_ALIGNMENT, NO_TABLE, SECTION_REQUIRED,
-    TABLE_RECORD_SIZE, VERSION_MAJOR, VERSION_MINOR,
+    MAX_PROVENANCE_BYTES, MAX_SECTIONS, MAX_SECTION_BYTES, MAX_TABLES, MIN_ALIGNMENT, NO_TABLE,
+    SECTION_REQUIRED, TABLE_RECORD_SIZE, VERSION_MAJOR, VERSION_MINOR,
 };
 
 /// How to store sections.
@@ -169,11 +169,9 @@ impl LibraryBuilder {
                 });
             }
             if count * 4 > MAX_SECTION_BYTES {
-                return Err(FormatError::SectionTooLarge {
-                    section: index,
-                    bytes: u128::from(count) * 4,
-                    max: MAX_SECTION_BYTES,
-                });
+                return Err(invalid(format!(
+                    "table {index}: {kind} has {count} values, over the {MAX_SECTION_BYTES}-byte cap"
+                )));
             }
             check_finite(index, kind, values)?;
             let pending = Pending {
@@ -230,12 +228,13 @@ impl LibraryBuilder {
             )));
         }
         let dims_ok = (1..=4).contains(&section.dims.len());
-        let bytes: u128 = section
+        let bytes = section
             .dims
             .iter()
-            .map(|&d| u128::from(d))
-            .product::<u128>()
-            * u128::from(section.dtype.size());
+            .try_fold(u128::from(section.dtype.size()), |acc, &d| {
+                acc.checked_mul(u128::from(d))
+            })
+            .unwrap_or(u128::MAX);
         if !dims_ok || bytes != section.bytes.len() as u128 || bytes > MAX_SECTION_BYTES.into() {
             return Err(invalid(format!(
                 "extension section {:#x}: {} dims {:?} do not match {} bytes (or exceed the cap)",
@@ -336,6 +335,14 @@ impl LibraryBuilder {
         );
         if let Some(provenance) = &self.provenance {
             let json = provenance.to_canonical_json();
+            if json.len() as u64 > MAX_PROVENANCE_BYTES {
+                return Err(FormatError::ProvenanceJson {
+                    message: format!(
+                        "{} bytes, more than the cap of {MAX_PROVENANCE_BYTES}",
+                        json.len()
+                    ),
+                });
+            }
             file_level.insert(
                 SectionKind::Provenance.code(),
                 Pending {
