@@ -270,3 +270,52 @@ fn libraries_can_be_shared_between_threads() {
     assert_send_sync::<Library>();
     assert_send_sync::<bssrdf_zoo::format::Table<'static>>();
 }
+
+/// In the child process: rewrite the library at `path` forever, alternating two contents.
+fn rewrite_forever(path: &std::path::Path) -> ! {
+    let a = tiny_builder();
+    let (b, _) = two_table_builder();
+    loop {
+        a.write_atomic(path, Compression::None).unwrap();
+        b.write_atomic(path, Compression::None).unwrap();
+    }
+}
+
+#[test]
+fn killed_writer_leaves_the_old_or_the_new_file() {
+    const CHILD: &str = "BSSRDF_TEST_WRITER_CHILD";
+    if let Some(path) = std::env::var_os(CHILD) {
+        rewrite_forever(std::path::Path::new(&path));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("lib.bssrdf");
+    let a = tiny_builder().to_bytes(Compression::None).unwrap();
+    let b = two_table_builder().0.to_bytes(Compression::None).unwrap();
+    let mut seen = 0;
+    for delay_ms in [5u64, 13, 29, 41, 67, 150] {
+        let mut child = std::process::Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", "killed_writer_leaves_the_old_or_the_new_file"])
+            .env(CHILD, &path)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+        child.kill().unwrap(); // SIGKILL: no destructor, no cleanup runs
+        child.wait().unwrap();
+        if let Ok(bytes) = std::fs::read(&path) {
+            assert!(
+                bytes == a || bytes == b,
+                "torn file after kill at {delay_ms} ms"
+            );
+            Library::from_bytes(&bytes, Verify::Full).unwrap();
+            seen += 1;
+        }
+        // Only stray temporary files may remain beside it, never a partial target.
+        for entry in std::fs::read_dir(dir.path()).unwrap() {
+            let name = entry.unwrap().file_name().into_string().unwrap();
+            assert!(name == "lib.bssrdf" || name.ends_with(".tmp"), "{name}");
+        }
+    }
+    assert!(seen > 0, "the child never wrote a file");
+}
