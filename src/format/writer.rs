@@ -48,17 +48,17 @@ pub struct TableData {
     pub eta: f64,
     /// How the Fresnel moments were computed.
     pub fresnel: FresnelMoments,
-    /// Reduced albedo axis ρ′ [nρ], strictly increasing in [0, 1].
+    /// Reduced albedo axis ρ′, `[nρ]`, strictly increasing in [0, 1].
     pub rho: Vec<f32>,
-    /// Incidence angle axis θ [nθ] in radians, strictly increasing in [0, π/2].
+    /// Incidence angle axis θ, `[nθ]`, in radians, strictly increasing in [0, π/2].
     pub theta: Vec<f32>,
-    /// Radius axis r [nr] in reduced mean free paths, strictly increasing, ≥ 0.
+    /// Radius axis r, `[nr]`, in reduced mean free paths, strictly increasing, ≥ 0.
     pub r: Vec<f32>,
-    /// GWC parameters (E, β, c) interleaved, [nρ][nθ][nr][3].
+    /// GWC parameters (E, β, c) interleaved, `[nρ][nθ][nr][3]`.
     pub gwc: Vec<f32>,
-    /// Radial CDF [nρ][nθ][nr].
+    /// Radial CDF, `[nρ][nθ][nr]`.
     pub cdf: Vec<f32>,
-    /// Effective albedo over θ [nρ][nθ], if wanted (path tracing samples θ with it).
+    /// Effective albedo over θ, `[nρ][nθ]`, if wanted (path tracing samples θ with it).
     pub effective_albedo: Option<Vec<f32>>,
 }
 
