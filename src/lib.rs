@@ -12,8 +12,12 @@
 //!   **φ = 0 forward**: in the plane of incidence, on the side the refracted beam travels to;
 //! - the API takes angles in radians; the command line takes degrees.
 
+// The only `unsafe` of the crate is the file mapping in `format::map`, allowed there alone.
+#![deny(unsafe_code)]
+
 pub mod catmull_rom;
 pub mod error;
+pub mod format;
 pub mod fresnel;
 pub mod gwc;
 pub mod materials;
