@@ -29,7 +29,7 @@ fn default_table() -> TableData {
         fresnel: FresnelMoments::Exact,
         gwc: (0..n * 3).map(|i| (i as f32 * 1e-3).sin()).collect(),
         cdf: (0..n).map(|i| (i % 64) as f32 / 63.0).collect(),
-        effective_albedo: Some(rho.iter().flat_map(|&p| [p; 10]).collect()),
+        theta_cdf: Some(rho.iter().flat_map(|&p| [p; 10]).collect()),
         rho,
         theta,
         r,

@@ -133,7 +133,7 @@ fn invalid_vectors() -> Vec<(&'static str, Raw)> {
         (
             "section-out-of-bounds",
             Box::new(|r| {
-                // effective-albedo [2, 2] -> [2, 66]: 528 bytes, past the end of the file.
+                // theta-cdf [2, 2] -> [2, 66]: 528 bytes, past the end of the file.
                 let e = r.entry(r.find(kind::ALBEDO, 0));
                 r.set_u32(e + 20, 66);
                 r.set_u64(e + 40, 528);
@@ -398,7 +398,7 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
     raw.bytes[100] = 0x42;
     raw.fix_crcs();
     out.push(("newer-minor", raw.bytes));
-    // Page alignment, one albedo row, no materials, no provenance, no effective albedo.
+    // Page alignment, one albedo row, no materials, no provenance, no θ CDF.
     let mut b = LibraryBuilder::new();
     b.set_alignment(4096).unwrap();
     b.add_table(synthetic_table(1.0, 1, 3, 5, false)).unwrap();
@@ -547,7 +547,7 @@ fn strict_checks_accept_what_they_should() {
     assert!(library.sections().iter().all(|s| s.offset % 4096 == 0));
     let table = library.table(0).unwrap();
     assert_eq!(table.axis(AxisKind::Rho).len(), 1);
-    assert!(table.effective_albedo().is_none());
+    assert!(table.theta_cdf().is_none());
     assert!(library.materials().is_empty() && library.provenance().is_none());
     let empty = Library::from_bytes(&valid("empty"), Verify::Full).unwrap();
     assert_eq!(empty.table_count(), 0);

@@ -25,7 +25,7 @@ fn exercise(bytes: &[u8]) {
         if let Ok(library) = Library::from_bytes(bytes, verify) {
             for table in library.tables() {
                 let _ = (table.gwc_params().len(), table.radial_cdf().len());
-                let _ = table.effective_albedo();
+                let _ = table.theta_cdf();
             }
             let _ = (library.materials().len(), library.provenance());
             let _ = library.verify();

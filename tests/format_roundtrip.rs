@@ -31,8 +31,8 @@ fn assert_tables(library: &Library, expected: &[TableData]) {
         assert_eq!(bits(table.gwc_params()), bits(&data.gwc));
         assert_eq!(bits(table.radial_cdf()), bits(&data.cdf));
         assert_eq!(
-            table.effective_albedo().map(bits),
-            data.effective_albedo.as_deref().map(bits)
+            table.theta_cdf().map(bits),
+            data.theta_cdf.as_deref().map(bits)
         );
         assert_eq!(table.section(SectionKind::Tables), None);
     }

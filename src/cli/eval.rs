@@ -1,5 +1,6 @@
 //! `bssrdf eval`: evaluate a model at a point (reduced albedo ρ′, θ in degrees, r in reduced
-//! mean free paths, φ in degrees) or at every row of a CSV file.
+//! mean free paths, φ in degrees) or at every row of a CSV file. With `--material NAME
+//! --channel c`, ρ′ and σ′t come from the material and r is in mm (the value in mm⁻²).
 
 use super::CliError;
 use bssrdf_zoo::fresnel::Moments;
@@ -13,6 +14,10 @@ use std::process::ExitCode;
 pub enum ModelName {
     /// Photon beam diffusion, multiple scattering, evaluated by quadrature.
     Pbd,
+    /// The angular table of FILE (Ferrier's model).
+    Table,
+    /// The θ = 0 slice of FILE's table at every θ, uniform in φ (pbrt's assumption).
+    Perpendicular,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -31,21 +36,32 @@ pub enum QuadratureArg {
     Fast,
 }
 
+impl From<MomentsArg> for Moments {
+    fn from(m: MomentsArg) -> Self {
+        match m {
+            MomentsArg::Exact => Moments::Exact,
+            MomentsArg::Pbrt => Moments::Pbrt,
+        }
+    }
+}
+
 #[derive(Debug, Args)]
 pub struct EvalArgs {
-    /// Model to evaluate.
-    #[arg(long, value_enum, default_value = "pbd")]
-    model: ModelName,
+    /// Library file (needed by the table models).
+    file: Option<std::path::PathBuf>,
+    /// Model to evaluate (default: table with FILE, pbd without).
+    #[arg(long, value_enum)]
+    model: Option<ModelName>,
     /// Relative index of refraction η (medium over outside).
     #[arg(long, default_value_t = 1.33)]
     eta: f64,
-    /// Reduced albedo ρ′ = σ′s/σ′t, in [0, 1].
-    #[arg(long, required_unless_present = "points")]
+    /// Reduced albedo ρ′ = σ′s/σ′t, in [0, 1] (or from --material).
+    #[arg(long, required_unless_present_any = ["points", "material"])]
     rho: Option<f64>,
     /// Incidence angle θ before refraction, degrees in [0, 90].
     #[arg(long, required_unless_present = "points")]
     theta: Option<f64>,
-    /// Exit distance r in reduced mean free paths (≥ 0).
+    /// Exit distance r in reduced mean free paths (≥ 0); in mm with --material.
     #[arg(long, required_unless_present = "points")]
     r: Option<f64>,
     /// Exit azimuth φ in degrees; 0 is forward, in the plane of incidence.
@@ -63,25 +79,57 @@ pub struct EvalArgs {
     /// Quadrature of the integral over the beam.
     #[arg(long, value_enum, default_value = "reference")]
     quadrature: QuadratureArg,
+    #[command(flatten)]
+    choice: super::library::TableChoice,
 }
 
-struct Evaluator {
+/// What one evaluation needs: the model, and for a material the channel's ρ′ and σ′t.
+struct Evaluator<'a> {
+    model: ModelName,
     boundary: Boundary,
     rule: Rule,
+    table: Option<bssrdf_zoo::table::TableRef<'a>>,
+    /// (ρ′, σ′t in mm⁻¹) of the chosen material channel: r is then in mm.
+    material: Option<(f64, f64)>,
 }
 
-impl Evaluator {
+impl Evaluator<'_> {
     fn value(&self, rho: f64, theta_deg: f64, r: f64, phi_deg: f64) -> Result<f64, CliError> {
-        check_range("rho", rho, 0.0, 1.0)?;
+        let (rho, scale) = match self.material {
+            Some((rho, st)) => (rho, st),
+            None => {
+                check_range("rho", rho, 0.0, 1.0)?;
+                (rho, 1.0)
+            }
+        };
         check_range("theta", theta_deg, 0.0, 90.0)?;
         check_range("r", r, 0.0, f64::INFINITY)?;
         check_range("phi", phi_deg, f64::NEG_INFINITY, f64::INFINITY)?;
-        let pbd = Pbd::new(rho, self.boundary)?;
-        Ok(pbd.eval(theta_deg.to_radians(), r, phi_deg.to_radians(), self.rule))
+        let (theta, phi, r_opt) = (theta_deg.to_radians(), phi_deg.to_radians(), r * scale);
+        let reduced = match (self.model, &self.table) {
+            (ModelName::Pbd, _) => Pbd::new(rho, self.boundary)?.eval(theta, r_opt, phi, self.rule),
+            (ModelName::Table, Some(t)) => t
+                .eval(rho, theta, r_opt, phi)
+                .ok_or_else(|| outside(rho, t))?,
+            (ModelName::Perpendicular, Some(t)) => t
+                .eval_perpendicular(rho, r_opt)
+                .ok_or_else(|| outside(rho, t))?,
+            (_, None) => return Err(CliError::input("the table models need a library FILE")),
+        };
+        Ok(reduced * scale * scale)
     }
 }
 
-fn check_range(name: &str, value: f64, min: f64, max: f64) -> Result<(), CliError> {
+fn outside(rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
+    let nodes = table.axes().rho().as_slice();
+    CliError::input(format!(
+        "--rho {rho} is outside the albedo range this table keeps, [{}, {}]: the table is never extrapolated",
+        nodes[0],
+        nodes[nodes.len() - 1]
+    ))
+}
+
+pub fn check_range(name: &str, value: f64, min: f64, max: f64) -> Result<(), CliError> {
     if value.is_nan() || value < min || value > max || (value.is_infinite() && name != "r") {
         return Err(CliError::input(format!(
             "--{name} {value} is outside the valid range [{min}, {max}]"
@@ -94,39 +142,81 @@ fn check_range(name: &str, value: f64, min: f64, max: f64) -> Result<(), CliErro
 }
 
 pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
-    let moments = match args.fresnel_moments {
-        MomentsArg::Exact => Moments::Exact,
-        MomentsArg::Pbrt => Moments::Pbrt,
-    };
+    let moments: Moments = args.fresnel_moments.into();
     let rule = match args.quadrature {
         QuadratureArg::Reference => Rule::Reference,
         QuadratureArg::Fast => Rule::Fast,
     };
+    let model = args.model.unwrap_or(if args.file.is_some() {
+        ModelName::Table
+    } else {
+        ModelName::Pbd
+    });
+    let library = match &args.file {
+        Some(path) => Some(super::library::open(path)?),
+        None => None,
+    };
+    let chosen = match (&library, &args.file) {
+        (Some(lib), Some(path)) => Some(args.choice.resolve(lib, path)?),
+        _ => None,
+    };
+    // Without a file, --material still works for pbd: ρ′, σ′t and η from the named library.
+    let named = match (&chosen, &args.choice.material) {
+        (None, Some(name)) => {
+            let lib = super::materials::library(args.choice.materials.as_deref())?;
+            let m = lib
+                .get(name)
+                .map_err(|e| CliError::input(e.to_string()))?
+                .clone();
+            Some(m)
+        }
+        _ => None,
+    };
+    let table = match &chosen {
+        Some(c) => Some(c.table.view().map_err(|e| CliError::input(e.to_string()))?),
+        None => None,
+    };
+    let (eta, material) = match (&chosen, &named) {
+        (Some(c), _) => (
+            table.as_ref().map_or(args.eta, |t| t.eta()),
+            c.material.as_ref().map(|(_, rho, st)| (*rho, *st)),
+        ),
+        (None, Some(m)) => {
+            let ch = m.channel(args.choice.channel.rgb());
+            (m.eta(), Some((ch.rho_prime(), ch.sigma_t_prime())))
+        }
+        (None, None) => (args.eta, None),
+    };
+    let moments = chosen.as_ref().map_or(moments, |c| c.table.moments());
     let evaluator = Evaluator {
-        boundary: Boundary::new(args.eta, moments)?,
+        model,
+        boundary: Boundary::new(eta, moments)?,
         rule,
+        table,
+        material,
     };
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if let Some(path) = &args.points {
         eval_points(&evaluator, path, &mut out)?;
     } else {
-        // clap guarantees these are present without --points.
+        // clap guarantees these are present without --points (ρ′ may come from --material).
         let (rho, theta, r) = (
-            args.rho.unwrap_or_default(),
+            material.map_or(args.rho.unwrap_or_default(), |m| m.0),
             args.theta.unwrap_or_default(),
             args.r.unwrap_or_default(),
         );
         let value = evaluator.value(rho, theta, r, args.phi)?;
         if args.json {
             let json = serde_json::json!({
-                "model": "pbd",
-                "eta": args.eta,
+                "model": format!("{model:?}").to_lowercase(),
+                "eta": eta,
                 "fresnel_moments": format!("{moments:?}").to_lowercase(),
                 "quadrature": format!("{rule:?}").to_lowercase(),
                 "rho": rho,
                 "theta_deg": theta,
                 "r": r,
+                "r_unit": if material.is_some() { "mm" } else { "reduced mfp" },
                 "phi_deg": args.phi,
                 "value": json_number(value),
             });

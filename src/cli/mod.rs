@@ -1,6 +1,14 @@
 //! Command-line definitions (clap) and dispatch. Each subcommand lives in its own file.
 
+mod bake;
 mod eval;
+mod inspect;
+mod library;
+mod materials;
+mod pack;
+mod sample;
+mod validate;
+mod walk;
 
 use clap::{Parser, Subcommand};
 use std::fmt;
@@ -16,15 +24,56 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Bake angular tables for named materials (or a bare η) into a library file.
+    Bake(bake::BakeArgs),
     /// Evaluate a model at one point or at every row of a CSV file.
     #[command(allow_negative_numbers = true)]
     Eval(eval::EvalArgs),
+    /// Draw samples (r, φ) or path-tracing quadruples from a table, as CSV.
+    #[command(allow_negative_numbers = true)]
+    Sample(sample::SampleArgs),
+    /// Run the accuracy protocol on a table: error against run time.
+    Validate(validate::ValidateArgs),
+    /// Show a library file: version, sections and checksums, tables, materials, provenance.
+    Inspect(inspect::InspectArgs),
+    /// Compress a library file with zstd for distribution (lossless).
+    Pack(pack::PackArgs),
+    /// Decompress a library file into its mappable form (lossless).
+    Unpack(pack::PackArgs),
+    /// List the named-material library.
+    Materials(materials::MaterialsArgs),
+    /// Run the Monte Carlo random walk alone (the ground truth).
+    Walk(walk::WalkArgs),
 }
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     match cli.command {
+        Command::Bake(args) => bake::run(args),
         Command::Eval(args) => eval::run(args),
+        Command::Sample(args) => sample::run(args),
+        Command::Validate(args) => validate::run(args),
+        Command::Inspect(args) => inspect::run(args),
+        Command::Pack(args) => pack::run(args, true),
+        Command::Unpack(args) => pack::run(args, false),
+        Command::Materials(args) => materials::run(args),
+        Command::Walk(args) => walk::run(args),
+    }
+}
+
+/// Runs `f` on a pool of `threads` threads, or on the global pool when `None`.
+pub fn with_threads<T: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> T + Send,
+) -> Result<T, CliError> {
+    match threads {
+        None => Ok(f()),
+        Some(0) => Err(CliError::input("--threads 0: at least one thread")),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map(|pool| pool.install(f))
+            .map_err(|e| CliError::input(format!("--threads {n}: {e}"))),
     }
 }
 

@@ -212,7 +212,7 @@ impl<'a> Table<'a> {
         <[f32]>::ref_from_bytes(bytes).ok()
     }
 
-    /// Gaussian-with-cosine parameters (E, β, c) interleaved, `[nρ][nθ][nr][3]`.
+    /// General Wrapped Cauchy parameters (E, E_β = βr, c) interleaved, `[nρ][nθ][nr][3]`.
     pub fn gwc_params(&self) -> &'a [f32] {
         self.section(SectionKind::GwcParams).unwrap_or_default()
     }
@@ -222,9 +222,9 @@ impl<'a> Table<'a> {
         self.section(SectionKind::RadialCdf).unwrap_or_default()
     }
 
-    /// Effective albedo over θ, `[nρ][nθ]`, if the table has it.
-    pub fn effective_albedo(&self) -> Option<&'a [f32]> {
-        self.section(SectionKind::EffectiveAlbedo)
+    /// CDF over θ of the effective albedo, `[nρ][nθ]`, if the table has it.
+    pub fn theta_cdf(&self) -> Option<&'a [f32]> {
+        self.section(SectionKind::ThetaCdf)
     }
 
     /// Decoded bytes of this table's section with kind code `kind` (including extension kinds

@@ -43,4 +43,7 @@ pub use provenance::{json_number, Provenance};
 pub use reader::{SectionInfo, Verify};
 pub use records::{AlbedoRange, Material, TableHeader, CHANNELS};
 pub use spec::{AxisKind, Codec, Dtype, FresnelMoments, ModelKind, SectionKind};
-pub use writer::{pack, unpack, Compression, Conversion, ExtraSection, LibraryBuilder, TableData};
+pub use writer::{
+    pack, unpack, write_file_atomic, Compression, Conversion, ExtraSection, LibraryBuilder,
+    TableData,
+};

@@ -325,7 +325,7 @@ impl TableHeader {
             SectionKind::AxisR => vec![r],
             SectionKind::GwcParams => vec![a, t, r, 3],
             SectionKind::RadialCdf => vec![a, t, r],
-            SectionKind::EffectiveAlbedo => vec![a, t],
+            SectionKind::ThetaCdf => vec![a, t],
             SectionKind::Tables | SectionKind::Materials | SectionKind::Provenance => return None,
         })
     }

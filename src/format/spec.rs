@@ -98,12 +98,12 @@ pub enum SectionKind {
     AxisTheta = 0x11,
     /// Radius axis in reduced mean free paths, `f32 [nr]`, strictly increasing, ≥ 0.
     AxisR = 0x12,
-    /// Gaussian-with-cosine parameters (E, β, c) interleaved, `f32 [nρ][nθ][nr][3]`.
+    /// General Wrapped Cauchy parameters (E, E_β = βr, c) interleaved, `f32 [nρ][nθ][nr][3]`.
     GwcParams = 0x20,
     /// Radial CDF, `f32 [nρ][nθ][nr]`.
     RadialCdf = 0x21,
-    /// Effective albedo over θ, `f32 [nρ][nθ]` (optional).
-    EffectiveAlbedo = 0x22,
+    /// CDF over θ of the effective albedo ρ_eff(ρ′, θ), `f32 [nρ][nθ]` (optional: path tracing).
+    ThetaCdf = 0x22,
 }
 
 impl SectionKind {
@@ -117,7 +117,7 @@ impl SectionKind {
         SectionKind::AxisR,
         SectionKind::GwcParams,
         SectionKind::RadialCdf,
-        SectionKind::EffectiveAlbedo,
+        SectionKind::ThetaCdf,
     ];
 
     /// The kind's code in a directory entry.
@@ -141,7 +141,7 @@ impl SectionKind {
             SectionKind::AxisR => "axis-r",
             SectionKind::GwcParams => "gwc-params",
             SectionKind::RadialCdf => "radial-cdf",
-            SectionKind::EffectiveAlbedo => "effective-albedo",
+            SectionKind::ThetaCdf => "theta-cdf",
         }
     }
 
@@ -160,7 +160,7 @@ impl SectionKind {
 
     /// Value of the `required` flag a writer sets for this kind.
     pub fn required(self) -> bool {
-        !matches!(self, SectionKind::Provenance | SectionKind::EffectiveAlbedo)
+        !matches!(self, SectionKind::Provenance | SectionKind::ThetaCdf)
     }
 }
 
@@ -272,7 +272,7 @@ impl Codec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(u32)]
 pub enum ModelKind {
-    /// Photon beam diffusion at any incidence, tabulated as Ferrier's Gaussian-with-cosine
+    /// Photon beam diffusion at any incidence, tabulated as Ferrier's General Wrapped Cauchy (GWC)
     /// (GWC) fit over (ρ′, θ, r).
     PbdAngular = 1,
 }

@@ -58,8 +58,8 @@ pub struct TableData {
     pub gwc: Vec<f32>,
     /// Radial CDF, `[nρ][nθ][nr]`.
     pub cdf: Vec<f32>,
-    /// Effective albedo over θ, `[nρ][nθ]`, if wanted (path tracing samples θ with it).
-    pub effective_albedo: Option<Vec<f32>>,
+    /// CDF over θ of the effective albedo, `[nρ][nθ]`, if wanted (path tracing samples θ with it).
+    pub theta_cdf: Option<Vec<f32>>,
 }
 
 /// A section of a kind this version does not define, for extensions and tests.
@@ -188,8 +188,8 @@ impl LibraryBuilder {
         put(SectionKind::AxisR, &table.r)?;
         put(SectionKind::GwcParams, &table.gwc)?;
         put(SectionKind::RadialCdf, &table.cdf)?;
-        if let Some(albedo) = &table.effective_albedo {
-            put(SectionKind::EffectiveAlbedo, albedo)?;
+        if let Some(albedo) = &table.theta_cdf {
+            put(SectionKind::ThetaCdf, albedo)?;
         }
         self.tables.push((header, sections));
         Ok(index)
@@ -468,7 +468,7 @@ fn layout(
 }
 
 /// Writes `bytes` to `path` through a synced temporary file and a rename.
-pub(crate) fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
+pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
     let name = path
         .file_name()
         .ok_or_else(|| invalid(format!("{} has no file name", path.display())))?;

@@ -36,8 +36,10 @@ pub struct Grid {
     pub r: Vec<f64>,
 }
 
-/// The largest radius node of every preset, as in pbrt: 0.0025·1.2⁶³ ≈ 202.85 mean free paths.
-const R_MAX: f64 = 202.850_184_525_988;
+/// 0.0025·1.2⁶²: with r_i = 0.0025·q^i (i = 1 … n − 1) and q = (R_Q/0.0025)^{1/(n−2)}, a 64-node
+/// axis gets exactly the report's q = 1.2, so r₁ = 0.003 and r₆₃ = 0.0025·1.2⁶³ ≈ 243.4 mean
+/// free paths (pbrt's table starts one step earlier, r₁ = 0.0025, and ends at 202.85).
+const R_Q: f64 = 202.850_184_525_988;
 
 impl Grid {
     /// The grid of a preset.
@@ -50,10 +52,10 @@ impl Grid {
         Self::ferrier(n_rho, n_theta, n_r)
     }
 
-    /// Ferrier's node placement for any counts (each ≥ 2): ρ_i = (1 − e^{−8i/(n−1)})/(1 − e^{−8}),
-    /// θ uniform over [0, 90°], r₀ = 0 and r_i = 0.0025·q^i up to ≈ 202.85 (q = 1.2 for 64 nodes).
+    /// Ferrier's node placement for any counts (ρ, θ ≥ 2; r ≥ 4): ρ_i = (1 − e^{−8i/(n−1)})/(1 − e^{−8}),
+    /// θ uniform over [0, 90°], r₀ = 0 and r_i = 0.0025·q^i (q = 1.2 for 64 nodes, see [`R_Q`]).
     pub fn ferrier(n_rho: usize, n_theta: usize, n_r: usize) -> Self {
-        let (n_rho, n_theta, n_r) = (n_rho.max(2), n_theta.max(2), n_r.max(3));
+        let (n_rho, n_theta, n_r) = (n_rho.max(2), n_theta.max(2), n_r.max(4));
         let rho = (0..n_rho)
             .map(|i| {
                 let x = -8.0 * i as f64 / (n_rho - 1) as f64;
@@ -64,7 +66,7 @@ impl Grid {
         let theta = (0..n_theta)
             .map(|j| 0.5 * PI * j as f64 / (n_theta - 1) as f64)
             .collect();
-        let q = (R_MAX / 0.0025).powf(1.0 / (n_r - 2) as f64);
+        let q = (R_Q / 0.0025).powf(1.0 / (n_r - 2) as f64);
         let r = std::iter::once(0.0)
             .chain((1..n_r).map(|i| 0.0025 * q.powi(i as i32)))
             .collect();

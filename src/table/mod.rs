@@ -37,10 +37,12 @@
 //! extrapolation; the GWC profile is monotone in |φ| (see [`crate::gwc`]).
 
 mod bake;
+mod io;
 mod lookup;
 mod validate;
 
 pub use bake::{bake, BakeReport, Grid, GridPreset};
+pub use io::FileTable;
 pub use lookup::{PathSample, Sample, World};
 pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
 
@@ -126,6 +128,9 @@ pub enum TableError {
         ntheta: usize,
         nr: usize,
     },
+    /// The axes stored in a file are not valid spline nodes.
+    #[error("a table axis is not strictly increasing and finite")]
+    Axes,
     /// The relative index of refraction is not finite and positive.
     #[error("eta = {0} must be finite and > 0")]
     Eta(f64),

@@ -36,7 +36,7 @@ pub fn synthetic_table(
             }
         }
     }
-    let effective_albedo = albedo.then(|| {
+    let theta_cdf = albedo.then(|| {
         rho.iter()
             .flat_map(|&p| theta.iter().map(move |&th| p * (0.8 + 0.1 * th.cos())))
             .collect()
@@ -50,7 +50,7 @@ pub fn synthetic_table(
         r,
         gwc,
         cdf,
-        effective_albedo,
+        theta_cdf,
     }
 }
 
@@ -68,7 +68,7 @@ pub fn material(name: &str, table: u32) -> Material {
 }
 
 /// The small library of the corruption tests and conformance vectors (about 4 KiB): one
-/// 2×2×4 table with effective albedo, two materials (one with an albedo range), provenance
+/// 2×2×4 table with a θ CDF, two materials (one with an albedo range), provenance
 /// with both `settings` and `accuracy` (keys of equal length, used by a vector).
 pub fn tiny_builder() -> LibraryBuilder {
     let mut b = LibraryBuilder::new();
@@ -105,7 +105,7 @@ pub fn spec_example_builder() -> LibraryBuilder {
         r: vec![0.5, 1.0],
         gwc: vec![1.0, 2.0, 0.25, 0.5, 2.0, 0.125],
         cdf: vec![0.5, 1.0],
-        effective_albedo: None,
+        theta_cdf: None,
     };
     let t = b.add_table(table).unwrap() as u32;
     b.add_material(Material {

@@ -1,0 +1,184 @@
+//! `bssrdf inspect FILE`: version, sizes, sections with their checksums (verified), materials,
+//! tables with their axes, provenance. Names from the file are printed with control characters
+//! escaped.
+
+use super::CliError;
+use bssrdf_zoo::format::{AxisKind, Library, SectionKind, Verify};
+use clap::Args;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Debug, Args)]
+pub struct InspectArgs {
+    /// Library file.
+    file: PathBuf,
+    /// One JSON object instead of the report.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Escapes control characters (and only them) so a hostile name cannot drive the terminal.
+pub fn escape(s: &str) -> String {
+    s.chars()
+        .flat_map(|c| {
+            if c.is_control() {
+                c.escape_default().collect::<Vec<_>>()
+            } else {
+                vec![c]
+            }
+        })
+        .collect()
+}
+
+fn axis_summary(values: &[f32]) -> String {
+    match values {
+        [] => "(empty)".into(),
+        [only] => format!("1 node: {only}"),
+        [first, .., last] => format!("{} nodes, {first} … {last}", values.len()),
+    }
+}
+
+fn section_name(kind: u32) -> String {
+    SectionKind::from_code(kind)
+        .map_or_else(|| format!("extension 0x{kind:x}"), |k| k.name().to_string())
+}
+
+pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
+    // Every CRC is checked here: a file that opens has all its checksums verified.
+    let library = Library::read(&args.file, Verify::Full)
+        .map_err(|e| CliError::input(format!("{}: {e}", args.file.display())))?;
+    let (major, minor) = library.version();
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if args.json {
+        let sections: Vec<_> = library
+            .sections()
+            .iter()
+            .map(|s| serde_json::json!({
+                "kind": section_name(s.kind), "table": s.table, "dtype": format!("{:?}", s.dtype),
+                "codec": format!("{:?}", s.codec), "required": s.required, "dims": s.dims,
+                "offset": s.offset, "stored_len": s.stored_len, "raw_len": s.raw_len,
+                "crc32": format!("{:08x}", s.crc32), "crc_verified": true,
+            }))
+            .collect();
+        let tables: Vec<_> = library
+            .tables()
+            .map(|t| serde_json::json!({
+                "index": t.index(), "model": format!("{:?}", t.model()), "eta": t.eta(),
+                "fresnel_moments": format!("{:?}", t.fresnel()), "dims": t.dims(),
+                "rho": t.axis(AxisKind::Rho), "theta": t.axis(AxisKind::Theta), "r": t.axis(AxisKind::R),
+                "theta_sampling": t.theta_cdf().is_some(),
+            }))
+            .collect();
+        let materials: Vec<_> = library
+            .materials()
+            .iter()
+            .map(|m| serde_json::json!({
+                "name": m.name, "source": m.source, "sigma_s": m.sigma_s, "sigma_a": m.sigma_a,
+                "g": m.g, "eta": m.eta, "tables": m.tables,
+                "albedo_range": m.albedo_range.map(|r| serde_json::json!({"min": r.min, "max": r.max})),
+            }))
+            .collect();
+        let provenance: serde_json::Map<String, serde_json::Value> = library
+            .provenance()
+            .map(|p| {
+                p.fields()
+                    .map(|(k, v)| (k.to_string(), v.clone()))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let json = serde_json::json!({
+            "file": args.file.display().to_string(), "version": [major, minor],
+            "file_size": library.file_size(), "compressed": library.is_compressed(),
+            "alignment": library.alignment(),
+            "required_features": library.required_features(), "optional_features": library.optional_features(),
+            "sections": sections, "tables": tables, "materials": materials, "provenance": provenance,
+        });
+        writeln!(out, "{json}")?;
+        out.flush()?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    writeln!(out, "{}", escape(&args.file.display().to_string()))?;
+    writeln!(
+        out,
+        "  format {major}.{minor}, {} bytes, {}, sections aligned to {} bytes, features required {:#x} optional {:#x}",
+        library.file_size(),
+        if library.is_compressed() { "zstd-compressed (decoded at open)" } else { "uncompressed (mappable)" },
+        library.alignment(),
+        library.required_features(),
+        library.optional_features()
+    )?;
+    writeln!(
+        out,
+        "sections ({}), every CRC-32 verified:",
+        library.sections().len()
+    )?;
+    for s in library.sections() {
+        writeln!(
+            out,
+            "  {:<18} table {:<4} {:?} {:?} dims {:?}  offset {:>8}  {:>8} -> {:>8} bytes  crc {:08x}{}",
+            section_name(s.kind),
+            s.table.map_or("-".to_string(), |t| t.to_string()),
+            s.dtype,
+            s.codec,
+            s.dims,
+            s.offset,
+            s.stored_len,
+            s.raw_len,
+            s.crc32,
+            if s.required { "  required" } else { "" }
+        )?;
+    }
+    writeln!(out, "tables ({}):", library.table_count())?;
+    for t in library.tables() {
+        writeln!(
+            out,
+            "  [{}] {:?} eta {} moments {:?} dims {:?} theta-sampling {}",
+            t.index(),
+            t.model(),
+            t.eta(),
+            t.fresnel(),
+            t.dims(),
+            if t.theta_cdf().is_some() { "yes" } else { "no" }
+        )?;
+        writeln!(out, "      rho:   {}", axis_summary(t.axis(AxisKind::Rho)))?;
+        writeln!(
+            out,
+            "      theta: {} (radians)",
+            axis_summary(t.axis(AxisKind::Theta))
+        )?;
+        writeln!(
+            out,
+            "      r:     {} (reduced mfp)",
+            axis_summary(t.axis(AxisKind::R))
+        )?;
+    }
+    writeln!(out, "materials ({}):", library.materials().len())?;
+    for m in library.materials() {
+        writeln!(
+            out,
+            "  {:<24} eta {} sigma_s {:?} sigma_a {:?} g {:?} tables {:?}",
+            escape(&m.name),
+            m.eta,
+            m.sigma_s,
+            m.sigma_a,
+            m.g,
+            m.tables
+        )?;
+        if let Some(range) = m.albedo_range {
+            writeln!(out, "      albedo range {:?} … {:?}", range.min, range.max)?;
+        }
+        if !m.source.is_empty() {
+            writeln!(out, "      source: {}", escape(&m.source))?;
+        }
+    }
+    if let Some(p) = library.provenance() {
+        writeln!(out, "provenance:")?;
+        for (key, value) in p.fields() {
+            writeln!(out, "  {}: {}", escape(key), escape(&value.to_string()))?;
+        }
+    }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,120 @@
+//! `bssrdf sample FILE`: draws (r, φ) from a table for one (ρ′, θ), or the path-tracing
+//! quadruple (θ, r, φ, φ′), as CSV on stdout.
+
+use super::library::{self, TableChoice};
+use super::CliError;
+use bssrdf_zoo::rng::SplitMix64;
+use clap::Args;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Debug, Args)]
+pub struct SampleArgs {
+    /// Library file.
+    file: PathBuf,
+    /// Reduced albedo ρ′ (or from --material).
+    #[arg(long, required_unless_present = "material")]
+    rho: Option<f64>,
+    /// Incidence θ in degrees (not with --path-tracing, which samples θ).
+    #[arg(long, default_value_t = 0.0)]
+    theta: f64,
+    /// Number of samples.
+    #[arg(short = 'n', long, default_value_t = 1000)]
+    count: u64,
+    /// Seed of the random stream (output is pinned for a seed).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Draw (θ, r, φ, φ′) for path tracing (Ferrier algorithm 3).
+    #[arg(long)]
+    path_tracing: bool,
+    #[command(flatten)]
+    choice: TableChoice,
+}
+
+pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
+    let library = library::open(&args.file)?;
+    let chosen = args.choice.resolve(&library, &args.file)?;
+    let view = chosen
+        .table
+        .view()
+        .map_err(|e| CliError::input(e.to_string()))?;
+    let (rho, scale) = match &chosen.material {
+        Some((_, rho, st)) => (*rho, *st),
+        None => (args.rho.unwrap_or_default(), 1.0),
+    };
+    super::eval::check_range("rho", rho, 0.0, 1.0)?;
+    super::eval::check_range("theta", args.theta, 0.0, 90.0)?;
+    let mut rng = SplitMix64::new(args.seed);
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let unit = if chosen.material.is_some() {
+        "mm"
+    } else {
+        "mfp"
+    };
+    if args.path_tracing {
+        if !view.has_theta_sampling() {
+            return Err(CliError::input(format!(
+                "{} was baked without the theta-sampling table (--no-theta-sampling): path tracing needs it",
+                args.file.display()
+            )));
+        }
+        writeln!(out, "theta_deg,r_{unit},phi_deg,phi_prime_deg,pdf")?;
+        for _ in 0..args.count {
+            let u = [
+                rng.next_f64(),
+                rng.next_f64(),
+                rng.next_f64(),
+                rng.next_f64(),
+            ];
+            match view.sample_path(rho, u) {
+                Some(s) => writeln!(
+                    out,
+                    "{},{},{},{},{:e}",
+                    s.theta.to_degrees(),
+                    s.r / scale,
+                    s.phi.to_degrees(),
+                    s.phi_prime.to_degrees(),
+                    s.pdf * scale * scale
+                )?,
+                None => return no_sample(rho, None),
+            }
+        }
+    } else {
+        let theta = args.theta.to_radians();
+        view.effective_albedo(rho, theta)
+            .ok_or_else(|| outside(rho, &view))?;
+        writeln!(out, "r_{unit},phi_deg,pdf")?;
+        for _ in 0..args.count {
+            match view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
+                Some(s) => writeln!(
+                    out,
+                    "{},{},{:e}",
+                    s.r / scale,
+                    s.phi.to_degrees(),
+                    s.pdf_area * scale * scale
+                )?,
+                None => return no_sample(rho, Some(args.theta)),
+            }
+        }
+    }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn outside(rho: f64, view: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
+    let nodes = view.axes().rho().as_slice();
+    CliError::input(format!(
+        "rho {rho} is outside the albedo range this table keeps, [{}, {}]",
+        nodes[0],
+        nodes[nodes.len() - 1]
+    ))
+}
+
+fn no_sample(rho: f64, theta: Option<f64>) -> Result<ExitCode, CliError> {
+    Err(CliError::input(match theta {
+        Some(t) => format!("no light leaves at rho {rho}, theta {t}: nothing to sample (rho = 0, or beyond the critical angle)"),
+        None => format!("no light leaves at rho {rho}: nothing to sample"),
+    }))
+}

@@ -1,0 +1,134 @@
+//! `bssrdf walk`: the Monte Carlo random walk alone (unreduced single-scattering albedo and g:
+//! the walk is the physics, not a model of it).
+
+use super::CliError;
+use bssrdf_zoo::walk::{self, Bins, Config, Geometry};
+use clap::Args;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Debug, Args)]
+pub struct WalkArgs {
+    /// Single-scattering albedo σs/σt (unreduced), in [0, 1].
+    #[arg(long)]
+    albedo: f64,
+    /// Henyey–Greenstein g, in (−1, 1).
+    #[arg(long, default_value_t = 0.0)]
+    g: f64,
+    /// Relative index of refraction η (medium over outside).
+    #[arg(long, default_value_t = 1.33)]
+    eta: f64,
+    /// Incidence angle θ before refraction, degrees in [0, 90).
+    #[arg(long, default_value_t = 0.0)]
+    theta: f64,
+    /// Number of photons entering the medium.
+    #[arg(long, default_value_t = 1_000_000)]
+    photons: u64,
+    /// Seed of the per-photon random streams (results do not depend on the thread count).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// A slab of this optical thickness instead of a half-space.
+    #[arg(long, value_name = "TAU")]
+    slab: Option<f64>,
+    /// Bins of the profile: r_min,r_max,radial_bins,phi_bins (mean free paths).
+    #[arg(
+        long,
+        value_name = "R_MIN,R_MAX,NR,NPHI",
+        value_delimiter = ',',
+        num_args = 4
+    )]
+    bins: Option<Vec<f64>>,
+    /// Write the binned exitance R(r, φ) with standard errors to this CSV file.
+    #[arg(long, value_name = "OUT.csv")]
+    profile: Option<PathBuf>,
+    /// Threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// One JSON object instead of the summary.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
+    if !(0.0..90.0).contains(&args.theta) {
+        return Err(CliError::input(format!(
+            "--theta {} is outside [0, 90) degrees",
+            args.theta
+        )));
+    }
+    let mut config = Config::new(args.albedo, args.g, args.eta, args.theta.to_radians());
+    config.photons = args.photons;
+    config.seed = args.seed;
+    if let Some(tau) = args.slab {
+        config.geometry = Geometry::Slab { thickness: tau };
+    }
+    if let Some(b) = &args.bins {
+        let count = |v: f64, name: &str| {
+            if v.fract() == 0.0 && (1.0..=1e6).contains(&v) {
+                Ok(v as usize)
+            } else {
+                Err(CliError::input(format!(
+                    "--bins {name} = {v} must be a whole number in [1, 1e6]"
+                )))
+            }
+        };
+        config.bins = Bins::new(
+            b[0],
+            b[1],
+            count(b[2], "radial count")?,
+            count(b[3], "phi count")?,
+        )?;
+    }
+    config.validate()?;
+    let start = Instant::now();
+    let result = super::with_threads(args.threads, || walk::run(&config))??;
+    let seconds = start.elapsed().as_secs_f64();
+    if let Some(path) = &args.profile {
+        let mut csv = Vec::new();
+        result.to_csv(&mut csv)?;
+        bssrdf_zoo::format::write_file_atomic(path, &csv)
+            .map_err(|e| CliError::input(format!("cannot write {}: {e}", path.display())))?;
+    }
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if args.json {
+        let mut json = serde_json::to_value(&result).map_err(std::io::Error::from)?;
+        if let Some(map) = json.as_object_mut() {
+            map.insert("seconds".into(), serde_json::json!(seconds));
+        }
+        writeln!(out, "{json}")?;
+    } else {
+        let show =
+            |name: &str, e: walk::Estimate| format!("{name:<22} {:.6} ± {:.6}", e.value, e.stderr);
+        writeln!(
+            out,
+            "{}",
+            show("total reflectance", result.total_reflectance())
+        )?;
+        writeln!(
+            out,
+            "{}",
+            show("single scattering", result.single_reflectance())
+        )?;
+        writeln!(
+            out,
+            "{}",
+            show("multiple scattering", result.multiple_reflectance())
+        )?;
+        if let Some(t) = result.total_transmittance() {
+            writeln!(out, "{}", show("total transmittance", t))?;
+        }
+        writeln!(
+            out,
+            "(per unit power entering; {} photons, {} scattering events, {:.2} s, {:.1} M events/s)",
+            result.photons(),
+            result.scattering_events(),
+            seconds,
+            result.scattering_events() as f64 / seconds / 1e6
+        )?;
+    }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
+}
