@@ -1,0 +1,441 @@
+//! End-to-end tests of the file commands: bake → inspect → eval → sample → validate →
+//! pack/unpack, the named materials, the walk, and their error paths (exit code 2 for bad
+//! input, 1 for a failed check).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn bssrdf(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bssrdf"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn ok(o: &Output) -> String {
+    assert!(o.status.success(), "{:?}: {}", o.status, text(&o.stderr));
+    text(&o.stdout)
+}
+
+fn fails_with(o: &Output, code: i32, needle: &str) {
+    assert_eq!(o.status.code(), Some(code), "stderr: {}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains(needle),
+        "{:?} not in {}",
+        needle,
+        text(&o.stderr)
+    );
+    assert!(!text(&o.stderr).contains("panicked"));
+}
+
+/// A coarse-grid library of white grapefruit juice in a fresh folder.
+fn baked() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    ok(&bssrdf(
+        dir.path(),
+        &[
+            "bake",
+            "white-grapefruit-juice",
+            "--grid",
+            "coarse",
+            "--quiet",
+        ],
+    ));
+    assert!(dir.path().join("white-grapefruit-juice.bssrdf").exists());
+    dir
+}
+
+#[test]
+fn bake_is_deterministic_on_any_thread_count() {
+    let dir = baked();
+    ok(&bssrdf(
+        dir.path(),
+        &[
+            "bake",
+            "white-grapefruit-juice",
+            "--grid",
+            "coarse",
+            "-q",
+            "--threads",
+            "1",
+            "-o",
+            "one.bssrdf",
+        ],
+    ));
+    let a = std::fs::read(dir.path().join("white-grapefruit-juice.bssrdf")).unwrap();
+    let b = std::fs::read(dir.path().join("one.bssrdf")).unwrap();
+    assert_eq!(a, b, "same bake, different bytes");
+}
+
+#[test]
+fn inspect_reports_tables_materials_and_provenance() {
+    let dir = baked();
+    let json: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        dir.path(),
+        &["inspect", "white-grapefruit-juice.bssrdf", "--json"],
+    )))
+    .unwrap();
+    assert_eq!(json["version"], serde_json::json!([1, 0]));
+    assert_eq!(json["tables"][0]["dims"], serde_json::json!([50, 7, 40]));
+    assert_eq!(json["tables"][0]["eta"], 1.33);
+    assert_eq!(json["materials"][0]["name"], "white-grapefruit-juice");
+    assert!(json["provenance"]["accuracy"]["tables"][0]["cases"].is_array());
+    assert!(json["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|s| s["crc_verified"] == true));
+    let human = ok(&bssrdf(
+        dir.path(),
+        &["inspect", "white-grapefruit-juice.bssrdf"],
+    ));
+    assert!(human.contains("every CRC-32 verified"));
+}
+
+#[test]
+fn eval_table_agrees_with_pbd_and_materials_use_millimetres() {
+    let dir = baked();
+    let value = |args: &[&str]| -> f64 { ok(&bssrdf(dir.path(), args)).trim().parse().unwrap() };
+    let table = value(&[
+        "eval",
+        "white-grapefruit-juice.bssrdf",
+        "--rho",
+        "0.9",
+        "--theta",
+        "60",
+        "--r",
+        "1",
+    ]);
+    let pbd = value(&[
+        "eval", "--model", "pbd", "--rho", "0.9", "--theta", "60", "--r", "1",
+    ]);
+    assert!((table / pbd - 1.0).abs() < 0.01, "{table} vs {pbd}");
+    // With a material, r is in mm and S in mm⁻²: S_mm = σ′t² S(σ′t r).
+    let json: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        dir.path(),
+        &[
+            "eval",
+            "white-grapefruit-juice.bssrdf",
+            "--material",
+            "white-grapefruit-juice",
+            "--channel",
+            "b",
+            "--theta",
+            "30",
+            "--r",
+            "2",
+            "--json",
+        ],
+    )))
+    .unwrap();
+    assert_eq!(json["r_unit"], "mm");
+    let rho = json["rho"].as_f64().unwrap();
+    // Blue channel of white grapefruit juice: σs = 0.75282, σa = 0.056781, g = 0.565.
+    let st = 0.75282 * (1.0 - 0.565) + 0.056781;
+    assert!((rho - 0.75282 * (1.0 - 0.565) / st).abs() < 1e-12);
+    let reduced = value(&[
+        "eval",
+        "white-grapefruit-juice.bssrdf",
+        "--rho",
+        &rho.to_string(),
+        "--theta",
+        "30",
+        "--r",
+        &(2.0 * st).to_string(),
+    ]);
+    assert!((json["value"].as_f64().unwrap() / (st * st * reduced) - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn sample_is_pinned_for_a_seed_and_writes_csv() {
+    let dir = baked();
+    let run = |seed: &str| {
+        ok(&bssrdf(
+            dir.path(),
+            &[
+                "sample",
+                "white-grapefruit-juice.bssrdf",
+                "--rho",
+                "0.9",
+                "--theta",
+                "60",
+                "-n",
+                "50",
+                "--seed",
+                seed,
+            ],
+        ))
+    };
+    let a = run("3");
+    assert_eq!(a, run("3"));
+    assert_ne!(a, run("4"));
+    let lines: Vec<&str> = a.lines().collect();
+    assert_eq!(lines[0], "r_mfp,phi_deg,pdf");
+    assert_eq!(lines.len(), 51);
+    for line in &lines[1..] {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!(v[0] > 0.0 && v[1].abs() <= 180.0 && v[2] > 0.0);
+    }
+    let path = ok(&bssrdf(
+        dir.path(),
+        &[
+            "sample",
+            "white-grapefruit-juice.bssrdf",
+            "--rho",
+            "0.9",
+            "--path-tracing",
+            "-n",
+            "5",
+        ],
+    ));
+    assert!(path.starts_with("theta_deg,r_mfp,phi_deg,phi_prime_deg,pdf\n"));
+}
+
+#[test]
+fn validate_exits_1_when_a_bound_fails() {
+    let dir = baked();
+    let json: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        dir.path(),
+        &[
+            "validate",
+            "white-grapefruit-juice.bssrdf",
+            "--samples",
+            "200",
+            "--json",
+            "--max-mean-error",
+            "5",
+        ],
+    )))
+    .unwrap();
+    assert_eq!(json["pass"], true);
+    assert_eq!(json["rows"].as_array().unwrap().len(), 9);
+    let o = bssrdf(
+        dir.path(),
+        &[
+            "validate",
+            "white-grapefruit-juice.bssrdf",
+            "--samples",
+            "200",
+            "--max-mean-error",
+            "0.0001",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("FAIL"));
+}
+
+#[test]
+fn pack_and_unpack_are_lossless() {
+    let dir = baked();
+    let original = std::fs::read(dir.path().join("white-grapefruit-juice.bssrdf")).unwrap();
+    ok(&bssrdf(
+        dir.path(),
+        &[
+            "pack",
+            "white-grapefruit-juice.bssrdf",
+            "-o",
+            "packed.bssrdf",
+        ],
+    ));
+    let packed = std::fs::read(dir.path().join("packed.bssrdf")).unwrap();
+    assert!(packed.len() < original.len());
+    // A packed file evaluates exactly like the mappable one.
+    let eval = |file: &str| {
+        ok(&bssrdf(
+            dir.path(),
+            &[
+                "eval", file, "--rho", "0.5", "--theta", "40", "--r", "0.7", "--phi", "20",
+            ],
+        ))
+    };
+    assert_eq!(eval("white-grapefruit-juice.bssrdf"), eval("packed.bssrdf"));
+    ok(&bssrdf(dir.path(), &["unpack", "packed.bssrdf"]));
+    assert_eq!(
+        std::fs::read(dir.path().join("packed.bssrdf")).unwrap(),
+        original
+    );
+}
+
+#[test]
+fn materials_lists_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&ok(&bssrdf(dir.path(), &["materials", "--json"]))).unwrap();
+    assert_eq!(json.as_array().unwrap().len(), 47);
+    assert!(ok(&bssrdf(dir.path(), &["materials"])).contains("white-grapefruit-juice"));
+}
+
+#[test]
+fn walk_prints_the_reflectances_and_writes_the_profile() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(&bssrdf(
+        dir.path(),
+        &[
+            "walk",
+            "--albedo",
+            "0.9",
+            "--eta",
+            "1",
+            "--photons",
+            "20000",
+            "--json",
+            "--profile",
+            "p.csv",
+            "--seed",
+            "5",
+        ],
+    ));
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for key in [
+        "total_reflectance",
+        "single_reflectance",
+        "multiple_reflectance",
+        "total_reflectance_stderr",
+        "single_reflectance_stderr",
+        "multiple_reflectance_stderr",
+    ] {
+        assert!(json[key].as_f64().is_some(), "missing {key}");
+    }
+    let csv = std::fs::read_to_string(dir.path().join("p.csv")).unwrap();
+    assert!(csv.starts_with("r_lo,r_hi,phi_lo_deg,phi_hi_deg,single,single_stderr,multiple,multiple_stderr,total,total_stderr"));
+}
+
+#[test]
+fn error_paths_exit_2_and_name_the_problem() {
+    let dir = baked();
+    let d = dir.path();
+    fails_with(
+        &bssrdf(d, &["bake", "white-grapfruit-juice", "-q"]),
+        2,
+        "white-grapefruit-juice",
+    );
+    fails_with(&bssrdf(d, &["bake", "-q"]), 2, "--eta");
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "eval",
+                "missing.bssrdf",
+                "--rho",
+                "0.5",
+                "--theta",
+                "0",
+                "--r",
+                "1",
+            ],
+        ),
+        2,
+        "missing.bssrdf",
+    );
+    std::fs::write(
+        d.join("corrupt.bssrdf"),
+        b"\x89BSSRDF\r\n\x1a\n\0 not really",
+    )
+    .unwrap();
+    fails_with(
+        &bssrdf(d, &["inspect", "corrupt.bssrdf"]),
+        2,
+        "corrupt.bssrdf",
+    );
+    let mut bytes = std::fs::read(d.join("white-grapefruit-juice.bssrdf")).unwrap();
+    let n = bytes.len();
+    bytes[n - 100] ^= 0x55;
+    std::fs::write(d.join("flipped.bssrdf"), &bytes).unwrap();
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "eval",
+                "flipped.bssrdf",
+                "--rho",
+                "0.5",
+                "--theta",
+                "0",
+                "--r",
+                "1",
+            ],
+        ),
+        2,
+        "flipped.bssrdf",
+    );
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "eval",
+                "white-grapefruit-juice.bssrdf",
+                "--rho",
+                "1.5",
+                "--theta",
+                "0",
+                "--r",
+                "1",
+            ],
+        ),
+        2,
+        "--rho 1.5",
+    );
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "eval", "--model", "table", "--rho", "0.5", "--theta", "0", "--r", "1",
+            ],
+        ),
+        2,
+        "FILE",
+    );
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "sample",
+                "white-grapefruit-juice.bssrdf",
+                "--rho",
+                "0",
+                "-n",
+                "3",
+            ],
+        ),
+        2,
+        "nothing to sample",
+    );
+    fails_with(&bssrdf(d, &["walk", "--albedo", "1.5"]), 2, "1.5");
+    fails_with(&bssrdf(d, &["walk", "--albedo", "0.5", "--g", "1"]), 2, "g");
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "eval", "--model", "pbd", "--eta", "0", "--rho", "0.5", "--theta", "0", "--r", "1",
+            ],
+        ),
+        2,
+        "eta = 0",
+    );
+    // A material file with NaN, and one with a negative σ.
+    std::fs::write(
+        d.join("bad.toml"),
+        "id = \"bad-wax\"\nname = \"Bad wax\"\neta = 1.4\ncoefficients = \"unreduced\"\nsigma_s = [1.0, nan, 1.0]\nsigma_a = [0.1, 0.1, 0.1]\ng = [0.0, 0.0, 0.0]\n",
+    )
+    .unwrap();
+    fails_with(
+        &bssrdf(d, &["bake", "bad-wax", "--materials", "bad.toml", "-q"]),
+        2,
+        "sigma_s",
+    );
+    std::fs::write(
+        d.join("neg.toml"),
+        "id = \"neg-wax\"\nname = \"Neg wax\"\neta = 1.4\ncoefficients = \"unreduced\"\nsigma_s = [1.0, 1.0, 1.0]\nsigma_a = [0.1, -0.1, 0.1]\ng = [0.0, 0.0, 0.0]\n",
+    )
+    .unwrap();
+    fails_with(
+        &bssrdf(d, &["materials", "--materials", "neg.toml"]),
+        2,
+        "sigma_a",
+    );
+}
