@@ -3,6 +3,17 @@
 //! a bijective mixer; any seed is valid, and `SplitMix64::new(seed)` always yields the same
 //! sequence on every platform, so sampler output can be pinned for a seed.
 
+/// Golden-ratio increment of SplitMix64, ⌊2⁶⁴/φ⌋ rounded to odd.
+const GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// SplitMix64's output function: a bijective 64-bit mixer (the MurmurHash3 finaliser variant
+/// with Stafford's "Mix13" constants). Also used to hash seeds into independent streams.
+pub fn mix64(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
 /// SplitMix64 generator.
 #[derive(Debug, Clone)]
 pub struct SplitMix64 {
@@ -17,11 +28,8 @@ impl SplitMix64 {
 
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.state = self.state.wrapping_add(GAMMA);
+        mix64(self.state)
     }
 
     /// A uniform double in [0, 1) with 53 random bits.

@@ -2,9 +2,9 @@
 //! the report's accuracy protocol (fast form), stability at the extremes, world units.
 
 use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::quadrature::GaussLegendre;
-use bssrdf_zoo::table::{bake, AngularTable, Grid, GridPreset, World};
+use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::table::{bake, validate, AngularTable, Grid, GridPreset, World, REPORT_TABLE_2};
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -23,15 +23,11 @@ fn default_table() -> &'static AngularTable {
     })
 }
 
-/// SplitMix64: a fixed, portable stream of uniforms in [0, 1).
-struct Rng(u64);
+/// The crate's pinned random stream, under the name these tests use.
+struct Rng(SplitMix64);
 impl Rng {
     fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        self.0.next_f64()
     }
 }
 
@@ -128,7 +124,7 @@ fn samples_follow_the_pdf_chi_square() {
         );
         let n = 200_000;
         let mut counts = vec![0usize; expected.len()];
-        let mut rng = Rng(0xC0FFEE + case as u64);
+        let mut rng = Rng(SplitMix64::new(0xC0FFEE + case as u64));
         for _ in 0..n {
             let s = view
                 .sample(rho, theta, rng.next(), rng.next())
@@ -168,72 +164,32 @@ fn samples_follow_the_pdf_chi_square() {
 }
 
 /// Mean relative error of the table against the reference quadrature over points drawn with
-/// `sample` (the report's table 2 protocol).
-fn protocol_error(rho: f64, theta_deg: f64, n: usize, seed: u64) -> (f64, f64, f64) {
-    let view = default_table().view();
-    let pbd = Pbd::new(
-        rho,
-        bssrdf_zoo::medium::Boundary::new(1.33, Moments::Exact).unwrap(),
-    )
-    .unwrap();
-    let theta = f64::to_radians(theta_deg);
-    let mut rng = Rng(seed);
-    let mut errors: Vec<f64> = (0..n)
-        .filter_map(|_| view.sample(rho, theta, rng.next(), rng.next()))
-        .map(|s| {
-            let reference = pbd.eval(theta, s.r, s.phi, Rule::Reference);
-            (view.eval(rho, theta, s.r, s.phi).unwrap() / reference - 1.0).abs()
-        })
-        .collect();
-    errors.sort_by(f64::total_cmp);
-    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
-    (
-        mean,
-        errors[errors.len() * 99 / 100],
-        errors[errors.len() - 1],
-    )
+/// `sample` (the report's table 2 protocol, `table::validate`), for every case of the report.
+fn protocol(samples: usize) -> Vec<bssrdf_zoo::table::ValidationRow> {
+    let cases: Vec<(f64, f64)> = REPORT_TABLE_2.iter().map(|c| (c.0, c.1)).collect();
+    validate(&default_table().view(), Moments::Exact, &cases, samples, 7).unwrap()
 }
-
-/// The report's table 2 (Ferrier 2016), mean relative error in %, the ceiling.
-const REPORT: [(f64, f64, f64); 9] = [
-    (0.5, 0.0, 0.026),
-    (0.9, 0.0, 0.026),
-    (0.99, 0.0, 0.021),
-    (0.5, 60.0, 0.08),
-    (0.9, 60.0, 0.26),
-    (0.99, 60.0, 0.25),
-    (0.5, 89.0, 0.22),
-    (0.9, 89.0, 0.53),
-    (0.99, 89.0, 0.48),
-];
 
 #[test]
 fn accuracy_protocol_fast_form() {
     // 2 000 points per case (the full 100 000 are in the ignored test below and in
     // `bssrdf validate`); a mean over 2 000 points is within ~10 % of the full one, so the
     // bound here is the report's figure with that margin.
-    for (i, (rho, theta, report)) in REPORT.into_iter().enumerate() {
-        let (mean, _, _) = protocol_error(rho, theta, 2_000, 7 + i as u64);
-        assert!(
-            mean * 100.0 < 1.15 * report,
-            "rho {rho} theta {theta}: {:.4} % vs {report} %",
-            mean * 100.0
-        );
+    for row in protocol(2_000) {
+        let report = row.report_mean_rel_error.unwrap();
+        assert!(row.mean_rel_error < 1.15 * report, "{row:?}");
     }
 }
 
 #[test]
-#[ignore = "full protocol: 900 000 reference evaluations, about a minute in release"]
+#[ignore = "full protocol: 900 000 reference evaluations, about ten seconds in release"]
 fn accuracy_protocol_full() {
-    for (i, (rho, theta, report)) in REPORT.into_iter().enumerate() {
-        let (mean, p99, max) = protocol_error(rho, theta, 100_000, 7 + i as u64);
-        println!(
-            "rho {rho} theta {theta}: mean {:.4} % (report {report} %), p99 {:.3} %, max {:.2} %",
-            mean * 100.0,
-            p99 * 100.0,
-            max * 100.0
+    for row in protocol(100_000) {
+        println!("{row:?}");
+        assert!(
+            row.mean_rel_error <= row.report_mean_rel_error.unwrap(),
+            "{row:?}"
         );
-        assert!(mean * 100.0 <= report, "rho {rho} theta {theta}");
     }
 }
 
@@ -284,7 +240,7 @@ fn perpendicular_model_is_the_normal_incidence_slice_with_uniform_phi() {
         let want = view.eval(rho, 0.0, r, 0.0).unwrap();
         let got = view.eval_perpendicular(rho, r).unwrap();
         assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
-        let mut rng = Rng(3);
+        let mut rng = Rng(SplitMix64::new(3));
         for _ in 0..100 {
             let s = view
                 .sample_perpendicular(rho, rng.next(), rng.next())
@@ -303,7 +259,7 @@ fn path_tracing_theta_samples_follow_their_pdf() {
     let n = 100_000;
     let n_bins = 18;
     let mut counts = vec![0usize; n_bins];
-    let mut rng = Rng(11);
+    let mut rng = Rng(SplitMix64::new(11));
     for _ in 0..n {
         let s = view
             .sample_path(rho, [rng.next(), rng.next(), rng.next(), rng.next()])

@@ -13,35 +13,7 @@
 //! the 2²⁵⁶ cycle; a photon draws far fewer than 2⁶⁴ numbers, so streams never overlap in
 //! practice.
 
-/// Golden-ratio increment of SplitMix64, ⌊2⁶⁴/φ⌋ rounded to odd.
-const GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
-
-/// SplitMix64's output function: a bijective 64-bit mixer (the MurmurHash3 finaliser variant
-/// with Stafford's "Mix13" constants).
-pub fn mix64(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-/// The SplitMix64 generator.
-#[derive(Debug, Clone)]
-pub struct SplitMix64 {
-    state: u64,
-}
-
-impl SplitMix64 {
-    /// Starts the sequence at `seed` (the first output is `mix64(seed + γ)`).
-    pub fn new(seed: u64) -> Self {
-        Self { state: seed }
-    }
-
-    /// Next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(GAMMA);
-        mix64(self.state)
-    }
-}
+pub use crate::rng::{mix64, SplitMix64};
 
 /// The xoshiro256++ generator.
 #[derive(Debug, Clone)]
