@@ -1,6 +1,7 @@
 //! Command-line definitions (clap) and dispatch. Each subcommand lives in its own file.
 
 mod bake;
+mod bake_scene;
 mod eval;
 mod inspect;
 mod library;
