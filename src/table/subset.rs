@@ -283,10 +283,10 @@ pub fn bake_rows(
 ) -> Result<(AngularTable, BakeReport), SubsetError> {
     check_rows(&rows, grid.rho.len())?;
     let start = Instant::now();
-    // Blocks of ≥ 2 rows (a spline axis needs two) with ~32 (ρ′, θ) rows per thread, so the
+    // Blocks of ≥ 2 rows (a spline axis needs two) with ~64 (ρ′, θ) rows per thread, so the
     // pool stays busy inside a block while the callback still moves often.
     let threads = rayon::current_num_threads().max(1);
-    let block = (32 * threads).div_ceil(grid.theta.len().max(1)).max(2);
+    let block = (64 * threads).div_ceil(grid.theta.len().max(1)).max(2);
     let mut blocks: Vec<Range<usize>> = rows
         .clone()
         .step_by(block)
