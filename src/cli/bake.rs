@@ -67,8 +67,8 @@ pub struct BakeArgs {
     /// Id of the material made from coefficients or reflectance (kebab-case; default "custom").
     #[arg(long, value_name = "ID")]
     name: Option<String>,
-    /// Output file (default: <material>.bssrdf for one material, <scene>.bssrdf for a scene,
-    /// table-eta<η>.bssrdf for --eta).
+    /// Output file (default: MATERIAL.bssrdf for one material or --name, SCENE.bssrdf for
+    /// SCENE.toml, table-etaE.bssrdf for --eta E).
     #[arg(short, long, value_name = "FILE")]
     pub(super) output: Option<PathBuf>,
     /// Grid preset.
