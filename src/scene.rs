@@ -387,16 +387,24 @@ impl Scene {
                 });
             }
             for (k, c, rows) in channels {
-                let offset = runs
+                // Every channel's rows lie in exactly one merged run.
+                let Some(offset) = runs
                     .iter()
                     .position(|run| run.start <= rows.start && rows.end <= run.end)
-                    .unwrap_or(0);
-                let table = &mut plan.tables[first + offset];
-                let interval = self.materials[k].ranges[c];
-                if !table.serves.contains(&interval) {
-                    table.serves.push(interval);
+                else {
+                    continue;
+                };
+                let (Some(table), Some(m), Some(slot)) = (
+                    plan.tables.get_mut(first + offset),
+                    self.materials.get(k),
+                    plan.channel_tables.get_mut(k).and_then(|t| t.get_mut(c)),
+                ) else {
+                    continue;
+                };
+                if !table.serves.contains(&m.ranges[c]) {
+                    table.serves.push(m.ranges[c]);
                 }
-                plan.channel_tables[k][c] = first + offset;
+                *slot = first + offset;
             }
         }
         Ok(plan)
