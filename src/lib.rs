@@ -25,6 +25,7 @@ pub mod medium;
 pub mod pbd;
 pub mod quadrature;
 pub mod rng;
+pub mod scene;
 pub mod table;
 pub mod walk;
 

@@ -1,6 +1,9 @@
 //! Command-line definitions (clap) and dispatch. Each subcommand lives in its own file.
 
 mod bake;
+mod bake_scene;
+mod completions;
+mod diff;
 mod eval;
 mod inspect;
 mod library;
@@ -16,7 +19,13 @@ use std::process::ExitCode;
 
 /// Tabulated BSSRDF models: bake, evaluate, sample, validate.
 #[derive(Debug, Parser)]
-#[command(name = "bssrdf", version, about, long_about = None)]
+#[command(
+    name = "bssrdf",
+    version,
+    about,
+    long_about = None,
+    after_help = "Exit status: 0 success; 1 a check failed (validate, diff); 2 bad input or usage."
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -24,7 +33,8 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Bake angular tables for named materials (or a bare η) into a library file.
+    /// Bake angular tables for named materials, coefficients, a scene manifest (--scene) or a
+    /// bare η into a library file.
     Bake(bake::BakeArgs),
     /// Evaluate a model at one point or at every row of a CSV file.
     #[command(allow_negative_numbers = true)]
@@ -44,6 +54,13 @@ enum Command {
     Materials(materials::MaterialsArgs),
     /// Run the Monte Carlo random walk alone (the ground truth).
     Walk(walk::WalkArgs),
+    /// Compare two library files: metadata, and every section's differences per table (exit 1
+    /// when they differ beyond the tolerance).
+    Diff(diff::DiffArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions(completions::CompletionsArgs),
+    /// Print the man page (roff) on stdout, or write one page per command with --dir.
+    Man(completions::ManArgs),
 }
 
 /// Runs the parsed command.
@@ -58,6 +75,9 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Unpack(args) => pack::run(args, false),
         Command::Materials(args) => materials::run(args),
         Command::Walk(args) => walk::run(args),
+        Command::Diff(args) => diff::run(args),
+        Command::Completions(args) => completions::completions(args),
+        Command::Man(args) => completions::man(args),
     }
 }
 

@@ -39,11 +39,13 @@
 mod bake;
 mod io;
 mod lookup;
+mod subset;
 mod validate;
 
 pub use bake::{bake, BakeReport, Grid, GridPreset};
 pub use io::FileTable;
 pub use lookup::{PathSample, Sample, World};
+pub use subset::{bake_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
 pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
 
 use crate::catmull_rom::Nodes;

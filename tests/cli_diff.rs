@@ -1,0 +1,306 @@
+//! End-to-end tests of `bssrdf diff` (exit 0 within tolerance, 1 outside, 2 for bad files),
+//! its --json shape, and of the generated shell completions and man pages.
+
+use bssrdf_zoo::format::{Compression, LibraryBuilder, Material, Provenance};
+use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::table::{bake, Grid, GridPreset};
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn bssrdf(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bssrdf"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn code(o: &Output) -> Option<i32> {
+    assert!(!text(&o.stderr).contains("panicked"), "{}", text(&o.stderr));
+    o.status.code()
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    serde_json::from_str(&text(&o.stdout)).expect("one JSON object")
+}
+
+/// Index of the perturbed gwc-params value: ρ′ row 20, θ node 3, r node 10, component c.
+const ROW: usize = 20;
+const THETA: usize = 3;
+const R: usize = 10;
+
+/// `a.bssrdf`, and `b.bssrdf` with one value (c of one node) multiplied by 1 + 1e-4.
+fn pair() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let (table, _) = bake(
+        1.33,
+        Moments::Exact,
+        &Grid::preset(GridPreset::Coarse),
+        true,
+    )
+    .unwrap();
+    let write = |name: &str, factor: f32| {
+        let mut data = table.to_table_data();
+        let (_, nt, nr) = table.axes().dims();
+        let i = ((ROW * nt + THETA) * nr + R) * 3 + 2;
+        data.gwc[i] *= factor;
+        let mut b = LibraryBuilder::new();
+        b.add_table(data).unwrap();
+        b.add_material(Material {
+            name: "wax".into(),
+            source: String::new(),
+            sigma_s: [1.0; 3],
+            sigma_a: [0.1; 3],
+            g: [0.0; 3],
+            eta: 1.33,
+            tables: [0; 3],
+            albedo_range: None,
+        })
+        .unwrap();
+        b.set_provenance(Provenance::new(format!("test {name}")));
+        b.write_atomic(dir.path().join(name), Compression::None)
+            .unwrap();
+    };
+    write("a.bssrdf", 1.0);
+    write("b.bssrdf", 1.0 + 1e-4);
+    dir
+}
+
+#[test]
+fn identical_files_exit_0() {
+    let dir = pair();
+    let o = bssrdf(dir.path(), &["diff", "a.bssrdf", "a.bssrdf"]);
+    assert_eq!(code(&o), Some(0), "{}", text(&o.stdout));
+    assert!(text(&o.stdout).contains("within tolerance"));
+    let j = json(&bssrdf(
+        dir.path(),
+        &["diff", "a.bssrdf", "a.bssrdf", "--json"],
+    ));
+    assert_eq!(j["within_tolerance"], true);
+    assert_eq!(j["differences"].as_array().unwrap().len(), 0);
+    assert_eq!(
+        j["tables"][0]["common_dims"],
+        serde_json::json!([50, 7, 40])
+    );
+}
+
+#[test]
+fn one_changed_value_is_found_and_located() {
+    let dir = pair();
+    let d = dir.path();
+    let o = bssrdf(d, &["diff", "a.bssrdf", "b.bssrdf", "--json"]);
+    assert_eq!(code(&o), Some(1));
+    let j = json(&o);
+    assert_eq!(j["within_tolerance"], false);
+    assert!(
+        j["differences"].as_array().unwrap().is_empty(),
+        "{}",
+        j["differences"]
+    );
+    // Provenance differs, but is reported, not compared.
+    assert_eq!(j["not_compared"][0]["item"], "provenance tool_version");
+    let sections = j["tables"][0]["sections"].as_array().unwrap();
+    let names: Vec<&str> = sections
+        .iter()
+        .map(|s| s["section"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "gwc-params E",
+            "gwc-params E_beta",
+            "gwc-params c",
+            "radial-cdf",
+            "theta-cdf"
+        ]
+    );
+    for s in sections {
+        for key in [
+            "count",
+            "max_abs",
+            "mean_abs",
+            "max_rel",
+            "mean_rel",
+            "outside_tolerance",
+        ] {
+            assert!(s[key].is_number(), "{key} in {s}");
+        }
+        let changed = s["section"] == "gwc-params c";
+        assert_eq!(s["max_abs"].as_f64().unwrap() > 0.0, changed, "{s}");
+    }
+    let c = &sections[2];
+    assert_eq!(c["outside_tolerance"], 1);
+    let rel = c["max_rel"].as_f64().unwrap();
+    assert!((rel - 1e-4).abs() < 1e-6, "{rel}");
+    let at = &c["max_abs_at"];
+    assert_eq!(at["index_a"], serde_json::json!([ROW, THETA, R]));
+    assert_eq!(at["index_b"], serde_json::json!([ROW, THETA, R]));
+    assert!(
+        (at["theta_deg"].as_f64().unwrap() - 45.0).abs() < 1e-4,
+        "{at}"
+    );
+    for key in ["rho", "r", "a", "b"] {
+        assert!(at[key].is_number(), "{key} in {at}");
+    }
+    // Within a relative tolerance of 1e-3: exit 0; 1e-5: exit 1; an absolute one works too.
+    assert_eq!(
+        code(&bssrdf(
+            d,
+            &["diff", "a.bssrdf", "b.bssrdf", "--tolerance", "1e-3"]
+        )),
+        Some(0)
+    );
+    assert_eq!(
+        code(&bssrdf(
+            d,
+            &["diff", "a.bssrdf", "b.bssrdf", "--tolerance", "1e-5"]
+        )),
+        Some(1)
+    );
+    assert_eq!(
+        code(&bssrdf(
+            d,
+            &["diff", "a.bssrdf", "b.bssrdf", "--abs-tolerance", "1"]
+        )),
+        Some(0)
+    );
+    let human = text(&bssrdf(d, &["diff", "a.bssrdf", "b.bssrdf"]).stdout);
+    assert!(human.contains("max abs at [20,3,10]/[20,3,10]"), "{human}");
+    assert!(human.contains("DIFFERENT"), "{human}");
+}
+
+#[test]
+fn a_scene_bake_matches_the_full_bake_on_its_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(
+        d.join("s.toml"),
+        "[[material]]\nname = \"skin1\"\nalbedo_range = [0.6, 0.7]\n",
+    )
+    .unwrap();
+    let run = |args: &[&str]| assert_eq!(code(&bssrdf(d, args)), Some(0));
+    run(&["bake", "--scene", "s.toml", "--grid", "coarse", "-q"]);
+    run(&[
+        "bake",
+        "skin1",
+        "--grid",
+        "coarse",
+        "-q",
+        "-o",
+        "full.bssrdf",
+    ]);
+    let o = bssrdf(d, &["diff", "s.bssrdf", "full.bssrdf", "--json"]);
+    // Different axes and albedo ranges: exit 1; but every value on the shared nodes is equal.
+    assert_eq!(code(&o), Some(1));
+    let j = json(&o);
+    let fields: Vec<&str> = j["differences"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["field"].as_str().unwrap())
+        .collect();
+    assert!(
+        fields.contains(&"axis-rho") && fields.contains(&"albedo_range"),
+        "{fields:?}"
+    );
+    let t = &j["tables"][0];
+    assert!(t["common_dims"][0].as_u64().unwrap() >= 4);
+    for s in t["sections"].as_array().unwrap() {
+        assert_eq!(s["max_abs"], 0.0, "{s}");
+    }
+}
+
+#[test]
+fn missing_or_corrupt_files_and_bad_tolerances_exit_2() {
+    let dir = pair();
+    let d = dir.path();
+    let o = bssrdf(d, &["diff", "a.bssrdf", "absent.bssrdf"]);
+    assert_eq!(code(&o), Some(2));
+    assert!(text(&o.stderr).contains("absent.bssrdf"));
+    std::fs::write(d.join("bad.bssrdf"), b"not a library file at all").unwrap();
+    let o = bssrdf(d, &["diff", "bad.bssrdf", "a.bssrdf"]);
+    assert_eq!(code(&o), Some(2));
+    assert!(text(&o.stderr).contains("bad.bssrdf"));
+    let mut bytes = std::fs::read(d.join("a.bssrdf")).unwrap();
+    let n = bytes.len();
+    bytes[n - 50] ^= 1;
+    std::fs::write(d.join("flipped.bssrdf"), &bytes).unwrap();
+    let o = bssrdf(d, &["diff", "a.bssrdf", "flipped.bssrdf"]);
+    assert_eq!(code(&o), Some(2));
+    assert!(text(&o.stderr).contains("flipped.bssrdf"));
+    for bad in ["-1", "nan"] {
+        let o = bssrdf(
+            d,
+            &[
+                "diff",
+                "a.bssrdf",
+                "b.bssrdf",
+                &format!("--tolerance={bad}"),
+            ],
+        );
+        assert_eq!(code(&o), Some(2), "{bad}");
+        assert!(
+            text(&o.stderr).contains("--tolerance"),
+            "{}",
+            text(&o.stderr)
+        );
+    }
+}
+
+#[test]
+fn completions_generate_for_each_shell() {
+    let dir = tempfile::tempdir().unwrap();
+    for (shell, needle) in [
+        ("bash", "_bssrdf()"),
+        ("zsh", "#compdef bssrdf"),
+        ("fish", "complete -c bssrdf"),
+    ] {
+        let o = bssrdf(dir.path(), &["completions", shell]);
+        assert_eq!(code(&o), Some(0), "{shell}");
+        let script = text(&o.stdout);
+        assert!(script.contains(needle), "{shell}: {needle} missing");
+        assert!(
+            script.contains("scene") && script.contains("tolerance"),
+            "{shell}"
+        );
+    }
+    let o = bssrdf(dir.path(), &["completions", "tcsh"]);
+    assert_eq!(code(&o), Some(2));
+}
+
+#[test]
+fn man_pages_generate() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = bssrdf(dir.path(), &["man"]);
+    assert_eq!(code(&o), Some(0));
+    let page = text(&o.stdout);
+    for needle in [
+        ".TH bssrdf 1",
+        ".SH SYNOPSIS",
+        ".SH SUBCOMMANDS",
+        "EXIT STATUS",
+        "bssrdf\\-diff(1)",
+    ] {
+        assert!(page.contains(needle), "{needle} missing");
+    }
+    let o = bssrdf(dir.path(), &["man", "--dir", "pages"]);
+    assert_eq!(code(&o), Some(0));
+    for page in [
+        "bssrdf.1",
+        "bssrdf-bake.1",
+        "bssrdf-diff.1",
+        "bssrdf-completions.1",
+    ] {
+        let text = std::fs::read_to_string(dir.path().join("pages").join(page)).unwrap();
+        assert!(text.contains(".TH"), "{page}");
+    }
+    let bake = std::fs::read_to_string(dir.path().join("pages/bssrdf-bake.1")).unwrap();
+    assert!(bake.contains("scene"));
+    assert!(std::fs::read_to_string(dir.path().join("pages/bssrdf.1"))
+        .unwrap()
+        .contains("EXIT STATUS"));
+}

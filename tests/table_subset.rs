@@ -1,0 +1,281 @@
+//! Albedo-row subsets (scene bakes): lookups inside the declared ranges are bit-identical to the
+//! full table's, baking only the kept rows gives exactly the full bake's rows, and lookups
+//! outside the kept rows are refused. A negative control shows that keeping one neighbour too
+//! few does change bits, so the identity checks can fail.
+
+use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::scene::artist::{coefficients, EffectiveAlbedo};
+use bssrdf_zoo::table::{
+    bake, bake_rows, kept_rows, rows_for, AngularTable, Grid, GridPreset, RhoInterval,
+};
+use std::f64::consts::PI;
+use std::sync::OnceLock;
+
+const ETA: f64 = 1.33;
+
+fn grid() -> Grid {
+    Grid::preset(GridPreset::Coarse)
+}
+
+/// The full coarse table with the θ-sampling CDF, baked once for the file.
+fn full() -> &'static AngularTable {
+    static TABLE: OnceLock<AngularTable> = OnceLock::new();
+    TABLE.get_or_init(|| bake(ETA, Moments::Exact, &grid(), true).unwrap().0)
+}
+
+fn bits(t: &AngularTable) -> Vec<u32> {
+    t.params()
+        .iter()
+        .chain(t.radial_cdf())
+        .chain(t.theta_cdf().unwrap_or(&[]))
+        .map(|v| v.to_bits())
+        .collect()
+}
+
+fn opt_bits(v: Option<f64>) -> Option<u64> {
+    v.map(f64::to_bits)
+}
+
+/// Albedos to probe inside `interval`: both ends, every axis node inside, points just inside
+/// the ends, and uniform draws.
+fn albedos(interval: RhoInterval, axis: &[f64], rng: &mut SplitMix64) -> Vec<f64> {
+    let (lo, hi) = (interval.lo(), interval.hi());
+    let mut out = vec![lo, hi, lo + (hi - lo) * 1e-9, hi - (hi - lo) * 1e-9];
+    out.extend(axis.iter().copied().filter(|x| (lo..=hi).contains(x)));
+    out.extend((0..40).map(|_| lo + (hi - lo) * rng.next_f64()));
+    out
+}
+
+/// Compares every lookup of `sub` with `full` at many points whose albedo lies in `interval`.
+fn assert_identical_inside(full: &AngularTable, sub: &AngularTable, interval: RhoInterval) {
+    let (f, s) = (full.view(), sub.view());
+    let mut rng = SplitMix64::new(11);
+    let theta_nodes = full.axes().theta().as_slice().to_vec();
+    let r_max = *full.axes().r().as_slice().last().unwrap();
+    let mut checked = 0;
+    for rho in albedos(interval, full.axes().rho().as_slice(), &mut rng) {
+        let mut thetas = theta_nodes.clone();
+        thetas.extend((0..6).map(|_| 0.5 * PI * rng.next_f64()));
+        for theta in thetas {
+            let at = format!("rho {rho}, theta {theta}");
+            assert_eq!(
+                opt_bits(f.effective_albedo(rho, theta)),
+                opt_bits(s.effective_albedo(rho, theta)),
+                "effective albedo at {at}"
+            );
+            assert!(s.effective_albedo(rho, theta).is_some(), "{at} refused");
+            for _ in 0..6 {
+                let r = r_max * rng.next_f64().powi(4);
+                let phi = PI * (2.0 * rng.next_f64() - 1.0);
+                assert_eq!(
+                    opt_bits(f.eval(rho, theta, r, phi)),
+                    opt_bits(s.eval(rho, theta, r, phi)),
+                    "eval at {at}, r {r}, phi {phi}"
+                );
+                assert_eq!(
+                    f.pdf(rho, theta, r, phi).to_bits(),
+                    s.pdf(rho, theta, r, phi).to_bits(),
+                    "pdf at {at}, r {r}, phi {phi}"
+                );
+                let (u, v) = (rng.next_f64(), rng.next_f64());
+                assert_eq!(
+                    f.sample(rho, theta, u, v),
+                    s.sample(rho, theta, u, v),
+                    "sample at {at}"
+                );
+                checked += 1;
+            }
+        }
+        let u = [0.0; 4].map(|_| rng.next_f64());
+        let (a, b) = (f.sample_path(rho, u), s.sample_path(rho, u));
+        assert_eq!(a, b, "path sample at rho {rho}");
+        if let Some(p) = a {
+            assert_eq!(p.pdf.to_bits(), b.unwrap().pdf.to_bits());
+        }
+        let theta = 0.5 * PI * rng.next_f64();
+        assert_eq!(
+            f.pdf_theta(rho, theta).to_bits(),
+            s.pdf_theta(rho, theta).to_bits(),
+            "pdf_theta at rho {rho}, theta {theta}"
+        );
+        let r = r_max * rng.next_f64().powi(4);
+        assert_eq!(
+            opt_bits(f.eval_perpendicular(rho, r)),
+            opt_bits(s.eval_perpendicular(rho, r)),
+            "perpendicular at rho {rho}"
+        );
+    }
+    assert!(checked > 1000, "only {checked} points");
+}
+
+/// The ranges of the README's example scene plus the awkward places: the axis ends, an
+/// interior node, a tiny interval, the whole axis.
+fn intervals() -> Vec<RhoInterval> {
+    let node = full().axes().rho().as_slice()[17];
+    [
+        (0.85, 0.97),
+        (0.80, 0.90),
+        (0.60, 0.70),
+        (0.0, 0.0),
+        (1.0, 1.0),
+        (0.0, 0.02),
+        (0.995, 1.0),
+        (node, node),
+        (0.5, 0.5 + 1e-12),
+        (0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(lo, hi)| RhoInterval::new(lo, hi).unwrap())
+    .collect()
+}
+
+#[test]
+fn lookups_inside_the_declared_ranges_are_bit_identical() {
+    let full = full();
+    for interval in intervals() {
+        let runs = kept_rows(full.axes().rho(), &[interval]).unwrap();
+        assert_eq!(runs.len(), 1, "{interval:?}");
+        let sub = full.subset_rows(runs[0].clone()).unwrap();
+        assert_identical_inside(full, &sub, interval);
+    }
+}
+
+#[test]
+fn a_scene_keeps_few_rows() {
+    let axis = full().axes().rho();
+    let skin = [(0.85, 0.97), (0.80, 0.90), (0.60, 0.70)]
+        .map(|(lo, hi)| RhoInterval::new(lo, hi).unwrap());
+    let runs = kept_rows(axis, &skin).unwrap();
+    let kept: usize = runs.iter().map(|r| r.len()).sum();
+    assert!(kept < axis.as_slice().len() / 2, "{runs:?}");
+}
+
+#[test]
+fn baking_only_the_kept_rows_equals_the_full_bake() {
+    let full = full();
+    let n = full.axes().rho().as_slice().len();
+    // All rows in blocks: the same table as one bake.
+    let (whole, _) = bake_rows(ETA, Moments::Exact, &grid(), 0..n, true, &|_| {}).unwrap();
+    assert_eq!(bits(&whole), bits(full));
+    assert_eq!(whole.axes(), full.axes());
+    for interval in [intervals()[0], intervals()[4], intervals()[7]] {
+        let rows = rows_for(full.axes().rho(), interval).unwrap();
+        let done = std::sync::Mutex::new(Vec::new());
+        let (baked, report) = bake_rows(ETA, Moments::Exact, &grid(), rows.clone(), true, &|k| {
+            done.lock().unwrap().push(k)
+        })
+        .unwrap();
+        let sub = full.subset_rows(rows.clone()).unwrap();
+        assert_eq!(bits(&baked), bits(&sub), "{interval:?}");
+        assert_eq!(baked.axes(), sub.axes());
+        assert_eq!(done.into_inner().unwrap().last(), Some(&rows.len()));
+        let nodes: usize = report.fit_branches.values().sum();
+        let (_, nt, nr) = baked.axes().dims();
+        assert_eq!(nodes, rows.len() * nt * nr);
+    }
+    // Without the θ CDF: the same rows, no theta-cdf.
+    let rows = rows_for(full.axes().rho(), intervals()[0]).unwrap();
+    let (particle, _) =
+        bake_rows(ETA, Moments::Exact, &grid(), rows.clone(), false, &|_| {}).unwrap();
+    assert!(particle.theta_cdf().is_none());
+    let sub = full
+        .subset_rows(rows)
+        .unwrap()
+        .without_theta_sampling()
+        .unwrap();
+    assert_eq!(bits(&particle), bits(&sub));
+}
+
+#[test]
+fn lookups_outside_the_kept_rows_are_refused() {
+    let full = full();
+    let interval = RhoInterval::new(0.6, 0.7).unwrap();
+    let rows = rows_for(full.axes().rho(), interval).unwrap();
+    let sub = full.subset_rows(rows).unwrap();
+    let axis = sub.axes().rho().as_slice();
+    let (first, last) = (axis[0], axis[axis.len() - 1]);
+    let v = sub.view();
+    for rho in [first - 1e-6, last + 1e-6, 0.0, 1.0, f64::NAN] {
+        assert_eq!(v.eval(rho, 0.3, 1.0, 0.0), None, "rho {rho}");
+        assert_eq!(v.effective_albedo(rho, 0.3), None, "rho {rho}");
+        assert_eq!(v.sample(rho, 0.3, 0.5, 0.5), None, "rho {rho}");
+        assert_eq!(v.pdf(rho, 0.3, 1.0, 0.0), 0.0, "rho {rho}");
+        assert_eq!(v.sample_path(rho, [0.5; 4]), None, "rho {rho}");
+    }
+}
+
+/// Negative control: dropping the outer neighbour on the low side changes the first segment's
+/// end slope, so the identity check above would catch a subset that keeps too few rows.
+#[test]
+fn one_neighbour_too_few_changes_the_values() {
+    let full = full();
+    let interval = RhoInterval::new(0.6, 0.7).unwrap();
+    let rows = rows_for(full.axes().rho(), interval).unwrap();
+    let short = full.subset_rows(rows.start + 1..rows.end).unwrap();
+    let (f, s) = (full.view(), short.view());
+    let mut rng = SplitMix64::new(3);
+    let differs = (0..200).any(|_| {
+        let rho = 0.6 + 0.1 * rng.next_f64();
+        let (theta, r) = (1.0 * rng.next_f64(), 0.5 + rng.next_f64());
+        opt_bits(f.eval(rho, theta, r, 0.0)) != opt_bits(s.eval(rho, theta, r, 0.0))
+    });
+    assert!(
+        differs,
+        "a subset without the outer neighbour gave identical bits"
+    );
+}
+
+#[test]
+fn bad_row_ranges_are_errors_not_panics() {
+    let full = full();
+    let n = full.axes().rho().as_slice().len();
+    #[allow(clippy::reversed_empty_ranges)]
+    let reversed = 7..3;
+    for rows in [0..1, 5..5, n - 1..n + 1, reversed] {
+        let err = full.subset_rows(rows.clone()).unwrap_err();
+        assert!(err.to_string().contains("albedo rows"), "{rows:?}: {err}");
+        assert!(grid().rho_rows(rows).is_err());
+    }
+    assert!(AngularTable::concat_rows(&[]).is_err());
+    let a = full.subset_rows(0..4).unwrap();
+    // Rows that do not increase across the parts.
+    assert!(AngularTable::concat_rows(&[a.clone(), a]).is_err());
+}
+
+/// The artist's parameters: the curve baked on its own equals the full table's θ = 0 column,
+/// and a reflectance inverts to the ρ′ whose table ρ_eff(ρ′, θ = 0) is that reflectance.
+#[test]
+fn reflectance_inverts_through_the_tables_effective_albedo() {
+    let full = full();
+    let curve = EffectiveAlbedo::from_table(full).unwrap();
+    assert_eq!(
+        EffectiveAlbedo::bake(ETA, Moments::Exact, &grid()).unwrap(),
+        curve
+    );
+    let v = full.view();
+    for reflectance in [0.0, 0.05, 0.3, 0.5, 0.8, 0.9, 0.95] {
+        let inv = curve.invert(reflectance, 0).unwrap();
+        assert!(!inv.clamped);
+        let back = v.effective_albedo(inv.rho_prime, 0.0).unwrap();
+        // The lookup blends rows with f32 weights: agreement to ~1e-8.
+        assert!((back - reflectance).abs() < 1e-7, "{reflectance}: {back}");
+    }
+    // Above the largest ρ_eff (≈ 0.951 on this grid): clamped to ρ′ = 1.
+    assert!((curve.max() - v.effective_albedo(1.0, 0.0).unwrap()).abs() < 1e-7);
+    let top = curve.invert(0.99, 0).unwrap();
+    assert!(top.clamped && top.rho_prime == 1.0);
+    // mfp = 1/σt and the reduced albedo survive the conversion, with g.
+    let d = curve
+        .diffuse([0.5, 0.8, 0.3], [1.0, 2.0, 0.5], [0.0, 0.5, -0.3])
+        .unwrap();
+    for c in 0..3 {
+        let (s, a) = (d.sigma_s[c], d.sigma_a[c]);
+        let g = [0.0, 0.5, -0.3][c];
+        assert!((s + a - 1.0 / [1.0, 2.0, 0.5][c]).abs() < 1e-12);
+        let rho = s * (1.0 - g) / (s * (1.0 - g) + a);
+        assert!((rho - d.inverted[c].rho_prime).abs() < 1e-12);
+        let (s2, a2) = coefficients(d.inverted[c].rho_prime, [1.0, 2.0, 0.5][c], g);
+        assert_eq!((s, a), (s2, a2));
+    }
+}
