@@ -30,7 +30,7 @@
 //! Adding a model is one file, one [`ModelKind`] arm and one line in [`build`].
 
 pub mod burley;
-
+pub mod compare;
 pub mod dipole;
 pub mod dirpole;
 pub mod mc;
