@@ -53,6 +53,10 @@
 //! - It has no albedo factor: as ρ′ → 0 it does not vanish near the source (d_e → ∞ removes the
 //!   image, but the real source at r = 0 keeps a finite value). At exactly ρ′ = 0 we return the
 //!   physical 0 (d_e is infinite there). Not reciprocal.
+//! - It does not conserve energy: ∫∫ R dA at θ = 0 is 1.09 at ρ′ = 0.99 and 1.34 at ρ′ = 1 for
+//!   η = 1 (1.23 at ρ′ = 1, η = 1.33; both Fresnel fits agree to 1e-3), against at most 1. Against
+//!   the walk's multiple scattering it is high everywhere (`models.md`, the comparison): ×2 at
+//!   ρ′ = 0.9, ×1.5 at 0.99, ×8 at 0.5.
 //! - Grazing incidence at η ≈ 1: the refracted ray runs along the surface, μ₀ → 0 and d_r → r,
 //!   so R grows like 1/r towards the source in the forward direction; at θ = 90°, η = 1 exactly
 //!   μ₀ = 0 and the back-lit branch applies.
