@@ -13,7 +13,9 @@
 //!   2011, halved and thirded), with pbrt's f32-rounded coefficients. They are accurate to about
 //!   1e-3 and go slightly negative near η = 1; they exist to reproduce pbrt's numbers.
 //! - [`deon_irving_moment1`], [`deon_irving_moment2`]: the same fits in double precision, with
-//!   the branch choices of the directional dipole authors' sample code (see [`Moments::DeonIrving`]).
+//!   the branch choices of the directional dipole authors' sample code (used by
+//!   [`crate::models::dirpole`] to reproduce that code; not a [`Moments`] choice, since tables
+//!   and their files record only the two conventions above).
 
 use crate::quadrature::adaptive;
 
@@ -28,11 +30,6 @@ pub enum Moments {
     Exact,
     /// pbrt-v3's polynomial fits (f32 coefficients), for comparison with pbrt.
     Pbrt,
-    /// d'Eon & Irving's (2011) fits of 2C₁ and 3C₂ in double precision, halved and thirded,
-    /// with the branches of the directional dipole sample code (Frisvad, Hachisuka, Kjeldsen
-    /// 2014): the first moment takes its η < 1 branch at η = 1 exactly. That code has no η < 1
-    /// branch for the second moment; the η < 1 fit is used there.
-    DeonIrving,
 }
 
 impl Moments {
@@ -41,7 +38,6 @@ impl Moments {
         match self {
             Moments::Exact => (moment(1, eta), moment(2, eta)),
             Moments::Pbrt => (pbrt_moment1(eta), pbrt_moment2(eta)),
-            Moments::DeonIrving => (deon_irving_moment1(eta), deon_irving_moment2(eta)),
         }
     }
 }
@@ -148,9 +144,9 @@ fn poly(coefficients: &[f64], x: f64) -> f64 {
     coefficients.iter().rev().fold(0.0, |acc, &c| acc * x + c)
 }
 
-/// F₁ = C₁ from d'Eon & Irving's fit of 2C₁(η), in double precision. The η > 1 branch is taken
-/// only for η > 1, as in the directional dipole sample code (at η = 1 the two branches give
-/// 2C₁ = 0.000207 and 0.004333).
+/// F₁ = C₁ from d'Eon & Irving's (2011) fit of 2C₁(η), in double precision. The η > 1 branch is
+/// taken only for η > 1, as in the directional dipole sample code (Frisvad, Hachisuka, Kjeldsen
+/// 2014; at η = 1 the two branches give 2C₁ = 0.000207 and 0.004333).
 pub fn deon_irving_moment1(eta: f64) -> f64 {
     let two_c1 = if eta > 1.0 {
         poly(
@@ -167,7 +163,8 @@ pub fn deon_irving_moment1(eta: f64) -> f64 {
 }
 
 /// F₂ = C₂ from d'Eon & Irving's fit of 3C₂(η), in double precision; the η ≥ 1 branch has
-/// 1/η terms.
+/// 1/η terms. The directional dipole sample code has no η < 1 branch for it; the η < 1 fit is
+/// used there.
 pub fn deon_irving_moment2(eta: f64) -> f64 {
     let three_c2 = if eta < 1.0 {
         poly(

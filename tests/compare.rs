@@ -75,7 +75,7 @@ fn rejects_a_bad_case_by_name() {
 #[test]
 #[ignore = "minutes: 9 walks of 10^6 photons each; cargo test --release --test compare -- --ignored --nocapture"]
 fn full_default_comparison() {
-    let config = CompareConfig::new(1.33, 0.0, 1_000_000, 1);
+    let config = CompareConfig::default();
     let report = run(&config).unwrap();
     println!("{}", report.markdown());
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/compare");

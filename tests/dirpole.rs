@@ -1,9 +1,11 @@
 //! The directional dipole against the authors' own values (`tests/data/dirpole-vectors.csv`,
 //! computed with their sample implementation of Frisvad, Hachisuka, Kjeldsen 2014; see
-//! `tests/data/README.md`), with the same polynomial Fresnel-moment fits.
+//! `tests/data/README.md`), with the same polynomial Fresnel-moment fits
+//! ([`DirpoleFresnel::AuthorsFits`]).
 
+use bssrdf_zoo::fresnel::deon_irving_moment1;
 use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::models::dirpole::{Dirpole, Geometry};
+use bssrdf_zoo::models::dirpole::{Dirpole, DirpoleFresnel, DirpoleOptions, Geometry};
 use bssrdf_zoo::models::{Model, Params};
 
 /// Relative tolerance against the reference where its value is positive.
@@ -62,11 +64,17 @@ fn rows() -> Vec<Row> {
 }
 
 fn model(row: &Row) -> Dirpole {
-    let params = Params::new(row.albedo_prime, row.eta, Moments::DeonIrving)
+    // The moments of Params are not used with the authors' fits.
+    let params = Params::new(row.albedo_prime, row.eta, Moments::Exact)
         .unwrap()
         .with_g(row.g)
         .unwrap();
-    Dirpole::new(params)
+    Dirpole::new(
+        params,
+        DirpoleOptions {
+            fresnel: DirpoleFresnel::AuthorsFits,
+        },
+    )
 }
 
 /// S_d in the row's world units: σ′t² S_d(reduced geometry).
@@ -125,7 +133,7 @@ fn flat_model_is_the_csv_geometry_with_phi_zero_forward() {
         .filter(|r| r.sigma_t_prime == 1.0 && r.s_d > 0.0)
     {
         let m = model(row);
-        let (f1_inv, _) = Moments::DeonIrving.evaluate(1.0 / row.eta);
+        let f1_inv = deon_irving_moment1(1.0 / row.eta);
         let exit = std::f64::consts::PI * (1.0 - 2.0 * f1_inv);
         let got = m.eval(row.theta_deg.to_radians(), row.r, row.phi_deg.to_radians());
         let want = row.s_d * exit;

@@ -7,7 +7,7 @@ mod models_common;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Medium;
 use bssrdf_zoo::models::burley::{BurleyFit, BurleyOptions, SurfaceAlbedo};
-use bssrdf_zoo::models::dirpole::Dirpole;
+use bssrdf_zoo::models::dirpole::{Dirpole, DirpoleOptions};
 use bssrdf_zoo::models::table::{Mode, TableModel, TableSource};
 use bssrdf_zoo::models::{build, integrate_total, Model, ModelKind, Options, Params, World};
 use bssrdf_zoo::table::{bake, Grid};
@@ -187,7 +187,10 @@ fn effective_albedo_is_the_plane_integral_of_eval() {
 #[test]
 fn directional_dipole_negative_lobe_is_clamped_to_zero() {
     // notes-models §1.4 item 4: η = 1, θ = 85°, backward (φ = 180°), r = 0.1, α′ = 0.5.
-    let m = Dirpole::new(Params::new(0.5, 1.0, Moments::Exact).unwrap());
+    let m = Dirpole::new(
+        Params::new(0.5, 1.0, Moments::Exact).unwrap(),
+        DirpoleOptions::default(),
+    );
     let theta = 85f64.to_radians();
     let geometry = Dirpole::flat_geometry(theta, 0.1, PI);
     assert!(m.s_d_signed(&geometry) < 0.0);

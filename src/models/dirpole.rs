@@ -7,6 +7,7 @@
 //! | ρ′ reduced albedo (the paper's α′) | – | [0, 1]; ρ′ = 0 gives 0 (see below) |
 //! | η relative index, inside over outside | – | > 0 |
 //! | g | – | (−1, 1); used only by the back-lit branch (unreduced σt) |
+//! | Fresnel moments | – | the model's, or the authors' fits ([`DirpoleOptions`]) |
 //! | θ incidence before refraction | rad | [0, π/2]; no light enters beyond asin η → 0 |
 //! | r, φ exit point | reduced mfp, rad (0 forward) | r ≥ 0 |
 //! | result R(r, φ; θ) | per reduced mfp², per unit power entering | ≥ 0 (clamped) |
@@ -15,7 +16,8 @@
 //! D = 1/(3σ′t) = 1/3 (classical), σtr = √(σa/D) = √(3(1 − ρ′)), extrapolation distance
 //! d_e = 2.131 D/√ρ′ (the TOG paper; the 2014 tech report's 2.121 D/ρ′ is not used), reflection
 //! parameter A = (1 − C_E)/(2C_φ) = (1 + 3F₂)/(1 − 2F₁), C_φ = (1 − 2F₁)/4, C_E = (1 − 3F₂)/2 from
-//! the chosen Fresnel [`crate::fresnel::Moments`] ([`crate::fresnel::Moments::DeonIrving`] reproduces the authors' code).
+//! the model's Fresnel [`crate::fresnel::Moments`], or ([`DirpoleFresnel::AuthorsFits`]) the
+//! double-precision d'Eon–Irving fits with the branches of the authors' code, which reproduce it.
 //! With w_r the refracted direction, x = x_o − x_i, r = |x|, the ray-source monopole
 //!
 //! S′(X, w, R) = e^{−σtr R}/R³ { C_φ(η)[R²/D + 3(1 + σtr R)(X·w)]
@@ -64,6 +66,7 @@
 //!   surface and is not modelled.
 
 use super::{entering, integrate_total, Model, ModelKind, Params};
+use crate::fresnel::{deon_irving_moment1, deon_irving_moment2};
 use crate::walk::Component;
 use std::f64::consts::PI;
 
@@ -93,6 +96,27 @@ fn norm(a: V3) -> f64 {
 }
 fn scale(s: f64, a: V3) -> V3 {
     [s * a[0], s * a[1], s * a[2]]
+}
+
+/// Which Fresnel moments give C_φ, C_E and A.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum DirpoleFresnel {
+    /// The moments of the model's [`Params`] (exact by default), like every other model.
+    #[default]
+    Params,
+    /// The authors' sample code: d'Eon & Irving's fits in double precision, the first moment on
+    /// its η < 1 branch at η = 1 ([`crate::fresnel::deon_irving_moment1`]).
+    AuthorsFits,
+}
+
+/// Options of the directional dipole.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct DirpoleOptions {
+    /// Fresnel moments.
+    pub fresnel: DirpoleFresnel,
 }
 
 /// Points and directions of one evaluation, in reduced units (lengths times σ′t).
@@ -128,9 +152,13 @@ pub struct Dirpole {
 
 impl Dirpole {
     /// The directional dipole for validated parameters.
-    pub fn new(params: Params) -> Self {
-        let (f1, f2) = params.moments().evaluate(params.eta());
-        let (f1_inverse, _) = params.moments().evaluate(1.0 / params.eta());
+    pub fn new(params: Params, options: DirpoleOptions) -> Self {
+        let moments = |eta: f64| match options.fresnel {
+            DirpoleFresnel::Params => params.moments().evaluate(eta),
+            DirpoleFresnel::AuthorsFits => (deon_irving_moment1(eta), deon_irving_moment2(eta)),
+        };
+        let (f1, f2) = moments(params.eta());
+        let (f1_inverse, _) = moments(1.0 / params.eta());
         let rho = params.rho_prime();
         let d = 1.0 / 3.0;
         Self {
@@ -302,7 +330,10 @@ mod tests {
     #[test]
     fn value_at_the_entry_point_is_the_limit_of_nearby_values() {
         for (rho, eta, theta) in [(0.5, 1.3, 1.2), (0.99, 1.0, 0.3), (0.9, 2.5, 0.0)] {
-            let m = Dirpole::new(Params::new(rho, eta, Moments::Exact).unwrap());
+            let m = Dirpole::new(
+                Params::new(rho, eta, Moments::Exact).unwrap(),
+                DirpoleOptions::default(),
+            );
             let at_zero = m.eval(theta, 0.0, 0.0);
             assert!(at_zero.is_finite() && at_zero > 0.0);
             for phi in [0.0, 1.0, PI] {
@@ -317,7 +348,10 @@ mod tests {
 
     #[test]
     fn normal_through_a_slab_is_finite_and_matches_a_perpendicular_approach() {
-        let m = Dirpole::new(Params::new(0.9, 1.3, Moments::Exact).unwrap());
+        let m = Dirpole::new(
+            Params::new(0.9, 1.3, Moments::Exact).unwrap(),
+            DirpoleOptions::default(),
+        );
         let theta: f64 = 0.7;
         let w_i = [-theta.sin(), 0.0, theta.cos()];
         let at = |offset: [f64; 3]| {

@@ -275,6 +275,8 @@ impl Params {
 pub struct Options {
     /// Standard dipole.
     pub dipole: dipole::DipoleOptions,
+    /// Directional dipole.
+    pub dirpole: dirpole::DirpoleOptions,
     /// Christensen–Burley.
     pub burley: burley::BurleyOptions,
     /// Where the table models get their table.
@@ -287,7 +289,7 @@ pub struct Options {
 pub fn build(kind: ModelKind, params: &Params, options: &Options) -> Result<Box<dyn Model>> {
     Ok(match kind {
         ModelKind::Dipole => Box::new(dipole::Dipole::new(*params, options.dipole)),
-        ModelKind::Dirpole => Box::new(dirpole::Dirpole::new(*params)),
+        ModelKind::Dirpole => Box::new(dirpole::Dirpole::new(*params, options.dirpole)),
         ModelKind::Burley => Box::new(burley::Burley::new(*params, options.burley)?),
         ModelKind::Pbd => Box::new(pbd::PbdModel::new(*params, crate::pbd::Rule::Reference)?),
         ModelKind::PbdFast => Box::new(pbd::PbdModel::new(*params, crate::pbd::Rule::Fast)?),

@@ -129,6 +129,13 @@ impl CompareConfig {
     }
 }
 
+impl Default for CompareConfig {
+    /// The default comparison at η = 1.33, g = 0, 10⁶ photons, seed 1.
+    fn default() -> Self {
+        Self::new(1.33, 0.0, 1_000_000, 1)
+    }
+}
+
 /// One model in one case.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Row {
