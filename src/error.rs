@@ -51,6 +51,19 @@ pub enum Error {
         min: u64,
         max: u64,
     },
+    /// A model name that is not in the registry.
+    #[error("unknown model {name:?}; expected one of {expected}")]
+    UnknownModel {
+        name: String,
+        expected: &'static str,
+    },
+    /// Two values that must agree do not (e.g. a shared table baked for another η).
+    #[error("{name} = {found} does not match the required {expected}")]
+    Mismatch {
+        name: &'static str,
+        found: String,
+        expected: String,
+    },
 }
 
 /// Result with the library's error type.

@@ -12,6 +12,10 @@
 //! - [`pbrt_moment1`], [`pbrt_moment2`]: pbrt-v3's fifth-order polynomial fits (d'Eon & Irving
 //!   2011, halved and thirded), with pbrt's f32-rounded coefficients. They are accurate to about
 //!   1e-3 and go slightly negative near η = 1; they exist to reproduce pbrt's numbers.
+//! - [`deon_irving_moment1`], [`deon_irving_moment2`]: the same fits in double precision, with
+//!   the branch choices of the directional dipole authors' sample code (used by
+//!   [`crate::models::dirpole`] to reproduce that code; not a [`Moments`] choice, since tables
+//!   and their files record only the two conventions above).
 
 use crate::quadrature::adaptive;
 
@@ -135,6 +139,48 @@ pub fn pbrt_moment2(eta: f64) -> f64 {
     }
 }
 
+/// Σ cᵢ xⁱ in double precision.
+fn poly(coefficients: &[f64], x: f64) -> f64 {
+    coefficients.iter().rev().fold(0.0, |acc, &c| acc * x + c)
+}
+
+/// F₁ = C₁ from d'Eon & Irving's (2011) fit of 2C₁(η), in double precision. The η > 1 branch is
+/// taken only for η > 1, as in the directional dipole sample code (Frisvad, Hachisuka, Kjeldsen
+/// 2014; at η = 1 the two branches give 2C₁ = 0.000207 and 0.004333).
+pub fn deon_irving_moment1(eta: f64) -> f64 {
+    let two_c1 = if eta > 1.0 {
+        poly(
+            &[-9.23372, 22.2272, -20.9292, 10.2291, -2.54396, 0.254913],
+            eta,
+        )
+    } else {
+        poly(
+            &[0.919317, -3.4793, 6.75335, -7.80989, 4.98554, -1.36881],
+            eta,
+        )
+    };
+    0.5 * two_c1
+}
+
+/// F₂ = C₂ from d'Eon & Irving's fit of 3C₂(η), in double precision; the η ≥ 1 branch has
+/// 1/η terms. The directional dipole sample code has no η < 1 branch for it; the η < 1 fit is
+/// used there.
+pub fn deon_irving_moment2(eta: f64) -> f64 {
+    let three_c2 = if eta < 1.0 {
+        poly(
+            &[0.828421, -2.62051, 3.36231, -1.95284, 0.236494, 0.145787],
+            eta,
+        )
+    } else {
+        let inv = 1.0 / eta;
+        poly(
+            &[-1641.1, 1213.67, -568.556, 164.798, -27.0181, 1.91826],
+            eta,
+        ) + (1376.53 + (-656.175 + 135.926 * inv) * inv) * inv
+    };
+    three_c2 / 3.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -185,6 +231,30 @@ mod tests {
         }
         assert!((pbrt_moment1(1.33) - 0.236478).abs() < 2e-6);
         assert!((pbrt_moment2(1.33) - 0.108534).abs() < 2e-6);
+    }
+
+    #[test]
+    fn deon_irving_fits_match_the_tabulated_constants() {
+        // notes-models §1.2, computed with the sample code's branches: (η, 2C₁, 3C₂).
+        for (eta, two_c1, three_c2) in [
+            (1.0, 0.000207, -0.006840),
+            (1.3, 0.445295, 0.297448),
+            (1.5, 0.596541, 0.462609),
+        ] {
+            assert!(
+                (2.0 * deon_irving_moment1(eta) - two_c1).abs() < 1e-6,
+                "eta {eta}"
+            );
+            assert!(
+                (3.0 * deon_irving_moment2(eta) - three_c2).abs() < 1e-6,
+                "eta {eta}"
+            );
+        }
+        // pbrt rounds the same polynomials to fewer digits (and to f32).
+        for eta in [0.8, 1.33, 2.0] {
+            assert!((deon_irving_moment1(eta) - pbrt_moment1(eta)).abs() < 2e-4);
+            assert!((deon_irving_moment2(eta) - pbrt_moment2(eta)).abs() < 2e-4);
+        }
     }
 
     #[test]

@@ -22,6 +22,7 @@ pub mod fresnel;
 pub mod gwc;
 pub mod materials;
 pub mod medium;
+pub mod models;
 pub mod pbd;
 pub mod quadrature;
 pub mod rng;

@@ -1,0 +1,82 @@
+//! Helpers shared by the model-zoo tests: building every registered model cheaply (a small
+//! shared table per η, a short walk), a seeded stream, the χ² critical value.
+
+#![allow(dead_code)]
+
+use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::models::mc::McOptions;
+use bssrdf_zoo::models::table::TableSource;
+use bssrdf_zoo::models::{build, Model, ModelKind, Options, Params};
+use bssrdf_zoo::table::{bake, AngularTable, Grid};
+use bssrdf_zoo::walk::{Bins, Component};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// A small table grid (12 albedos × 4 angles × 24 radii, nodes as Ferrier places them): enough
+/// for properties and samplers, and fast to bake.
+pub fn small_grid() -> Grid {
+    Grid::ferrier(12, 4, 24)
+}
+
+/// The small table for η, baked once per η for the whole test binary.
+pub fn table_for(eta: f64) -> Arc<AngularTable> {
+    static TABLES: OnceLock<Mutex<HashMap<u64, Arc<AngularTable>>>> = OnceLock::new();
+    let map = TABLES.get_or_init(|| Mutex::new(HashMap::new()));
+    let mut map = map.lock().unwrap_or_else(|e| e.into_inner());
+    Arc::clone(
+        map.entry(eta.to_bits()).or_insert_with(|| {
+            Arc::new(bake(eta, Moments::Exact, &small_grid(), false).unwrap().0)
+        }),
+    )
+}
+
+/// Options for the tests: the shared small table, a short walk at θ with coarse bins.
+pub fn options(eta: f64, theta: f64, photons: u64) -> Options {
+    Options {
+        table: TableSource::Shared(table_for(eta)),
+        mc: McOptions {
+            theta,
+            photons,
+            seed: 7,
+            bins: Bins::new(0.01, 100.0, 12, 8).unwrap(),
+            component: Component::Total,
+        },
+        ..Options::default()
+    }
+}
+
+/// Builds `kind` for (ρ′, η) with g = 0 and exact moments; the Monte Carlo model walks at θ
+/// with `photons` photons (walks at ρ′ ≈ 1 are long: keep it small where only properties count).
+pub fn model(
+    kind: ModelKind,
+    rho: f64,
+    eta: f64,
+    theta: f64,
+    photons: u64,
+) -> bssrdf_zoo::Result<Box<dyn Model>> {
+    let params = Params::new(rho, eta, Moments::Exact)?;
+    build(kind, &params, &options(eta, theta, photons))
+}
+
+/// SplitMix64: a fixed, portable stream of uniforms in [0, 1).
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Upper critical value of χ² with k degrees of freedom at p = 1e-6 (Wilson–Hilferty cube-root
+/// normal approximation, z = Φ⁻¹(1 − 10⁻⁶) = 4.7534243). With a fixed seed each test is
+/// deterministic; 1e-6 is its false-failure rate over seeds.
+pub fn chi2_critical(k: usize) -> f64 {
+    const Z: f64 = 4.753_424_308_822_899;
+    let k = k as f64;
+    let h = 2.0 / (9.0 * k);
+    k * (1.0 - h + Z * h.sqrt()).powi(3)
+}
