@@ -439,3 +439,53 @@ fn error_paths_exit_2_and_name_the_problem() {
         "sigma_a",
     );
 }
+
+#[test]
+fn eval_reaches_every_model_of_the_zoo() {
+    let dir = tempfile::tempdir().unwrap();
+    for model in ["pbd", "pbd-fast", "dipole", "dirpole", "burley"] {
+        let v: f64 = ok(&bssrdf(
+            dir.path(),
+            &[
+                "eval", "--model", model, "--rho", "0.9", "--theta", "60", "--r", "1", "--phi", "0",
+            ],
+        ))
+        .trim()
+        .parse()
+        .unwrap();
+        assert!(v.is_finite() && v > 0.0, "{model}: {v}");
+    }
+}
+
+#[test]
+fn zoo_prints_a_row_per_model_and_case_and_writes_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(&bssrdf(
+        dir.path(),
+        &[
+            "zoo",
+            "--photons",
+            "5000",
+            "--cases",
+            "0.9:60",
+            "--models",
+            "dipole,burley,pbd-fast",
+            "--json",
+            "--plot",
+            "plots",
+        ],
+    ));
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(json["rows"].as_array().unwrap().len(), 3);
+    assert!(dir.path().join("plots/pareto.svg").exists());
+    fails_with(
+        &bssrdf(dir.path(), &["zoo", "--models", "dipol", "--photons", "10"]),
+        2,
+        "dipole",
+    );
+    fails_with(
+        &bssrdf(dir.path(), &["zoo", "--cases", "0.9", "--photons", "10"]),
+        2,
+        "RHO:THETA",
+    );
+}

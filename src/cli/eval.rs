@@ -18,6 +18,31 @@ pub enum ModelName {
     Table,
     /// The θ = 0 slice of FILE's table at every θ, uniform in φ (pbrt's assumption).
     Perpendicular,
+    /// PBD with the fast quadrature used for baking.
+    PbdFast,
+    /// Standard dipole (Jensen et al. 2001).
+    Dipole,
+    /// Directional dipole (Frisvad, Hachisuka, Kjeldsen 2014).
+    Dirpole,
+    /// Christensen–Burley (2015), searchlight fit.
+    Burley,
+    /// The Monte Carlo walk, binned (runs a walk of 10⁵ photons per (ρ′, θ)).
+    Mc,
+}
+
+impl ModelName {
+    /// The zoo's model of the same name, for the models built from (ρ′, η) alone.
+    fn zoo_kind(self) -> Option<bssrdf_zoo::models::ModelKind> {
+        use bssrdf_zoo::models::ModelKind as K;
+        match self {
+            ModelName::PbdFast => Some(K::PbdFast),
+            ModelName::Dipole => Some(K::Dipole),
+            ModelName::Dirpole => Some(K::Dirpole),
+            ModelName::Burley => Some(K::Burley),
+            ModelName::Mc => Some(K::MonteCarlo),
+            ModelName::Pbd | ModelName::Table | ModelName::Perpendicular => None,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -106,6 +131,14 @@ impl Evaluator<'_> {
         check_range("r", r, 0.0, f64::INFINITY)?;
         check_range("phi", phi_deg, f64::NEG_INFINITY, f64::INFINITY)?;
         let (theta, phi, r_opt) = (theta_deg.to_radians(), phi_deg.to_radians(), r * scale);
+        if let Some(kind) = self.model.zoo_kind() {
+            let params =
+                bssrdf_zoo::models::Params::new(rho, self.boundary.eta(), self.boundary.moments())?;
+            let mut options = bssrdf_zoo::models::Options::default();
+            options.mc.theta = theta;
+            let model = bssrdf_zoo::models::build(kind, &params, &options)?;
+            return Ok(model.eval(theta, r_opt, phi) * scale * scale);
+        }
         let reduced = match (self.model, &self.table) {
             (ModelName::Pbd, _) => Pbd::new(rho, self.boundary)?.eval(theta, r_opt, phi, self.rule),
             (ModelName::Table, Some(t)) => t
@@ -115,9 +148,17 @@ impl Evaluator<'_> {
                 .eval_perpendicular(rho, r_opt)
                 .ok_or_else(|| outside(rho, t))?,
             (_, None) => return Err(CliError::input("the table models need a library FILE")),
+            (_, Some(_)) => unreachable_model(self.model)?,
         };
         Ok(reduced * scale * scale)
     }
+}
+
+/// Every model is handled above; kept as an error rather than a panic.
+fn unreachable_model(model: ModelName) -> Result<f64, CliError> {
+    Err(CliError::input(format!(
+        "model {model:?} cannot be evaluated here"
+    )))
 }
 
 fn outside(rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {

@@ -12,6 +12,7 @@ mod pack;
 mod sample;
 mod validate;
 mod walk;
+mod zoo;
 
 use clap::{Parser, Subcommand};
 use std::fmt;
@@ -54,6 +55,8 @@ enum Command {
     Materials(materials::MaterialsArgs),
     /// Run the Monte Carlo random walk alone (the ground truth).
     Walk(walk::WalkArgs),
+    /// Compare every model with the Monte Carlo walk: error against run time.
+    Zoo(zoo::ZooArgs),
     /// Compare two library files: metadata, and every section's differences per table (exit 1
     /// when they differ beyond the tolerance).
     Diff(diff::DiffArgs),
@@ -75,6 +78,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Unpack(args) => pack::run(args, false),
         Command::Materials(args) => materials::run(args),
         Command::Walk(args) => walk::run(args),
+        Command::Zoo(args) => zoo::run(args),
         Command::Diff(args) => diff::run(args),
         Command::Completions(args) => completions::completions(args),
         Command::Man(args) => completions::man(args),

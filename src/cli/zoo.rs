@@ -1,0 +1,91 @@
+//! `bssrdf zoo`: every model against the Monte Carlo walk, error against run time.
+
+use super::CliError;
+use bssrdf_zoo::models::compare::{self, CompareConfig};
+use bssrdf_zoo::models::ModelKind;
+use clap::Args;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Debug, Args)]
+pub struct ZooArgs {
+    /// Relative index of refraction η.
+    #[arg(long, default_value_t = 1.33)]
+    eta: f64,
+    /// Henyey–Greenstein g of the walk (the diffusion models see only ρ′).
+    #[arg(long, default_value_t = 0.0)]
+    g: f64,
+    /// Photons per walk (one walk per case).
+    #[arg(long, default_value_t = 1_000_000)]
+    photons: u64,
+    /// Seed of the reference walks.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Models to compare (default: all), comma-separated names.
+    #[arg(long, value_delimiter = ',')]
+    models: Vec<String>,
+    /// Cases as RHO:THETA_DEG pairs, comma-separated (default: ρ′ 0.5, 0.9, 0.99 × θ 0, 60, 89).
+    #[arg(long, value_delimiter = ',', value_name = "RHO:THETA")]
+    cases: Vec<String>,
+    /// Write SVG figures (error against time; profiles over the walk) into this folder.
+    #[arg(long, value_name = "DIR")]
+    plot: Option<PathBuf>,
+    /// Threads (default: all cores); results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// One JSON object instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
+    let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
+    if !args.models.is_empty() {
+        config.models = args
+            .models
+            .iter()
+            .map(|m| m.parse::<ModelKind>())
+            .collect::<Result<_, _>>()?;
+    }
+    if !args.cases.is_empty() {
+        config.cases = args
+            .cases
+            .iter()
+            .map(|c| parse_case(c))
+            .collect::<Result<_, _>>()?;
+    }
+    let report = super::with_threads(args.threads, || compare::run(&config))??;
+    if let Some(dir) = &args.plot {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::input(format!("cannot create {}: {e}", dir.display())))?;
+        let files = compare::write_svgs(&report, dir).map_err(|e| {
+            CliError::input(format!("cannot write plots into {}: {e}", dir.display()))
+        })?;
+        eprintln!("wrote {} figure(s) into {}", files.len(), dir.display());
+    }
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if args.json {
+        serde_json::to_writer(&mut out, &report).map_err(std::io::Error::from)?;
+        writeln!(out)?;
+    } else {
+        write!(out, "{}", report.markdown())?;
+    }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn parse_case(text: &str) -> Result<(f64, f64), CliError> {
+    let bad = || {
+        CliError::input(format!(
+            "--cases {text:?}: expected RHO:THETA_DEG, e.g. 0.9:60"
+        ))
+    };
+    let (rho, theta) = text.split_once(':').ok_or_else(bad)?;
+    let rho: f64 = rho.trim().parse().map_err(|_| bad())?;
+    let theta: f64 = theta.trim().parse().map_err(|_| bad())?;
+    super::eval::check_range("rho", rho, 0.0, 1.0)?;
+    super::eval::check_range("theta", theta, 0.0, 90.0)?;
+    Ok((rho, theta))
+}
