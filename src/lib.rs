@@ -16,6 +16,7 @@
 #![deny(unsafe_code)]
 
 pub mod catmull_rom;
+pub mod embed;
 pub mod error;
 pub mod format;
 pub mod fresnel;
