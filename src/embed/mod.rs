@@ -16,7 +16,7 @@
 //! Units: coefficients in mm⁻¹, distances in mm, S and densities per mm², angles in radians;
 //! θ is the incidence angle before refraction, φ = 0 is forward (in the plane of incidence, on
 //! the side the refracted beam travels to). The C interface over this module is
-//! `bssrdf_zoo::capi` (header `include/bssrdf_zoo.h`).
+//! [`crate::capi`] (header `include/bssrdf_zoo.h`).
 //!
 //! ```
 //! use bssrdf_zoo::embed::Library;
