@@ -162,7 +162,9 @@ impl From<EmbedError> for Failure {
     fn from(e: EmbedError) -> Failure {
         let code = match &e {
             EmbedError::Format(FormatError::Io { .. }) => BSSRDF_ERROR_IO,
-            EmbedError::Format(_) | EmbedError::Table { .. } => BSSRDF_ERROR_FORMAT,
+            EmbedError::Format(_) | EmbedError::Table { .. } | EmbedError::Sections { .. } => {
+                BSSRDF_ERROR_FORMAT
+            }
             EmbedError::NoMaterial { .. } | EmbedError::NoTable { .. } => BSSRDF_ERROR_NOT_FOUND,
             EmbedError::Medium { .. } | EmbedError::Bake(_) => BSSRDF_ERROR_INVALID_ARGUMENT,
             EmbedError::AlbedoOutsideTable { .. } => BSSRDF_ERROR_OUT_OF_RANGE,

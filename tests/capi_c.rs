@@ -4,12 +4,14 @@
 //! library baked here. The test writes the values the Rust API computes into a file; the C
 //! program must find the same statuses and the same bits.
 //!
-//! How the static library is built: `cargo test` compiles the crate's `staticlib` but does not
-//! copy it anywhere stable, so this test runs `$CARGO build --lib --message-format=json` itself,
-//! with the profile of the running test (`test` under `target/debug`, `bench` under
-//! `target/release`) and the same target folder, and takes the `.a` path from Cargo's own
-//! report. The first run builds the few dependencies whose features differ without
-//! dev-dependencies (about half a minute on two cores); later runs find everything fresh.
+//! How the static library is built: `cargo test` compiles the crate's `staticlib` (the crate
+//! type is in Cargo.toml) but keeps it in `deps/` under a name another profile may overwrite.
+//! So this test asks Cargo for it: `$CARGO build --lib --test capi_c --profile P
+//! --message-format=json` with the profile and target folder of the running test (`test`
+//! under `target/debug`, `release` under `target/release`), and takes the `.a` path from
+//! Cargo's report. Naming this test target makes the build resolve features exactly as
+//! `cargo test` did, so the library unit is the one just built and Cargo finds it fresh: no
+//! second compile. Cargo also copies the library to `target/<profile>/libbssrdf_zoo.a`.
 //! Without a C compiler the tests pass after saying they skipped.
 
 use std::fmt::Write as _;
@@ -44,7 +46,7 @@ fn target_and_profile() -> (PathBuf, String) {
     let profile_dir = exe.parent().and_then(Path::parent).unwrap();
     let profile = match profile_dir.file_name().and_then(|n| n.to_str()) {
         Some("debug") => "test".to_owned(),
-        Some("release") => "bench".to_owned(),
+        Some("release") => "release".to_owned(),
         Some(custom) => custom.to_owned(),
         None => "test".to_owned(),
     };
@@ -68,12 +70,8 @@ fn static_library() -> &'static Path {
         let (target, profile) = target_and_profile();
         let out = Command::new(cargo)
             .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .args([
-                "build",
-                "--lib",
-                "--message-format=json-render-diagnostics",
-                "--profile",
-            ])
+            .args(["build", "--lib", "--test", env!("CARGO_CRATE_NAME")])
+            .args(["--message-format=json-render-diagnostics", "--profile"])
             .arg(&profile)
             .arg("--target-dir")
             .arg(&target)

@@ -168,7 +168,13 @@ impl ChannelLookup {
     #[inline]
     pub fn eval(&self, theta: f64, r_mm: f64, phi: f64) -> Option<f64> {
         let st = self.sigma_t_prime;
-        Some(st * st * self.table.view().eval(self.rho, theta, st * r_mm, phi)?)
+        Some(
+            st * st
+                * self
+                    .table
+                    .view_with(false)
+                    .eval(self.rho, theta, st * r_mm, phi)?,
+        )
     }
 
     /// Density per mm² of [`ChannelLookup::sample`] at (r, φ): 0 where it cannot sample.
@@ -186,7 +192,11 @@ impl ChannelLookup {
     #[inline]
     pub fn pdf(&self, theta: f64, r_mm: f64, phi: f64) -> f64 {
         let st = self.sigma_t_prime;
-        st * st * self.table.view().pdf(self.rho, theta, st * r_mm, phi)
+        st * st
+            * self
+                .table
+                .view_with(false)
+                .pdf(self.rho, theta, st * r_mm, phi)
     }
 
     /// Draws the exit point (r in mm, φ) for incidence θ from two uniforms in [0, 1), with its
@@ -207,7 +217,10 @@ impl ChannelLookup {
     #[inline]
     pub fn sample(&self, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let st = self.sigma_t_prime;
-        let s = self.table.view().sample(self.rho, theta, u_r, u_phi)?;
+        let s = self
+            .table
+            .view_with(false)
+            .sample(self.rho, theta, u_r, u_phi)?;
         Some(Sample {
             r: s.r / st,
             phi: s.phi,
@@ -275,6 +288,8 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn effective_albedo(&self, theta: f64) -> Option<f64> {
-        self.table.view().effective_albedo(self.rho, theta)
+        self.table
+            .view_with(false)
+            .effective_albedo(self.rho, theta)
     }
 }

@@ -5,7 +5,9 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::{ChannelLookup, EmbedError};
-use crate::format::{self, Compression, LibraryBuilder, Verify};
+use zerocopy::FromBytes;
+
+use crate::format::{self, Compression, LibraryBuilder, SectionKind, Verify};
 use crate::fresnel::Moments;
 use crate::materials::Rgb;
 use crate::medium::{Boundary, Medium};
@@ -18,11 +20,17 @@ struct Inner {
     tables: Vec<Prepared>,
 }
 
-/// A table's lookups minus its arrays, which stay in `file` and are borrowed per lookup.
+/// A table's lookups minus its arrays, which stay in `file` and are borrowed per lookup
+/// through the directory positions of their sections (found once: a lookup by position is a
+/// few bounds checks, where `format::Table`'s lookup by kind walks the table's section map).
 struct Prepared {
     axes: Axes,
     eta: f64,
     c_e: f64,
+    /// Directory positions of the gwc-params, radial-cdf and theta-cdf sections.
+    params: usize,
+    radial_cdf: usize,
+    theta_cdf: Option<usize>,
 }
 
 /// An opened library file, every table validated and prepared for lookups.
@@ -115,11 +123,35 @@ impl Library {
                     source,
                 })?
                 .c_e();
-            tables.push(Prepared {
+            let position = |kind: SectionKind| {
+                file.sections()
+                    .iter()
+                    .position(|s| s.table == Some(index) && s.kind == kind.code())
+            };
+            let unlocated = || EmbedError::Sections { index };
+            let prepared = Prepared {
                 axes: view.axes().clone(),
                 eta,
                 c_e,
-            });
+                params: position(SectionKind::GwcParams).ok_or_else(unlocated)?,
+                radial_cdf: position(SectionKind::RadialCdf).ok_or_else(unlocated)?,
+                theta_cdf: position(SectionKind::ThetaCdf),
+            };
+            // The arrays found by position must be the very ones `TableRef::new` just checked.
+            let same =
+                |position: usize, checked: &[f32]| std::ptr::eq(floats(&file, position), checked);
+            let record = table.record();
+            let located = same(prepared.params, record.gwc_params())
+                && same(prepared.radial_cdf, record.radial_cdf())
+                && match (prepared.theta_cdf, record.theta_cdf()) {
+                    (Some(position), Some(checked)) => same(position, checked),
+                    (None, None) => true,
+                    _ => false,
+                };
+            if !located {
+                return Err(unlocated());
+            }
+            tables.push(prepared);
         }
         Ok(Library {
             inner: Arc::new(Inner { file, tables }),
@@ -319,6 +351,13 @@ impl Library {
     }
 }
 
+/// The f32 values of the section at directory position `index` (aligned and a multiple of 4
+/// bytes long: checked when the file was opened).
+#[inline]
+fn floats(file: &format::Library, index: usize) -> &[f32] {
+    <[f32]>::ref_from_bytes(file.section_bytes(index)).unwrap_or_default()
+}
+
 /// One table of a library (one η): a handle for lookups in reduced units through
 /// [`TableLookup::view`], and the maker of [`ChannelLookup`]s for any medium.
 ///
@@ -397,15 +436,21 @@ impl TableLookup {
     /// ```
     #[inline]
     pub fn view(&self) -> TableRef<'_> {
-        let p = self.prepared();
-        let record = self.inner.file.table(self.index);
+        self.view_with(true)
+    }
+
+    /// The view, with or without the θ-sampling CDF: only `sample_path` and `pdf_theta` read
+    /// it, so the other lookups skip locating it (one section fewer per call).
+    #[inline]
+    pub(super) fn view_with(&self, theta_cdf: bool) -> TableRef<'_> {
+        let (p, file) = (self.prepared(), &self.inner.file);
         TableRef::prevalidated(
             p.eta,
             p.c_e,
             &p.axes,
-            record.map(|t| t.gwc_params()).unwrap_or_default(),
-            record.map(|t| t.radial_cdf()).unwrap_or_default(),
-            record.and_then(|t| t.theta_cdf()),
+            floats(file, p.params),
+            floats(file, p.radial_cdf),
+            p.theta_cdf.filter(|_| theta_cdf).map(|t| floats(file, t)),
         )
     }
 

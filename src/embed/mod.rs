@@ -71,6 +71,13 @@ pub enum EmbedError {
         /// What is wrong with it.
         source: TableError,
     },
+    /// A table's sections could not be located in the file's directory (a bug: the format's
+    /// checks guarantee them).
+    #[error("table {index}: its sections could not be located in the file's directory")]
+    Sections {
+        /// Position of the table in the file.
+        index: usize,
+    },
     /// No material of that name is in the file.
     #[error("no material named {name:?} in the library (it has {known})")]
     NoMaterial {
