@@ -159,7 +159,8 @@ impl Library {
     }
 
     /// Bakes a library in memory, with no file: one table per distinct η of `materials` (exact
-    /// Fresnel moments, θ sampling kept) and one material record each, as `bssrdf bake` does.
+    /// Fresnel moments, θ sampling kept) and one material record each, like `bssrdf bake`
+    /// (without its provenance record).
     /// The default grid takes about half a second per η on two cores.
     ///
     /// ```

@@ -94,8 +94,8 @@ pub enum EmbedError {
         /// How many tables there are.
         count: usize,
     },
-    /// A medium's coefficients are invalid (also a stored material's: NaN cannot be stored, but
-    /// a material may be vacuum in one channel).
+    /// A medium's coefficients are invalid: σ′t not finite and > 0 in [`TableLookup::medium`]
+    /// (material records were validated when the file was opened; this also covers them).
     #[error("{what}: {source}")]
     Medium {
         /// The material and channel, or "medium".
