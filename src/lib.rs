@@ -12,10 +12,13 @@
 //!   **φ = 0 forward**: in the plane of incidence, on the side the refracted beam travels to;
 //! - the API takes angles in radians; the command line takes degrees.
 
-// The only `unsafe` of the crate is the file mapping in `format::map`, allowed there alone.
+// `unsafe` is allowed in two modules only: the file mapping in `format::map`, and the C
+// interface in `capi` (FFI cannot be written without it).
 #![deny(unsafe_code)]
 
+pub mod capi;
 pub mod catmull_rom;
+pub mod embed;
 pub mod error;
 pub mod format;
 pub mod fresnel;

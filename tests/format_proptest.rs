@@ -82,6 +82,13 @@ fn damage() -> impl Strategy<Value = Damage> {
 
 fn apply(bytes: &mut Vec<u8>, d: &Damage) {
     let n = bytes.len();
+    if n == 0 {
+        // An earlier truncation emptied the file: only insertions still apply.
+        if let Damage::Insert { bytes: b, .. } = d {
+            bytes.extend_from_slice(b);
+        }
+        return;
+    }
     match d {
         Damage::Set { at, value } => bytes[at % n] = *value,
         Damage::Truncate { len } => bytes.truncate(len % n),

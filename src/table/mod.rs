@@ -195,6 +195,28 @@ impl<'a> TableRef<'a> {
         })
     }
 
+    /// A view of arrays that [`TableRef::new`] has already accepted with these axes, with
+    /// `c_e = Boundary::new(eta, moments)?.c_e()` as `new` computes it: O(1), no checks and no
+    /// Fresnel integration, for handles that rebuild their view on every lookup
+    /// (`crate::embed`). Arrays of other lengths make lookups panic; they are never unsound.
+    pub(crate) fn prevalidated(
+        eta: f64,
+        c_e: f64,
+        axes: &'a Axes,
+        params: &'a [f32],
+        radial_cdf: &'a [f32],
+        theta_cdf: Option<&'a [f32]>,
+    ) -> Self {
+        Self {
+            eta,
+            c_e,
+            axes,
+            params,
+            radial_cdf,
+            theta_cdf,
+        }
+    }
+
     /// Relative index of refraction the table was baked for.
     pub fn eta(&self) -> f64 {
         self.eta

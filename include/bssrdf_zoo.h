@@ -1,0 +1,184 @@
+/*
+ * bssrdf_zoo.h: the C interface of bssrdf-zoo, tabulated BSSRDFs for rendering.
+ *
+ * Open a library file made by `bssrdf bake`, make one lookup handle per medium and colour
+ * channel, then evaluate and sample S_p(r, phi; theta) at render time.
+ *
+ * Build and link: `cargo build --release` makes target/release/libbssrdf_zoo.a (static;
+ * link also -lpthread -ldl -lm on Linux) and libbssrdf_zoo.so (shared). Declarations here are
+ * checked against the Rust exports by tests/capi_header.rs.
+ *
+ * Units: coefficients in mm^-1, distances in mm, S and densities per mm^2, angles in radians.
+ * theta is the incidence angle from the normal BEFORE refraction, in [0, pi/2]. The exit point
+ * lies at polar coordinates (r, phi) around the entry point, phi = 0 forward: in the plane of
+ * incidence, on the side the refracted beam travels to. S_p is multiple scattering per unit
+ * area per unit power entering the medium (no entry Fresnel factor).
+ *
+ * Errors: every function except the release and message functions returns a status,
+ * BSSRDF_OK (0) or a BSSRDF_ERROR_* code. On failure, bssrdf_last_error_message() describes
+ * the error; the message is per thread (thread-local) and stays valid until the next failing
+ * call on the same thread. Successful calls do not touch it and do not allocate. Outputs are
+ * written only on success, except handle outputs, which are set to NULL on failure.
+ * Every pointer argument is checked: NULL gives BSSRDF_ERROR_NULL_POINTER. No Rust panic
+ * crosses into C: a panic (a bug) is caught and gives BSSRDF_ERROR_PANIC.
+ *
+ * Ownership: bssrdf_library_open creates a library handle, which the caller owns and frees
+ * with bssrdf_library_close. bssrdf_library_channel and bssrdf_library_medium create channel
+ * handles, which the caller owns and frees with bssrdf_channel_release. A channel keeps the
+ * library's file open by itself: the library may be closed before its channels (the file is
+ * unmapped when the last handle goes). Strings returned by the library (material names)
+ * are owned by the library handle; status names are static.
+ *
+ * Thread safety: handles are immutable. Any number of threads may call any function on the
+ * same handle at the same time, except that closing or releasing a handle must not race with
+ * any other use of that handle.
+ *
+ * Mapped files: another process truncating a mapped file kills the reader with SIGBUS; open
+ * files that may change with BSSRDF_OPEN_READ.
+ */
+#ifndef BSSRDF_ZOO_H
+#define BSSRDF_ZOO_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Status codes. */
+#define BSSRDF_OK 0
+/* A pointer argument was NULL. */
+#define BSSRDF_ERROR_NULL_POINTER 1
+/* Unknown flag bits, a channel other than 0, 1, 2, a string that is not UTF-8, a medium with
+ * sigma_t' not finite and > 0. */
+#define BSSRDF_ERROR_INVALID_ARGUMENT 2
+/* The operating system refused to open, map or read the file. */
+#define BSSRDF_ERROR_IO 3
+/* The file is not a valid library file (the message names the failed check). */
+#define BSSRDF_ERROR_FORMAT 4
+/* No material of that name, or no table or material of that index. */
+#define BSSRDF_ERROR_NOT_FOUND 5
+/* theta outside the table's theta axis (or NaN) in a lookup, or a medium's rho' outside the
+ * table's albedo rows when a channel is made. Tables are never extrapolated. */
+#define BSSRDF_ERROR_OUT_OF_RANGE 6
+/* Nothing to sample: no energy stored (rho' = 0, light beyond the critical angle), theta
+ * outside the table, or, for path sampling, a table baked without theta sampling. */
+#define BSSRDF_ERROR_NO_SAMPLE 7
+/* A bug: the library panicked and the panic was caught; the call did nothing. */
+#define BSSRDF_ERROR_PANIC 8
+
+/* Flags of bssrdf_library_open. */
+/* Map the file read-only (the default). */
+#define BSSRDF_OPEN_MAP 0u
+/* Read the file into memory instead (for files that may change while open). */
+#define BSSRDF_OPEN_READ 1u
+
+/* An opened library file. Opaque. */
+typedef struct bssrdf_library bssrdf_library;
+
+/* The lookup handle of one medium (one colour channel of a material) on one table. Opaque. */
+typedef struct bssrdf_channel bssrdf_channel;
+
+/* One draw of the exit point. */
+typedef struct bssrdf_sample {
+    double r;   /* exit distance, mm */
+    double phi; /* exit azimuth, radians in [-pi, pi], 0 forward */
+    double pdf; /* density per mm^2 of the exit plane */
+} bssrdf_sample;
+
+/* One path-tracing draw (Ferrier 2016, section 7.1, algorithm 3). */
+typedef struct bssrdf_path_sample {
+    double theta;     /* incidence before refraction, radians */
+    double r;         /* exit distance, mm */
+    double phi;       /* exit azimuth relative to the plane of incidence, radians */
+    double phi_prime; /* azimuth of the entry point seen from the exit point, radians */
+    double pdf_theta; /* density of theta, per radian */
+    double pdf;       /* joint density: pdf_theta * pdf(r, phi | theta) / (2 pi) */
+} bssrdf_path_sample;
+
+/* What a channel handle looks up. */
+typedef struct bssrdf_channel_info {
+    double rho_prime;     /* reduced albedo sigma_s' / sigma_t' */
+    double sigma_t_prime; /* reduced extinction sigma_s (1 - g) + sigma_a, mm^-1 */
+    double eta;           /* relative index of refraction the table was baked for */
+    size_t table;         /* index of the table in the file */
+} bssrdf_channel_info;
+
+/* Opens the library file at `path` (NUL-terminated; any bytes on Unix, UTF-8 elsewhere) and
+ * validates all of it (structure, checksums, every value finite). `flags` is BSSRDF_OPEN_MAP
+ * or BSSRDF_OPEN_READ. Stores a new handle in *out_library (NULL on failure); free it with
+ * bssrdf_library_close. */
+int bssrdf_library_open(const char *path, uint32_t flags, bssrdf_library **out_library);
+
+/* Frees a library handle; NULL does nothing. Channels made from it remain valid. */
+void bssrdf_library_close(bssrdf_library *library);
+
+/* Number of tables (one per eta baked). */
+int bssrdf_library_table_count(const bssrdf_library *library, size_t *out_count);
+
+/* Number of materials. */
+int bssrdf_library_material_count(const bssrdf_library *library, size_t *out_count);
+
+/* Name of material `index` (UTF-8, NUL-terminated), owned by the library: valid until it is
+ * closed. BSSRDF_ERROR_NOT_FOUND for an index past the end. */
+int bssrdf_library_material_name(const bssrdf_library *library, size_t index,
+                                 const char **out_name);
+
+/* The lookup handle of colour channel `channel` (0 red, 1 green, 2 blue) of the material
+ * named `material`, in *out_channel (NULL on failure); free it with bssrdf_channel_release. */
+int bssrdf_library_channel(const bssrdf_library *library, const char *material, int channel,
+                           bssrdf_channel **out_channel);
+
+/* The lookup handle of any medium on table `table`: reduced albedo rho_prime and reduced
+ * extinction sigma_t_prime (mm^-1), in *out_channel (NULL on failure). For media that are
+ * not material records of the file; eta is the table's. */
+int bssrdf_library_medium(const bssrdf_library *library, size_t table, double rho_prime,
+                          double sigma_t_prime, bssrdf_channel **out_channel);
+
+/* Frees a channel handle; NULL does nothing. */
+void bssrdf_channel_release(bssrdf_channel *channel);
+
+/* The channel's rho', sigma_t', eta and table index. */
+int bssrdf_channel_get_info(const bssrdf_channel *channel, bssrdf_channel_info *out_info);
+
+/* S_p(r, phi; theta) in mm^-2, r in mm: 0 outside the radial support (r < 0, beyond the
+ * table, NaN r or phi); BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table. */
+int bssrdf_channel_eval(const bssrdf_channel *channel, double theta, double r_mm, double phi,
+                        double *out_value);
+
+/* Density per mm^2 of bssrdf_channel_sample at (r, phi): 0 where it cannot sample. */
+int bssrdf_channel_pdf(const bssrdf_channel *channel, double theta, double r_mm, double phi,
+                       double *out_pdf);
+
+/* Draws the exit point for incidence theta from two uniforms in [0, 1). The sample's pdf
+ * equals bssrdf_channel_pdf there. BSSRDF_ERROR_NO_SAMPLE where there is nothing to sample. */
+int bssrdf_channel_sample(const bssrdf_channel *channel, double theta, double u_r, double u_phi,
+                          bssrdf_sample *out_sample);
+
+/* The path-tracing draw from four uniforms u[0..3] in [0, 1): theta from the effective
+ * albedo over theta, then (r, phi) given theta, then phi' uniform. BSSRDF_ERROR_NO_SAMPLE
+ * without theta sampling in the table or where there is nothing to sample. */
+int bssrdf_channel_sample_path(const bssrdf_channel *channel, const double *u,
+                               bssrdf_path_sample *out_sample);
+
+/* Density of theta in bssrdf_channel_sample_path, per radian (0 without theta sampling). */
+int bssrdf_channel_pdf_theta(const bssrdf_channel *channel, double theta, double *out_pdf);
+
+/* Effective albedo rho_eff(theta): multiply scattered power leaving per unit power entering
+ * (dimensionless). BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table. */
+int bssrdf_channel_effective_albedo(const bssrdf_channel *channel, double theta,
+                                    double *out_albedo);
+
+/* The message of the last failed call on this thread (UTF-8, NUL-terminated, "no error" if
+ * none yet). Valid until the next failing call on this thread. Never NULL. */
+const char *bssrdf_last_error_message(void);
+
+/* The name of a status code's constant ("BSSRDF_ERROR_IO", ...), or "unknown status". Static. */
+const char *bssrdf_status_name(int status);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* BSSRDF_ZOO_H */
