@@ -24,6 +24,7 @@ pub mod materials;
 pub mod medium;
 pub mod pbd;
 pub mod quadrature;
+pub mod render;
 pub mod rng;
 pub mod table;
 pub mod walk;
