@@ -6,6 +6,7 @@ mod inspect;
 mod library;
 mod materials;
 mod pack;
+mod render;
 mod sample;
 mod validate;
 mod walk;
@@ -44,6 +45,9 @@ enum Command {
     Materials(materials::MaterialsArgs),
     /// Run the Monte Carlo random walk alone (the ground truth).
     Walk(walk::WalkArgs),
+    /// Picture a beam entering a slab (EXR + PNG), or the difference of two pictures.
+    #[command(allow_negative_numbers = true)]
+    Render(render::RenderArgs),
 }
 
 /// Runs the parsed command.
@@ -58,6 +62,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Unpack(args) => pack::run(args, false),
         Command::Materials(args) => materials::run(args),
         Command::Walk(args) => walk::run(args),
+        Command::Render(args) => render::run(args),
     }
 }
 
