@@ -283,7 +283,7 @@ fn previews_are_pngs_of_the_pictures_size() {
     let other = run(&config(Model::Perpendicular, 60.0, 5_000));
     let d = render::difference(&r.picture, &other.picture).unwrap();
     let (a, b) = (dir.path().join("a.png"), dir.path().join("d.png"));
-    render::png::write_preview(&a, &r.picture).unwrap();
+    render::png::write_preview(&a, &r.picture, 3.0).unwrap();
     render::png::write_difference_preview(&b, d.frame(), d.values()).unwrap();
     for path in [a, b] {
         let decoder =

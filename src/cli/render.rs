@@ -124,6 +124,9 @@ pub struct RenderArgs {
     /// Write no PNG previews.
     #[arg(long)]
     no_preview: bool,
+    /// Decades of exitance below the brightest pixel that the PNG preview shows (log scale).
+    #[arg(long, default_value_t = render::png::DECADES)]
+    decades: f64,
     /// Threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -159,6 +162,12 @@ fn input(e: impl std::fmt::Display) -> CliError {
 }
 
 pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
+    if !(args.decades.is_finite() && args.decades > 0.0) {
+        return Err(CliError::input(format!(
+            "--decades {} must be a number > 0",
+            args.decades
+        )));
+    }
     if let Some(files) = &args.diff {
         return run_diff(&args, files);
     }
@@ -299,7 +308,7 @@ fn render_one(
     render::exr::write_rgb(path, &timed.0.picture).map_err(input)?;
     if !args.no_preview {
         let png = path.with_extension("png");
-        render::png::write_preview(&png, &timed.0.picture).map_err(input)?;
+        render::png::write_preview(&png, &timed.0.picture, args.decades).map_err(input)?;
         files.push(png);
     }
     Ok((timed, files))

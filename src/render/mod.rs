@@ -327,6 +327,9 @@ pub struct Renderer {
     walks: Option<[ExitWalk; 3]>,
     /// T(θ) ρ_eff,PBD(θ) per channel at the axis, for a collimated `pbd` render.
     pbd_expected: Option<[f64; 3]>,
+    /// The table's ρ_eff per channel where every photon looks it up at the same incidence
+    /// (perpendicular, or a collimated beam).
+    rho_eff_fixed: Option<[f64; 3]>,
     channel_seeds: [u64; 3],
 }
 
@@ -358,6 +361,15 @@ impl Renderer {
             }
             pbd = Some(models);
         }
+        let rho_eff_fixed = match config.model {
+            Model::Perpendicular => Some(0.0),
+            _ if config.cone == 0.0 => Some(config.theta),
+            _ => None,
+        }
+        .and_then(|theta| {
+            let t = table.as_ref()?.view();
+            Some(channels.map(|c| t.effective_albedo(c.rho, theta).unwrap_or(0.0)))
+        });
         let walks = match config.model {
             Model::Mc => {
                 let mut w = Vec::with_capacity(3);
@@ -381,6 +393,7 @@ impl Renderer {
             pbd,
             walks,
             pbd_expected,
+            rho_eff_fixed,
             channel_seeds: [1u64, 2, 3].map(|c| mix64(config.seed ^ mix64(c))),
         })
     }

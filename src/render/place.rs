@@ -39,7 +39,10 @@ impl Renderer {
         // The incidence the table is looked up at: the θ = 0 slice for the perpendicular model.
         let theta = if perpendicular { 0.0 } else { inc.theta };
         let ch = &self.channels;
-        let rho_eff = ch.map(|c| table.effective_albedo(c.rho, theta).unwrap_or(0.0));
+        // ρ_eff per channel: fixed when the table is looked up at one incidence.
+        let rho_eff = self
+            .rho_eff_fixed
+            .unwrap_or_else(|| ch.map(|c| table.effective_albedo(c.rho, theta).unwrap_or(0.0)));
         let expected = match self.config.model {
             Model::Table | Model::Perpendicular => rho_eff.map(|e| t * e),
             _ => [0.0; 3],

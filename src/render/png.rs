@@ -1,7 +1,8 @@
 //! PNG previews (8-bit sRGB-ish, for people without an EXR viewer), with a scale bar.
 //!
-//! - **Renders**: the luminance L = R + G + B on a log scale over [`DECADES`] decades below the
-//!   brightest pixel, v = 1 + log₁₀(L / L_max) / DECADES clamped to [0, 1], and the hue kept:
+//! - **Renders**: the luminance L = R + G + B on a log scale over D decades (default
+//!   [`DECADES`]) below the brightest pixel, v = 1 + log₁₀(L / L_max) / D clamped to [0, 1],
+//!   and the hue kept:
 //!   each channel is v · (c / max(R, G, B))^(1/2.2). Exitance falls exponentially with distance
 //!   and diverges like ln(1/r) at the entry point; a log scale shows both the core and the tail,
 //!   where a linear or Reinhard map shows a dot. Mapping each channel's log separately would
@@ -16,12 +17,12 @@
 use super::{Frame, Picture, RenderError};
 use std::path::Path;
 
-/// Decades of exitance the render preview shows.
-pub const DECADES: f64 = 4.0;
+/// Decades of exitance the render preview shows by default.
+pub const DECADES: f64 = 3.0;
 
-/// Writes the log-tone-mapped preview of a render.
-pub fn write_preview(path: &Path, picture: &Picture) -> Result<(), RenderError> {
-    let mut rgb = tonemap_log(picture.rgb());
+/// Writes the log-tone-mapped preview of a render over `decades` (> 0; else [`DECADES`]).
+pub fn write_preview(path: &Path, picture: &Picture, decades: f64) -> Result<(), RenderError> {
+    let mut rgb = tonemap_log(picture.rgb(), decades);
     scale_bar(&mut rgb, picture.frame());
     encode(path, picture.frame(), &rgb)
 }
@@ -37,8 +38,14 @@ pub fn write_difference_preview(
     encode(path, frame, &rgb)
 }
 
-/// 8-bit RGB of linear RGB values on the log scale described in the module docs.
-pub fn tonemap_log(linear: &[f32]) -> Vec<u8> {
+/// 8-bit RGB of linear RGB values on the log scale described in the module docs, over
+/// `decades` (> 0 and finite; else [`DECADES`]).
+pub fn tonemap_log(linear: &[f32], decades: f64) -> Vec<u8> {
+    let decades = if decades.is_finite() && decades > 0.0 {
+        decades
+    } else {
+        DECADES
+    };
     let luminance = |p: &[f32]| p.iter().map(|&v| f64::from(v)).sum::<f64>();
     let max = linear
         .chunks_exact(3)
@@ -53,7 +60,7 @@ pub fn tonemap_log(linear: &[f32]) -> Vec<u8> {
             out.extend_from_slice(&[0, 0, 0]);
             continue;
         }
-        let level = (1.0 + (l / max).log10() / DECADES).clamp(0.0, 1.0);
+        let level = (1.0 + (l / max).log10() / decades).clamp(0.0, 1.0);
         for &c in p {
             let hue = f64::from(c.max(0.0) / peak).powf(1.0 / 2.2);
             out.push((255.0 * level * hue).round() as u8);
@@ -225,7 +232,7 @@ mod tests {
             1.0,
             0.0,
         ];
-        let m = tonemap_log(&v);
+        let m = tonemap_log(&v, 4.0);
         assert_eq!(&m[..3], &[255, 255, 255]);
         assert_eq!(&m[3..6], &[(255.0f64 * 0.75).round() as u8, 0, 0]);
         assert_eq!(&m[6..], &[0; 9]);
