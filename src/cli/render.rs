@@ -289,7 +289,7 @@ fn render_one(
         };
         bar.set_style(
             ProgressStyle::with_template(
-                "{prefix} {bar:40} {human_pos}/{human_len} photons, {per_sec}, eta {eta}",
+                "{prefix} {bar:30} {human_pos}/{human_len} photons, {per_sec:0}, eta {eta}",
             )
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
         );

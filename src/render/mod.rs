@@ -17,11 +17,11 @@
 //!
 //! # One photon
 //! 1. **Light.** A direction uniform in solid angle inside the cone about θ hits the surface at
-//!    the origin; its own θᵢ and plane of incidence ψ follow ([`source`]). Per unit incident
+//!    the origin; its own θᵢ and plane of incidence ψ follow (`source.rs`). Per unit incident
 //!    power, the Fresnel reflectance R(θᵢ) leaves specularly (reported as
 //!    [`Stats::reflected`], not imaged); T(θᵢ) = 1 − R enters.
 //! 2. **Exit.** The model places the exit point(s) at (r, φ) from the entry point, φ measured
-//!    from the photon's plane of incidence, 0 forward ([`place`]):
+//!    from the photon's plane of incidence, 0 forward (`place.rs`):
 //!    - `table`: algorithm 2, (r, φ) drawn from the angular table baked for the material's η
 //!      (baked once per run, kept in memory);
 //!    - `perpendicular`: the θ = 0 slice of the same table, φ uniform (pbrt's assumption);
@@ -90,8 +90,8 @@ use source::Source;
 use std::f64::consts::FRAC_PI_2;
 use tally::{Recorder, Sums};
 
-/// Largest picture side, pixels.
-pub const MAX_SIDE: usize = 8192;
+/// Largest picture side, pixels (the picture is summed in f64: 4096² pixels take 400 MB).
+pub const MAX_SIDE: usize = 4096;
 /// Prefix of the metadata keys a render writes.
 pub const META_PREFIX: &str = "bssrdf:";
 /// What the pixel values are.
@@ -114,9 +114,8 @@ pub enum Model {
 }
 
 impl Model {
-    /// Photons per block, the unit of parallel work and of the fixed summation order: large
-    /// for the sampled models (each block adds a whole picture to the total), small for the
-    /// walk (a photon costs ~100 µs there).
+    /// Photons per block, the unit of parallel work and of the fixed summation order: smaller
+    /// for the walk, whose photons cost ~20 µs and leave ~170 exits each.
     pub fn block(self) -> u64 {
         match self {
             Model::Mc => 512,
@@ -407,9 +406,10 @@ impl Renderer {
     /// with the number of photons finished after each block (from any thread).
     pub fn run(&self, progress: &(dyn Fn(u64) + Sync)) -> Render {
         let blocks = self.config.photons.div_ceil(self.config.model.block());
-        let mut total = Sums::new(&self.frame);
-        // Blocks go a chunk at a time to bound memory; chunks never change the order in which
-        // block sums are added.
+        let mut total = Sums::new();
+        let mut image = vec![0.0; 3 * self.frame.width() * self.frame.height()];
+        // Blocks go a chunk at a time to bound memory (a block's deposits take ~16 bytes per
+        // exit); chunks never change the order in which block sums are added.
         let chunk = 2 * rayon::current_num_threads().max(1) as u64;
         let mut start = 0;
         while start < blocks {
@@ -423,11 +423,11 @@ impl Renderer {
                 })
                 .collect();
             for part in &parts {
-                total.merge(part);
+                total.merge(part, &mut image);
             }
             start = end;
         }
-        self.finish(&total)
+        self.finish(&total, &image)
     }
 
     /// Traces photons `first .. first + count` into one block's sums.
@@ -444,13 +444,13 @@ impl Renderer {
         rec.into_sums()
     }
 
-    fn finish(&self, sums: &Sums) -> Render {
+    fn finish(&self, sums: &Sums, image: &[f64]) -> Render {
         let n = sums.photons.max(1) as f64;
         let area = self.frame.pixel_mm() * self.frame.pixel_mm();
         let scale = 1.0 / (n * area);
-        let rgb: Vec<f32> = sums.image.iter().map(|&v| (v * scale) as f32).collect();
+        let rgb: Vec<f32> = image.iter().map(|&v| (v * scale) as f32).collect();
         let mut in_picture = [0.0; 4];
-        for p in sums.image.chunks_exact(3) {
+        for p in image.chunks_exact(3) {
             for c in 0..3 {
                 in_picture[c] += p[c] / n;
                 in_picture[3] += p[c] / n;

@@ -1,6 +1,10 @@
 //! Tallies of a render: the binned image, and per-photon totals and first moments (for the
 //! power, the centroid and their standard errors), summed per block of photons in photon order.
 //!
+//! A block keeps its pixel deposits as a list (pixel channel, weight) in the order they were
+//! made, not as a picture: its memory is then independent of the picture's size, and adding
+//! the blocks' lists in block order sums every pixel in plain photon order.
+//!
 //! A photon may leave many exits (the walk) or one exit carrying three channel weights (the
 //! sampled models). Its scores are summed per (order, channel) first; only the photon's sums
 //! enter the second moments, so the standard errors are those of independent photons. The
@@ -144,8 +148,8 @@ impl Moments {
 #[derive(Debug, Clone)]
 pub(crate) struct Sums {
     pub photons: u64,
-    /// Σ of exit weights per pixel and channel, row-major RGB.
-    pub image: Vec<f64>,
+    /// Deposits (3 · pixel + channel, weight), in the order made (blocks only).
+    pub deposits: Vec<(u32, f64)>,
     moments: [[Moments; 4]; 3],
     reflected: (f64, f64),
     expected: [f64; 3],
@@ -154,10 +158,10 @@ pub(crate) struct Sums {
 }
 
 impl Sums {
-    pub fn new(frame: &Frame) -> Self {
+    pub fn new() -> Self {
         Self {
             photons: 0,
-            image: vec![0.0; 3 * frame.width * frame.height],
+            deposits: Vec::new(),
             moments: [[Moments::default(); 4]; 3],
             reflected: (0.0, 0.0),
             expected: [0.0; 3],
@@ -166,11 +170,14 @@ impl Sums {
         }
     }
 
-    /// Adds the next block's sums (callers merge blocks in index order).
-    pub fn merge(&mut self, o: &Sums) {
+    /// Adds the next block's sums (callers merge blocks in index order), its deposits into
+    /// `image` (row-major RGB, 3 values per pixel).
+    pub fn merge(&mut self, o: &Sums, image: &mut [f64]) {
         self.photons += o.photons;
-        for (a, b) in self.image.iter_mut().zip(&o.image) {
-            *a += b;
+        for &(i, w) in &o.deposits {
+            if let Some(v) = image.get_mut(i as usize) {
+                *v += w;
+            }
         }
         for (pa, pb) in self.moments.iter_mut().zip(&o.moments) {
             for (a, b) in pa.iter_mut().zip(pb) {
@@ -204,7 +211,7 @@ impl<'a> Recorder<'a> {
         Self {
             frame,
             image_single,
-            sums: Sums::new(frame),
+            sums: Sums::new(),
             photon: [[[0.0; 3]; 3]; 2],
             reflected: 0.0,
             expected: [0.0; 3],
@@ -225,9 +232,11 @@ impl<'a> Recorder<'a> {
             return;
         }
         if let Some(p) = self.frame.index(x, y) {
-            let px = &mut self.sums.image[3 * p..3 * p + 3];
-            for (a, b) in px.iter_mut().zip(w) {
-                *a += b;
+            for (c, wc) in w.into_iter().enumerate() {
+                if wc != 0.0 {
+                    // 3 · pixel + c < 3 · MAX_SIDE² fits u32.
+                    self.sums.deposits.push(((3 * p + c) as u32, wc));
+                }
             }
         }
     }
@@ -244,7 +253,9 @@ impl<'a> Recorder<'a> {
             return;
         }
         if let Some(p) = self.frame.index(x, y) {
-            self.sums.image[3 * p + c] += w;
+            if w != 0.0 {
+                self.sums.deposits.push(((3 * p + c) as u32, w));
+            }
         }
     }
 
@@ -488,7 +499,7 @@ mod tests {
         r.exit_channel(1, 0.5, 0.5, 3.0, false);
         r.end_photon();
         let sums = r.into_sums();
-        assert_eq!(sums.image[3 + 1], 3.0);
+        assert_eq!(sums.deposits, [(3 + 1, 3.0)]);
         let s = Stats::new(&sums, false, [0.0; 4]);
         assert_eq!(s.get(Part::Total, Band::Green).power.value, 5.0);
     }

@@ -53,7 +53,7 @@ fn configurations_are_checked_and_name_the_value() {
     bad(&|c| c.theta = 1.56, "below 90 deg");
     bad(&|c| c.photons = 0, "photons = 0");
     bad(&|c| c.width = 0, "0x256");
-    bad(&|c| c.height = MAX_SIDE + 1, "256x8193");
+    bad(&|c| c.height = MAX_SIDE + 1, "256x4097");
     bad(&|c| c.extent = 0.0, "extent = 0");
     bad(&|c| c.extent = f64::INFINITY, "extent = inf");
 }
