@@ -82,7 +82,7 @@ fn text(s: &str) -> Text {
     Text::new_or_none(latin1).unwrap_or_default()
 }
 
-/// What [`read`] returns: the channels by name, the frame and the metadata.
+/// What [`read()`] returns: the channels by name, the frame and the metadata.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExrFile {
     /// (name, row-major samples as f32), in the file's (alphabetical) order.
