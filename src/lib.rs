@@ -28,6 +28,7 @@ pub mod medium;
 pub mod models;
 pub mod pbd;
 pub mod quadrature;
+pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod table;

@@ -9,6 +9,7 @@ mod inspect;
 mod library;
 mod materials;
 mod pack;
+mod render;
 mod sample;
 mod validate;
 mod walk;
@@ -64,6 +65,9 @@ enum Command {
     Completions(completions::CompletionsArgs),
     /// Print the man page (roff) on stdout, or write one page per command with --dir.
     Man(completions::ManArgs),
+    /// Picture a beam entering a slab (EXR + PNG), or the difference of two pictures.
+    #[command(allow_negative_numbers = true)]
+    Render(render::RenderArgs),
 }
 
 /// Runs the parsed command.
@@ -82,6 +86,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Diff(args) => diff::run(args),
         Command::Completions(args) => completions::completions(args),
         Command::Man(args) => completions::man(args),
+        Command::Render(args) => render::run(args),
     }
 }
 

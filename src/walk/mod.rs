@@ -76,6 +76,7 @@
 //! and a homogeneous medium only.
 
 pub mod bins;
+mod exits;
 mod result;
 pub mod rng;
 mod tally;
@@ -85,6 +86,7 @@ mod transport;
 mod tests;
 
 pub use bins::Bins;
+pub use exits::{Exit, ExitWalk, PhotonPath};
 pub use result::{BinnedExitance, Component, Estimate, WalkResult};
 pub use transport::{hg_phase, sample_hg_cos, MAX_VERTICES, ROULETTE_SURVIVAL, ROULETTE_WEIGHT};
 

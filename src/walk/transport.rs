@@ -14,8 +14,9 @@
 //! 3. *Roulette.* Below [`ROULETTE_WEIGHT`], survive with probability [`ROULETTE_SURVIVAL`] and
 //!    divide the weight by it (MCML's constants), otherwise stop.
 
+use super::exits::Sink;
 use super::rng::Xoshiro256pp;
-use super::tally::{Order, PhotonTally, Surface};
+use super::tally::{Order, Surface};
 use crate::fresnel;
 
 /// Weight below which Russian roulette is played (Wang, Jacques, Zheng 1995, `WEIGHT`).
@@ -76,8 +77,9 @@ impl Medium {
         }
     }
 
-    /// Traces one photon packet of unit weight entering at the origin.
-    pub(crate) fn trace(&self, rng: &mut Xoshiro256pp, tally: &mut PhotonTally) {
+    /// Traces one photon packet of unit weight entering at the origin, scoring into `tally`
+    /// (the binned tally of a run, or the exit callback of [`super::ExitWalk`]).
+    pub(crate) fn trace(&self, rng: &mut Xoshiro256pp, tally: &mut impl Sink) {
         let mut p = [0.0_f64; 3];
         let mut u = self.entry;
         let mut w = 1.0_f64;

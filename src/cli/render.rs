@@ -1,0 +1,480 @@
+//! `bssrdf render`: a picture of a beam entering a semi-infinite slab (Ferrier's figure 10) as
+//! an EXR with a PNG preview beside it, and `--diff` / `--compare` for signed luminance
+//! differences (figure 1c). All the work is in `bssrdf_zoo::render`.
+
+use super::CliError;
+use bssrdf_zoo::materials::Material;
+use bssrdf_zoo::render::{
+    self, difference, Band, Config, Difference, Model, Orders, Part, Render, Renderer,
+};
+use bssrdf_zoo::table::GridPreset;
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum ModelArg {
+    /// Ferrier's angular table, algorithm 2.
+    Table,
+    /// The θ = 0 slice of the table, uniform in φ (pbrt's assumption).
+    Perpendicular,
+    /// Photon beam diffusion (table samples weighted by PBD / table density).
+    Pbd,
+    /// The Monte Carlo random walk: the reference, with single scattering.
+    Mc,
+}
+
+impl From<ModelArg> for Model {
+    fn from(m: ModelArg) -> Self {
+        match m {
+            ModelArg::Table => Model::Table,
+            ModelArg::Perpendicular => Model::Perpendicular,
+            ModelArg::Pbd => Model::Pbd,
+            ModelArg::Mc => Model::Mc,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Preset {
+    /// Ferrier's figure 10: σs = 1, σa = (0.01, 0.1, 1) mm⁻¹, g = 0, η = 1.33.
+    #[value(name = "figure-10")]
+    Figure10,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum GridArg {
+    Coarse,
+    Default,
+    Fine,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum OrdersArg {
+    /// Single and multiple scattering.
+    All,
+    /// Multiple scattering only (like the diffusion models).
+    Multiple,
+}
+
+#[derive(Debug, Args)]
+#[command(group = clap::ArgGroup::new("medium").args(["material", "preset", "sigma_s"]))]
+pub struct RenderArgs {
+    /// A named material (`bssrdf materials`).
+    #[arg(long)]
+    material: Option<String>,
+    /// A built-in medium.
+    #[arg(long, value_enum)]
+    preset: Option<Preset>,
+    /// Scattering coefficients σs per channel, mm⁻¹ (with --sigma-a, --eta, --g).
+    #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_a")]
+    sigma_s: Option<[f64; 3]>,
+    /// Absorption coefficients σa per channel, mm⁻¹.
+    #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_s")]
+    sigma_a: Option<[f64; 3]>,
+    /// Relative index of refraction η with --sigma-s [default: 1.33].
+    #[arg(long, requires = "sigma_s")]
+    eta: Option<f64>,
+    /// Henyey–Greenstein g of every channel with --sigma-s [default: 0].
+    #[arg(long, requires = "sigma_s")]
+    g: Option<f64>,
+    /// Extra material files (TOML file or folder) for --material.
+    #[arg(long, value_name = "PATH")]
+    materials: Option<PathBuf>,
+    /// Incidence of the beam before refraction, degrees in [0, 90).
+    #[arg(long, required_unless_present = "diff")]
+    theta: Option<f64>,
+    /// How exit points are placed.
+    #[arg(long, value_enum, default_value = "table")]
+    model: ModelArg,
+    /// Also render this model with the same settings and write the difference (-o's stem
+    /// plus `-MODEL.exr` and `-diff.exr`).
+    #[arg(long, value_enum)]
+    compare: Option<ModelArg>,
+    /// Photons traced.
+    #[arg(long, default_value_t = 1_000_000)]
+    photons: u64,
+    /// Picture size in pixels.
+    #[arg(long, value_name = "W,H", value_parser = size, default_value = "256,256")]
+    size: (usize, usize),
+    /// Width of the picture along the plane of incidence, mm (square pixels).
+    #[arg(long, value_name = "MM", default_value_t = 10.0)]
+    extent: f64,
+    /// Half-angle of the cone of incident light, degrees (0: collimated).
+    #[arg(long, value_name = "DEG", default_value_t = 1.0)]
+    cone: f64,
+    /// Seed of the per-photon streams (the picture does not depend on the thread count).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Grid of the table baked for the material's η.
+    #[arg(long, value_enum, default_value = "default")]
+    grid: GridArg,
+    /// What the mc model puts in the picture (its statistics keep both).
+    #[arg(long, value_enum, default_value = "all")]
+    orders: OrdersArg,
+    /// Instead of rendering: the signed luminance difference A − B of two renders.
+    #[arg(long, num_args = 2, value_names = ["A.exr", "B.exr"], conflicts_with_all = ["medium", "compare"])]
+    diff: Option<Vec<PathBuf>>,
+    /// Output EXR (a PNG preview is written beside it).
+    #[arg(short, long, value_name = "OUT.exr")]
+    output: PathBuf,
+    /// Write no PNG previews.
+    #[arg(long)]
+    no_preview: bool,
+    /// Decades of exitance below the brightest pixel that the PNG preview shows (log scale).
+    #[arg(long, default_value_t = render::png::DECADES)]
+    decades: f64,
+    /// Threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// No progress bar.
+    #[arg(short, long)]
+    quiet: bool,
+    /// One JSON object instead of the summary.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `R,G,B` as three numbers (clap reports the error with exit code 2).
+fn rgb(s: &str) -> Result<[f64; 3], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{s:?} is not three numbers R,G,B: {e}"))?;
+    <[f64; 3]>::try_from(v).map_err(|v| format!("{s:?} has {} numbers; R,G,B needs 3", v.len()))
+}
+
+/// `W,H` as two whole numbers.
+fn size(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("{s:?} is not a size W,H in pixels");
+    let (w, h) = s.split_once(',').ok_or_else(bad)?;
+    let w = w.trim().parse().map_err(|_| bad())?;
+    let h = h.trim().parse().map_err(|_| bad())?;
+    Ok((w, h))
+}
+
+fn input(e: impl std::fmt::Display) -> CliError {
+    CliError::input(e.to_string())
+}
+
+pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
+    if !(args.decades.is_finite() && args.decades > 0.0) {
+        return Err(CliError::input(format!(
+            "--decades {} must be a number > 0",
+            args.decades
+        )));
+    }
+    if let Some(files) = &args.diff {
+        return run_diff(&args, files);
+    }
+    let material = material(&args)?;
+    let config = config(&args, args.model)?;
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let (main, main_files) = render_one(&args, &config, &material, &args.output)?;
+    let mut report = serde_json::json!({ "render": summary_json(&main, &main_files) });
+    if !args.json {
+        print_summary(&mut out, &main, &main_files)?;
+    }
+    if let Some(other) = args.compare {
+        let other_config = Config {
+            model: other.into(),
+            ..config.clone()
+        };
+        let other_model: Model = other.into();
+        let other_path = sibling(&args.output, other_model.name());
+        let (second, second_files) = render_one(&args, &other_config, &material, &other_path)?;
+        let diff = difference(&main.0.picture, &second.0.picture).map_err(input)?;
+        let diff_files = write_diff(&args, &diff, &sibling(&args.output, "diff"))?;
+        if args.json {
+            report["compare"] = summary_json(&second, &second_files);
+            report["difference"] = diff_json(&diff, &diff_files);
+        } else {
+            writeln!(out)?;
+            print_summary(&mut out, &second, &second_files)?;
+            writeln!(out)?;
+            print_diff(&mut out, &diff, &diff_files)?;
+        }
+    }
+    if args.json {
+        writeln!(out, "{report}")?;
+    }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn material(args: &RenderArgs) -> Result<Material, CliError> {
+    if let Some(name) = &args.material {
+        let library = super::materials::library(args.materials.as_deref())?;
+        return library.get(name).cloned().map_err(input);
+    }
+    if args.preset == Some(Preset::Figure10) {
+        return Ok(render::figure_10_material());
+    }
+    match (&args.sigma_s, &args.sigma_a) {
+        (Some(s), Some(a)) => {
+            let g = args.g.unwrap_or(0.0);
+            let eta = args.eta.unwrap_or(1.33);
+            Material::from_coefficients("coefficients", *s, *a, [g; 3], eta).map_err(input)
+        }
+        _ => Err(CliError::input(
+            "give a medium: --material NAME, --preset figure-10, or --sigma-s R,G,B --sigma-a R,G,B",
+        )),
+    }
+}
+
+fn config(args: &RenderArgs, model: ModelArg) -> Result<Config, CliError> {
+    let theta = args.theta.unwrap_or(0.0);
+    if !(0.0..90.0).contains(&theta) {
+        return Err(CliError::input(format!(
+            "--theta {theta} is outside [0, 90) degrees"
+        )));
+    }
+    if !(0.0..90.0).contains(&args.cone) {
+        return Err(CliError::input(format!(
+            "--cone {} is outside [0, 90) degrees",
+            args.cone
+        )));
+    }
+    let config = Config {
+        model: model.into(),
+        theta: theta.to_radians(),
+        cone: args.cone.to_radians(),
+        photons: args.photons,
+        seed: args.seed,
+        width: args.size.0,
+        height: args.size.1,
+        extent: args.extent,
+        grid: match args.grid {
+            GridArg::Coarse => GridPreset::Coarse,
+            GridArg::Default => GridPreset::Default,
+            GridArg::Fine => GridPreset::Fine,
+        },
+        orders: match args.orders {
+            OrdersArg::All => Orders::All,
+            OrdersArg::Multiple => Orders::Multiple,
+        },
+    };
+    config.validate().map_err(input)?;
+    Ok(config)
+}
+
+/// `dir/stem.exr` → `dir/stem-suffix.exr`.
+fn sibling(path: &Path, suffix: &str) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "render".into(), |s| s.to_string_lossy());
+    path.with_file_name(format!("{stem}-{suffix}.exr"))
+}
+
+/// A render with its wall-clock seconds and thread count.
+type Timed = (Render, f64, usize);
+
+fn render_one(
+    args: &RenderArgs,
+    config: &Config,
+    material: &Material,
+    path: &Path,
+) -> Result<(Timed, Vec<PathBuf>), CliError> {
+    let work = || -> Result<Timed, CliError> {
+        let renderer = Renderer::new(config, material).map_err(input)?;
+        let bar = if args.quiet || !std::io::stderr().is_terminal() {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::new(config.photons)
+        };
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{prefix} {bar:30} {human_pos}/{human_len} photons, {per_sec:0}, eta {eta}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        bar.set_prefix(config.model.name());
+        let start = Instant::now();
+        let result = renderer.run(&|n| bar.inc(n));
+        bar.finish_and_clear();
+        Ok((
+            result,
+            start.elapsed().as_secs_f64(),
+            rayon::current_num_threads(),
+        ))
+    };
+    let timed = super::with_threads(args.threads, work)??;
+    let mut files = vec![path.to_path_buf()];
+    render::exr::write_rgb(path, &timed.0.picture).map_err(input)?;
+    if !args.no_preview {
+        let png = path.with_extension("png");
+        render::png::write_preview(&png, &timed.0.picture, args.decades).map_err(input)?;
+        files.push(png);
+    }
+    Ok((timed, files))
+}
+
+fn write_diff(args: &RenderArgs, diff: &Difference, path: &Path) -> Result<Vec<PathBuf>, CliError> {
+    render::exr::write_luminance(path, diff.frame(), diff.values(), diff.meta()).map_err(input)?;
+    let mut files = vec![path.to_path_buf()];
+    if !args.no_preview {
+        let png = path.with_extension("png");
+        render::png::write_difference_preview(&png, diff.frame(), diff.values()).map_err(input)?;
+        files.push(png);
+    }
+    Ok(files)
+}
+
+fn run_diff(args: &RenderArgs, files: &[PathBuf]) -> Result<ExitCode, CliError> {
+    let (Some(a), Some(b)) = (files.first(), files.get(1)) else {
+        return Err(CliError::input("--diff needs two files: A.exr B.exr"));
+    };
+    let pa = render::exr::read_picture(a).map_err(input)?;
+    let pb = render::exr::read_picture(b).map_err(input)?;
+    let diff = difference(&pa, &pb).map_err(input)?;
+    let written = write_diff(args, &diff, &args.output)?;
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if args.json {
+        writeln!(out, "{}", diff_json(&diff, &written))?;
+    } else {
+        print_diff(&mut out, &diff, &written)?;
+    }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn names(files: &[PathBuf]) -> String {
+    files
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn print_summary(out: &mut impl Write, timed: &Timed, files: &[PathBuf]) -> std::io::Result<()> {
+    let (r, seconds, threads) = timed;
+    let s = &r.stats;
+    let get = |k: &str| {
+        r.picture
+            .get(&format!("bssrdf:{k}"))
+            .unwrap_or("?")
+            .to_string()
+    };
+    writeln!(
+        out,
+        "{} model, {}, theta {} deg (cone {} deg), {} photons, seed {}: {:.2} s on {} threads ({:.0} photons/s/thread)",
+        get("model"),
+        get("material"),
+        get("theta_deg"),
+        get("cone_deg"),
+        s.photons,
+        get("seed"),
+        seconds,
+        threads,
+        s.photons as f64 / seconds.max(1e-9) / *threads as f64
+    )?;
+    writeln!(
+        out,
+        "reflected at entry (Fresnel, not imaged): {:.6} ± {:.6} of the incident power",
+        s.reflected.value, s.reflected.stderr
+    )?;
+    writeln!(
+        out,
+        "{:<19} {:>22} {:>10} {:>10} {:>24} {:>24}",
+        "exits per unit", "power", "expected", "in picture", "centroid x (mm)", "centroid y (mm)"
+    )?;
+    let parts: &[Part] = if s.get(Part::Single, Band::Luminance).power.value > 0.0 {
+        &[Part::Single, Part::Multiple, Part::Total]
+    } else {
+        &[Part::Multiple]
+    };
+    for &part in parts {
+        for (i, band) in Band::ALL.into_iter().enumerate() {
+            let b = s.get(part, band);
+            let expected = match (part, s.expected) {
+                (Part::Multiple, Some(e)) if i < 3 => format!("{:.6}", e[i]),
+                (Part::Multiple, Some(e)) => format!("{:.6}", e.iter().sum::<f64>()),
+                _ => "-".to_string(),
+            };
+            let in_picture = if part == parts[parts.len() - 1] {
+                format!("{:.6}", s.in_picture[i])
+            } else {
+                "-".to_string()
+            };
+            writeln!(
+                out,
+                "{:<19} {:>10.6} ± {:<9.6} {:>10} {:>10} {:>10.5} ± {:<11.5} {:>10.5} ± {:<11.5}",
+                format!("{} {}", render::part_name(part), render::band_name(band)),
+                b.power.value,
+                b.power.stderr,
+                expected,
+                in_picture,
+                b.centroid_x_mm.value,
+                b.centroid_x_mm.stderr,
+                b.centroid_y_mm.value,
+                b.centroid_y_mm.stderr
+            )?;
+        }
+    }
+    if s.scattering_events > 0 {
+        writeln!(out, "scattering events: {}", s.scattering_events)?;
+    }
+    if s.lost_samples > 0 {
+        writeln!(
+            out,
+            "photons whose exit could not be sampled: {}",
+            s.lost_samples
+        )?;
+    }
+    writeln!(out, "wrote {}", names(files))
+}
+
+fn summary_json(timed: &Timed, files: &[PathBuf]) -> serde_json::Value {
+    let (r, seconds, threads) = timed;
+    let meta: serde_json::Map<String, serde_json::Value> = r
+        .picture
+        .meta()
+        .iter()
+        .map(|(k, v)| {
+            (
+                k.trim_start_matches("bssrdf:").to_string(),
+                v.clone().into(),
+            )
+        })
+        .collect();
+    serde_json::json!({
+        "meta": meta,
+        "stats": r.stats,
+        "seconds": seconds,
+        "threads": threads,
+        "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+    })
+}
+
+fn print_diff(out: &mut impl Write, d: &Difference, files: &[PathBuf]) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "difference A - B of luminance R+G+B (B the reference): relative L1 {:.6}, relative L2 {:.6}",
+        d.relative_l1, d.relative_l2
+    )?;
+    writeln!(
+        out,
+        "centroid x in the picture: A {:.5} mm, B {:.5} mm, shift A - B {:.5} mm",
+        d.centroid_a_mm,
+        d.centroid_b_mm,
+        d.centroid_shift_mm()
+    )?;
+    writeln!(out, "wrote {}", names(files))
+}
+
+fn diff_json(d: &Difference, files: &[PathBuf]) -> serde_json::Value {
+    serde_json::json!({
+        "relative_l1": d.relative_l1,
+        "relative_l2": d.relative_l2,
+        "centroid_a_mm": d.centroid_a_mm,
+        "centroid_b_mm": d.centroid_b_mm,
+        "centroid_shift_mm": d.centroid_shift_mm(),
+        "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+    })
+}
