@@ -42,7 +42,10 @@
 //!   residual is at rounding level (4ε times the polynomial's summed coefficient magnitudes),
 //!   or after [`MAX_ITERATIONS`]. pbrt stops at 10⁻⁶ and has no iteration cap.
 
+mod guide;
+
 use crate::error::{finite, in_range, Error, Result};
+use guide::Guide;
 
 /// Tolerance of the Newton–bisection solves, in units of the segment parameter t.
 ///
@@ -64,6 +67,8 @@ pub struct Nodes {
     /// and wᵢ/(x_{i+2} − xᵢ) of the two end slopes (NaN where the end is one-sided; unused
     /// there). Derived from `x` once so that [`Nodes::weights`] does no division.
     segment_factors: Box<[[f64; 3]]>,
+    /// Cells that narrow the segment search down to a node or two (nodes ≥ 0 only).
+    guide: Option<Guide>,
 }
 
 /// The Catmull-Rom weights of the four nodes around one point.
@@ -163,7 +168,12 @@ impl Nodes {
                 [1.0 / width, s0, s1]
             })
             .collect();
-        Ok(Self { x, segment_factors })
+        let guide = Guide::new(&x);
+        Ok(Self {
+            x,
+            segment_factors,
+            guide,
+        })
     }
 
     /// The node positions.
@@ -173,8 +183,9 @@ impl Nodes {
 
     /// The Catmull-Rom weights at `x`, or `None` if `x` is NaN or outside [x₀, x_{n−1}].
     ///
-    /// Find segment i with xᵢ ≤ x (the last segment for x = x_{n−1}) by binary search. With the
-    /// basis of the module docs, the weights of nodes i−1 … i+2 are
+    /// Find segment i with xᵢ ≤ x (the last segment for x = x_{n−1}): a guide computed with the
+    /// nodes (`catmull_rom/guide.rs`) narrows it down to one or two segments, or a binary search
+    /// does. With the basis of the module docs, the weights of nodes i−1 … i+2 are
     ///
     /// (−s₀h₁₀, h₀₀ − s₁h₁₁, h₀₁ + s₀h₁₀, s₁h₁₁), s₀ = wᵢ/(x_{i+1} − x_{i−1}), s₁ = wᵢ/(x_{i+2} − xᵢ);
     ///
@@ -443,14 +454,22 @@ impl Nodes {
 
     /// The segment i containing `x` (xᵢ ≤ x, the last one for x = x_{n−1}), or `None` if `x`
     /// is NaN or outside [x₀, x_{n−1}].
+    #[inline]
     fn find_segment(&self, x: f64) -> Option<usize> {
         let (first, last) = self.ends();
         if x.is_nan() || x < first || x > last {
             return None;
         }
-        // Nodes ≤ x (at least one, since x ≥ x₀), as a segment index in [0, n − 2].
-        let below = self.x.partition_point(|&xi| xi <= x);
-        Some(below.saturating_sub(1).min(self.x.len() - 2))
+        // Segments lo ≤ i ≤ hi can hold x, so nodes up to lo are ≤ x: count those after it
+        let (lo, hi) = match &self.guide {
+            Some(guide) => guide.range(x),
+            None => (0, self.x.len() - 2),
+        };
+        let after = self
+            .x
+            .get(lo + 1..=hi)
+            .map_or(0, |nodes| nodes.partition_point(|&xi| xi <= x));
+        Some(lo + after)
     }
 
     /// Segment i of the spline through `values`, with the slopes of the module docs.
