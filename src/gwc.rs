@@ -43,7 +43,10 @@
 //! cdf(φ) = λ(φ + π)/2π + (1 − λ)·cdf_WC(φ; c) is inverted by Newton steps safeguarded by a
 //! bisection bracket (§4.2), started at cdf_WC⁻¹(u) (the α = 0 answer, usually close because
 //! 2πα ≪ β in practice). Stops when |cdf(φ) − u| ≤ 10⁻¹³ or the bracket is down to adjacent
-//! floats; at most 100 iterations (bisection alone needs about 60).
+//! floats; at most 100 iterations (bisection alone needs about 60). The start costs no
+//! trigonometry beyond the inverse's (cdf_WC = u there, and pdf_WC follows from the same sines,
+//! see `inv_cdf_wc_with_pdf`); each later iterate evaluates cdf and pdf from one sin h, cos h
+//! and atan2, and the density at the sample comes with it.
 //!
 //! # Three-anchor fit (§3.3), derived
 //!
@@ -208,15 +211,8 @@ fn tail_wc(s: f64, co: f64, c: f64) -> f64 {
     ((1.0 - c) * co).atan2((1.0 + c) * s) / PI
 }
 
-/// Wrapped Cauchy density pdf_WC(φ; c) = (1/2π)(1 − c²)/(1 + c² − 2c·cos φ), in rad⁻¹.
-///
-/// Zero for φ outside [−π, π] or NaN; c is clamped into [−[`C_LIMIT`], `C_LIMIT`] (NaN → 0).
-pub fn pdf_wc(phi: f64, c: f64) -> f64 {
-    if !in_domain(phi) {
-        return 0.0;
-    }
-    let c = clamp_c(c);
-    let (s, co) = half_angle(phi);
+/// pdf_WC from (sin h, cos h) and a clamped c.
+fn pdf_wc_half(s: f64, co: f64, c: f64) -> f64 {
     // Denominator 1 + c² − 2c·cos φ without cancellation
     let den = if c >= 0.0 {
         (1.0 - c) * (1.0 - c) + 4.0 * c * s * s
@@ -224,6 +220,27 @@ pub fn pdf_wc(phi: f64, c: f64) -> f64 {
         (1.0 + c) * (1.0 + c) - 4.0 * c * co * co
     };
     (1.0 - c) * (1.0 + c) / (TAU * den)
+}
+
+/// cdf_WC for φ inside (−π, π), from (sin h, cos h) and a clamped c.
+fn cdf_wc_half(phi: f64, s: f64, co: f64, c: f64) -> f64 {
+    let t = tail_wc(s, co, c);
+    if phi >= 0.0 {
+        1.0 - t
+    } else {
+        t
+    }
+}
+
+/// Wrapped Cauchy density pdf_WC(φ; c) = (1/2π)(1 − c²)/(1 + c² − 2c·cos φ), in rad⁻¹.
+///
+/// Zero for φ outside [−π, π] or NaN; c is clamped into [−[`C_LIMIT`], `C_LIMIT`] (NaN → 0).
+pub fn pdf_wc(phi: f64, c: f64) -> f64 {
+    if !in_domain(phi) {
+        return 0.0;
+    }
+    let (s, co) = half_angle(phi);
+    pdf_wc_half(s, co, clamp_c(c))
 }
 
 /// Wrapped Cauchy distribution function ∫_{−π}^{φ} pdf_WC, exactly 0 at −π and 1 at π.
@@ -239,12 +256,7 @@ pub fn cdf_wc(phi: f64, c: f64) -> f64 {
         return 1.0;
     }
     let (s, co) = half_angle(phi);
-    let t = tail_wc(s, co, clamp_c(c));
-    if phi >= 0.0 {
-        1.0 - t
-    } else {
-        t
-    }
+    cdf_wc_half(phi, s, co, clamp_c(c))
 }
 
 /// Inverse of [`cdf_wc`]: the φ ∈ [−π, π] with cdf_WC(φ; c) = u.
@@ -252,6 +264,17 @@ pub fn cdf_wc(phi: f64, c: f64) -> f64 {
 /// Equal to 2·arctan(((1−c)/(1+c))·tan(π(u − 1/2))) (Ferrier 2016, §4.2), evaluated without
 /// tan. u is clamped into [0, 1] (NaN → 0); c is clamped as in [`pdf_wc`].
 pub fn inv_cdf_wc(u: f64, c: f64) -> f64 {
+    inv_cdf_wc_with_pdf(u, c).0
+}
+
+/// [`inv_cdf_wc`] and pdf_WC there, from the same sines.
+///
+/// With ψ = 2π(u − 1/2), tan(φ/2) = ((1 − c)/(1 + c))·tan(ψ/2) is a Möbius map of the circle,
+/// and 1 + c² − 2c·cos φ = (1 − c²)²/(1 + c² + 2c·cos ψ), so
+/// pdf_WC(φ) = (1 + c² + 2c·cos ψ)/(2π(1 − c²)). With m = |u − 1/2| and t = 1/2 − m as below,
+/// cos(ψ/2) = sin(πt) and sin(ψ/2) = ±sin(πm): 1 + c² + 2c·cos ψ = (1 − c)² + 4c·sin²(πt)
+/// = (1 + c)² − 4c·sin²(πm), each free of cancellation for one sign of c.
+fn inv_cdf_wc_with_pdf(u: f64, c: f64) -> (f64, f64) {
     let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
     let c = clamp_c(c);
     // Tail mass t beyond |φ| and its complement m = 1/2 − t, both without cancellation
@@ -260,9 +283,16 @@ pub fn inv_cdf_wc(u: f64, c: f64) -> f64 {
     } else {
         (u, 0.5 - u, -1.0)
     };
+    let (sin_m, sin_t) = ((PI * m).sin(), (PI * t).sin());
     // Solve π·t = atan2((1−c)·cos h, (1+c)·sin h) for h = |φ|/2
-    let h = ((1.0 - c) * (PI * m).sin()).atan2((1.0 + c) * (PI * t).sin());
-    sign * (2.0 * h).min(PI)
+    let h = ((1.0 - c) * sin_m).atan2((1.0 + c) * sin_t);
+    let num = if c >= 0.0 {
+        (1.0 - c) * (1.0 - c) + 4.0 * c * sin_t * sin_t
+    } else {
+        (1.0 + c) * (1.0 + c) - 4.0 * c * sin_m * sin_m
+    };
+    let pdf = num / (TAU * (1.0 - c) * (1.0 + c));
+    (sign * (2.0 * h).min(PI), pdf)
 }
 
 /// A General Wrapped Cauchy profile f(φ) = α + β·pdf_WC(φ; c) (see the module docs).
@@ -379,7 +409,18 @@ impl Gwc {
         if !in_domain(phi) {
             return 0.0;
         }
-        self.lambda / TAU + (1.0 - self.lambda) * pdf_wc(phi, self.c)
+        self.mix_pdf(pdf_wc(phi, self.c))
+    }
+
+    /// λ/2π + (1 − λ)·`lobe`, the density from the lobe's.
+    fn mix_pdf(&self, lobe: f64) -> f64 {
+        self.lambda / TAU + (1.0 - self.lambda) * lobe
+    }
+
+    /// λ(φ + π)/2π + (1 − λ)·`lobe`, clamped into [0, 1]: the distribution from the lobe's.
+    fn mix_cdf(&self, phi: f64, lobe: f64) -> f64 {
+        let uniform = (phi + PI) / TAU;
+        (self.lambda * uniform + (1.0 - self.lambda) * lobe).clamp(0.0, 1.0)
     }
 
     /// Distribution function ∫_{−π}^{φ} pdf, the inverse of [`Gwc::sample`]:
@@ -393,8 +434,17 @@ impl Gwc {
         if phi >= PI {
             return 1.0;
         }
-        let uniform = (phi + PI) / TAU;
-        (self.lambda * uniform + (1.0 - self.lambda) * cdf_wc(phi, self.c)).clamp(0.0, 1.0)
+        self.mix_cdf(phi, cdf_wc(phi, self.c))
+    }
+
+    /// [`Gwc::cdf`] and [`Gwc::pdf`] at φ ∈ (−π, π), from one sin h and cos h.
+    fn cdf_and_pdf(&self, phi: f64) -> (f64, f64) {
+        let (s, co) = half_angle(phi);
+        let c = clamp_c(self.c);
+        (
+            self.mix_cdf(phi, cdf_wc_half(phi, s, co, c)),
+            self.mix_pdf(pdf_wc_half(s, co, c)),
+        )
     }
 
     /// Samples φ ∈ [−π, π] with density [`Gwc::pdf`] from u ∈ [0, 1], inverting [`Gwc::cdf`]
@@ -402,20 +452,30 @@ impl Gwc {
     ///
     /// Newton–bisection started at cdf_WC⁻¹(u; c); see the module docs for the stopping rule.
     pub fn sample(&self, u: f64) -> f64 {
+        self.sample_with_pdf(u).0
+    }
+
+    /// [`Gwc::sample`] with [`Gwc::pdf`] at the sample (equal up to rounding), which the solve
+    /// has at hand.
+    ///
+    /// The start cdf_WC⁻¹(u; c) needs no more trigonometry: there cdf_WC = u, so
+    /// cdf = λ(φ + π)/2π + (1 − λ)·u, and pdf_WC comes with the inverse. Each later iterate
+    /// evaluates cdf and pdf together.
+    pub(crate) fn sample_with_pdf(&self, u: f64) -> (f64, f64) {
         let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
         // Pure floor or pure lobe: invert directly
         if self.lambda >= 1.0 {
-            return (TAU * u - PI).clamp(-PI, PI);
+            return ((TAU * u - PI).clamp(-PI, PI), 1.0 / TAU);
         }
-        let start = inv_cdf_wc(u, self.c);
+        let (start, lobe_pdf) = inv_cdf_wc_with_pdf(u, self.c);
         if self.lambda <= 0.0 {
-            return start;
+            return (start, lobe_pdf);
         }
+        let mut phi = start;
+        let (mut g, mut pdf) = (self.mix_cdf(start, u) - u, self.mix_pdf(lobe_pdf));
         // Newton steps kept inside a shrinking bracket [lo, hi] around the root
         let (mut lo, mut hi) = (-PI, PI);
-        let mut phi = start;
         for _ in 0..SAMPLE_MAX_ITER {
-            let g = self.cdf(phi) - u;
             if g.abs() <= SAMPLE_U_TOL {
                 break;
             }
@@ -424,7 +484,7 @@ impl Gwc {
             } else {
                 lo = phi;
             }
-            let newton = phi - g / self.pdf(phi);
+            let newton = phi - g / pdf;
             let next = if newton > lo && newton < hi {
                 newton
             } else {
@@ -435,8 +495,10 @@ impl Gwc {
                 break;
             }
             phi = next;
+            let (cdf, density) = self.cdf_and_pdf(phi);
+            (g, pdf) = (cdf - u, density);
         }
-        phi
+        (phi, pdf)
     }
 }
 
@@ -592,6 +654,30 @@ fn done_w(alpha: f64, d: f64, w: f64, t_max: f64, scale: f64, branch: FitBranch)
 mod tests {
     use super::*;
     use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn sample_with_pdf_returns_the_pdf_at_the_sample() {
+        // Pure lobe (the pdf from the inverse's sines), pure floor, mixtures, both signs of c
+        for (alpha, beta, c) in [
+            (0.0, 1.0, 0.8),
+            (1.0, 0.0, 0.0),
+            (0.1, 1.0, 0.5),
+            (0.05, 2.0, -0.8),
+            (1e-3, 1.0, 0.999),
+            (0.3, 1.0, -0.9999),
+        ] {
+            let g = Gwc::new(alpha, beta, c).unwrap();
+            for u in [0.0, 1e-12, 0.1, 0.5, 0.77, 1.0 - 1e-12, 1.0] {
+                let (phi, pdf) = g.sample_with_pdf(u);
+                assert_eq!(phi, g.sample(u));
+                let want = g.pdf(phi);
+                assert!(
+                    (pdf / want - 1.0).abs() < 1e-12,
+                    "{g:?} u {u}: {pdf} vs {want}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn half_angle_cosine_vanishes_exactly_at_pi() {
