@@ -319,6 +319,18 @@ impl Nodes {
         cumulative: impl Fn(usize) -> f64,
         u: f64,
     ) -> Option<Sample> {
+        self.sample_with(|i| self.around(&values, i), cumulative, u)
+    }
+
+    /// [`Nodes::sample`] with the values read four at a time: `around(i)` gives those of nodes
+    /// i − 1 … i + 2 (entries for nodes outside the array are not used), as
+    /// [`Nodes::around`] does. A caller that interpolates table rows reads each row once.
+    pub(crate) fn sample_with(
+        &self,
+        around: impl Fn(usize) -> [f64; 4],
+        cumulative: impl Fn(usize) -> f64,
+        u: f64,
+    ) -> Option<Sample> {
         if !(0.0..=1.0).contains(&u) {
             return None;
         }
@@ -327,8 +339,13 @@ impl Nodes {
             return None;
         }
         let goal = u * total;
-        let k = find_interval(self.x.len(), |i| cumulative(i) <= goal);
-        let piece = self.piece(k, &values, &cumulative, total)?;
+        let (k, c0, c1) = self.find_cumulative(&cumulative, goal, total);
+        let piece = Piece {
+            positive: self.segment_from(k, around(k))?.positive(),
+            c0,
+            dc: c1 - c0,
+            total,
+        };
         let positive = piece.positive;
         if !positive_finite(piece.dc) || !positive_finite(positive.mass) {
             return None;
@@ -372,9 +389,19 @@ impl Nodes {
         cumulative: impl Fn(usize) -> f64,
         x: f64,
     ) -> f64 {
+        self.pdf_with(|i| self.around(&values, i), cumulative, x)
+    }
+
+    /// [`Nodes::pdf`] with the values read four at a time, as in [`Nodes::sample_with`].
+    pub(crate) fn pdf_with(
+        &self,
+        around: impl Fn(usize) -> [f64; 4],
+        cumulative: impl Fn(usize) -> f64,
+        x: f64,
+    ) -> f64 {
         let total = cumulative(self.x.len() - 1);
         self.find_segment(x)
-            .and_then(|k| self.piece(k, &values, &cumulative, total))
+            .and_then(|k| self.piece(k, &around, &cumulative, total))
             .map_or(0.0, |piece| piece.pdf(piece.positive.segment.t_at(x)))
     }
 
@@ -401,7 +428,7 @@ impl Nodes {
             return Some(1.0);
         }
         let k = self.find_segment(x)?;
-        let piece = self.piece(k, &values, &cumulative, total)?;
+        let piece = self.piece(k, &|i| self.around(&values, i), &cumulative, total)?;
         let positive = piece.positive;
         let t = positive.segment.t_at(x);
         let share = if positive_finite(positive.mass) {
@@ -472,17 +499,34 @@ impl Nodes {
         Some(lo + after)
     }
 
+    /// The values of nodes i − 1 … i + 2, 0 for nodes outside the array (`values` is only
+    /// called with indices inside it).
+    fn around(&self, values: &impl Fn(usize) -> f64, i: usize) -> [f64; 4] {
+        let n = self.x.len();
+        let at = |j: usize| if j < n { values(j) } else { 0.0 };
+        [
+            i.checked_sub(1).map_or(0.0, at),
+            at(i),
+            at(i + 1),
+            at(i + 2),
+        ]
+    }
+
     /// Segment i of the spline through `values`, with the slopes of the module docs.
     fn segment(&self, i: usize, values: &impl Fn(usize) -> f64) -> Option<Segment> {
+        self.segment_from(i, self.around(values, i))
+    }
+
+    /// Segment i from the values of nodes i − 1 … i + 2 (those outside the array unused).
+    fn segment_from(&self, i: usize, [f_before, f0, f1, f_after]: [f64; 4]) -> Option<Segment> {
         let (x0, x1) = (*self.x.get(i)?, *self.x.get(i + 1)?);
-        let (f0, f1) = (values(i), values(i + 1));
         let width = x1 - x0;
-        let d0 = match i.checked_sub(1).and_then(|h| Some((h, *self.x.get(h)?))) {
-            Some((h, x_before)) => (f1 - values(h)) * width / (x1 - x_before),
+        let d0 = match i.checked_sub(1).and_then(|h| self.x.get(h)) {
+            Some(&x_before) => (f1 - f_before) * width / (x1 - x_before),
             None => f1 - f0,
         };
         let d1 = match self.x.get(i + 2) {
-            Some(&x_after) => (values(i + 2) - f0) * width / (x_after - x0),
+            Some(&x_after) => (f_after - f0) * width / (x_after - x0),
             None => f1 - f0,
         };
         Some(Segment {
@@ -495,15 +539,44 @@ impl Nodes {
         })
     }
 
+    /// The segment k with Cₖ ≤ `goal` < C_{k+1} (as [`find_interval`] finds it), with Cₖ and
+    /// C_{k+1}: the search has read them already unless k = 0 (C₀ is read then) or
+    /// k + 1 = n − 1 (C_{n−1} is `total`).
+    fn find_cumulative(
+        &self,
+        cumulative: &impl Fn(usize) -> f64,
+        goal: f64,
+        total: f64,
+    ) -> (usize, f64, f64) {
+        let len = self.x.len();
+        let (mut lo, mut hi) = (1, len.saturating_sub(1));
+        // C_{lo−1} and C_hi once read (NaN until then)
+        let (mut c_below, mut c_above) = (f64::NAN, total);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            let c = cumulative(mid);
+            if c <= goal {
+                (lo, c_below) = (mid + 1, c);
+            } else {
+                (hi, c_above) = (mid, c);
+            }
+        }
+        let k = lo - 1;
+        if k == 0 {
+            c_below = cumulative(0);
+        }
+        (k, c_below, c_above)
+    }
+
     /// Segment k with its cumulative values.
     fn piece(
         &self,
         k: usize,
-        values: &impl Fn(usize) -> f64,
+        around: &impl Fn(usize) -> [f64; 4],
         cumulative: &impl Fn(usize) -> f64,
         total: f64,
     ) -> Option<Piece> {
-        let positive = self.segment(k, values)?.positive();
+        let positive = self.segment_from(k, around(k))?.positive();
         let c0 = cumulative(k);
         Some(Piece {
             positive,
