@@ -40,13 +40,12 @@
 //!
 //! # Sampling
 //!
-//! cdf(φ) = λ(φ + π)/2π + (1 − λ)·cdf_WC(φ; c) is inverted by Newton steps safeguarded by a
-//! bisection bracket (§4.2), started at cdf_WC⁻¹(u) (the α = 0 answer, usually close because
-//! 2πα ≪ β in practice). Stops when |cdf(φ) − u| ≤ 10⁻¹³ or the bracket is down to adjacent
-//! floats; at most 100 iterations (bisection alone needs about 60). The start costs no
-//! trigonometry beyond the inverse's (cdf_WC = u there, and pdf_WC follows from the same sines,
-//! see `inv_cdf_wc_with_pdf`); each later iterate evaluates cdf and pdf from one sin h, cos h
-//! and atan2, and the density at the sample comes with it.
+//! cdf(φ) = λ(φ + π)/2π + (1 − λ)·cdf_WC(φ; c) is inverted by Newton-type steps safeguarded
+//! by a bisection bracket (§4.2), started at cdf_WC⁻¹(u) (the α = 0 answer, usually close
+//! because 2πα ≪ β in practice), in the variable w = cdf_WC(φ) where that is the tamer one and
+//! in φ elsewhere (`gwc/sample.rs`). Stops when the residual is at most 10⁻¹³ or the bracket is
+//! down to adjacent floats; at most 100 iterations (bisection alone needs about 60). The
+//! density at the sample comes with it.
 //!
 //! # Three-anchor fit (§3.3), derived
 //!
@@ -138,6 +137,8 @@
 //! Source: A. Ferrier, *Non-perpendicular incidence BSSRDF model*, internship report, 2016:
 //! §3.2 (model, Eq. 1), §3.3 (anchors, fit), §4.1 (evaluation), §4.2 (sampling), §7.3.
 
+mod sample;
+
 use std::f64::consts::{PI, TAU};
 
 use crate::error::{finite, in_range, Error, Result};
@@ -153,9 +154,6 @@ pub const C_LIMIT: f64 = 1.0 - f64::EPSILON;
 
 /// Tolerance on |cdf(φ) − u| at which [`Gwc::sample`] stops.
 pub const SAMPLE_U_TOL: f64 = 1e-13;
-
-/// Iteration cap of the Newton–bisection in [`Gwc::sample`].
-const SAMPLE_MAX_ITER: usize = 100;
 
 /// Checks that `value` is finite and ≥ 0 (−0 allowed), naming it in the error otherwise.
 fn non_negative(name: &'static str, value: f64) -> Result<f64> {
@@ -267,32 +265,10 @@ pub fn inv_cdf_wc(u: f64, c: f64) -> f64 {
     inv_cdf_wc_with_pdf(u, c).0
 }
 
-/// [`inv_cdf_wc`] and pdf_WC there, from the same sines.
-///
-/// With ψ = 2π(u − 1/2), tan(φ/2) = ((1 − c)/(1 + c))·tan(ψ/2) is a Möbius map of the circle,
-/// and 1 + c² − 2c·cos φ = (1 − c²)²/(1 + c² + 2c·cos ψ), so
-/// pdf_WC(φ) = (1 + c² + 2c·cos ψ)/(2π(1 − c²)). With m = |u − 1/2| and t = 1/2 − m as below,
-/// cos(ψ/2) = sin(πt) and sin(ψ/2) = ±sin(πm): 1 + c² + 2c·cos ψ = (1 − c)² + 4c·sin²(πt)
-/// = (1 + c)² − 4c·sin²(πm), each free of cancellation for one sign of c.
+/// [`inv_cdf_wc`] and pdf_WC there.
 fn inv_cdf_wc_with_pdf(u: f64, c: f64) -> (f64, f64) {
-    let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
-    let c = clamp_c(c);
-    // Tail mass t beyond |φ| and its complement m = 1/2 − t, both without cancellation
-    let (t, m, sign) = if u >= 0.5 {
-        (1.0 - u, u - 0.5, 1.0)
-    } else {
-        (u, 0.5 - u, -1.0)
-    };
-    let (sin_m, sin_t) = ((PI * m).sin(), (PI * t).sin());
-    // Solve π·t = atan2((1−c)·cos h, (1+c)·sin h) for h = |φ|/2
-    let h = ((1.0 - c) * sin_m).atan2((1.0 + c) * sin_t);
-    let num = if c >= 0.0 {
-        (1.0 - c) * (1.0 - c) + 4.0 * c * sin_t * sin_t
-    } else {
-        (1.0 + c) * (1.0 + c) - 4.0 * c * sin_m * sin_m
-    };
-    let pdf = num / (TAU * (1.0 - c) * (1.0 + c));
-    (sign * (2.0 * h).min(PI), pdf)
+    let at = sample::LobePoint::at(u, c);
+    (at.phi, at.pdf)
 }
 
 /// A General Wrapped Cauchy profile f(φ) = α + β·pdf_WC(φ; c) (see the module docs).
@@ -437,68 +413,18 @@ impl Gwc {
         self.mix_cdf(phi, cdf_wc(phi, self.c))
     }
 
-    /// [`Gwc::cdf`] and [`Gwc::pdf`] at φ ∈ (−π, π), from one sin h and cos h.
+    /// [`Gwc::cdf`] and [`Gwc::pdf`] at φ ∈ [−π, π], from one sin h and cos h.
     fn cdf_and_pdf(&self, phi: f64) -> (f64, f64) {
         let (s, co) = half_angle(phi);
         let c = clamp_c(self.c);
-        (
-            self.mix_cdf(phi, cdf_wc_half(phi, s, co, c)),
-            self.mix_pdf(pdf_wc_half(s, co, c)),
-        )
-    }
-
-    /// Samples φ ∈ [−π, π] with density [`Gwc::pdf`] from u ∈ [0, 1], inverting [`Gwc::cdf`]
-    /// (clamped into [0, 1], NaN → 0).
-    ///
-    /// Newton–bisection started at cdf_WC⁻¹(u; c); see the module docs for the stopping rule.
-    pub fn sample(&self, u: f64) -> f64 {
-        self.sample_with_pdf(u).0
-    }
-
-    /// [`Gwc::sample`] with [`Gwc::pdf`] at the sample (equal up to rounding), which the solve
-    /// has at hand.
-    ///
-    /// The start cdf_WC⁻¹(u; c) needs no more trigonometry: there cdf_WC = u, so
-    /// cdf = λ(φ + π)/2π + (1 − λ)·u, and pdf_WC comes with the inverse. Each later iterate
-    /// evaluates cdf and pdf together.
-    pub(crate) fn sample_with_pdf(&self, u: f64) -> (f64, f64) {
-        let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
-        // Pure floor or pure lobe: invert directly
-        if self.lambda >= 1.0 {
-            return ((TAU * u - PI).clamp(-PI, PI), 1.0 / TAU);
-        }
-        let (start, lobe_pdf) = inv_cdf_wc_with_pdf(u, self.c);
-        if self.lambda <= 0.0 {
-            return (start, lobe_pdf);
-        }
-        let mut phi = start;
-        let (mut g, mut pdf) = (self.mix_cdf(start, u) - u, self.mix_pdf(lobe_pdf));
-        // Newton steps kept inside a shrinking bracket [lo, hi] around the root
-        let (mut lo, mut hi) = (-PI, PI);
-        for _ in 0..SAMPLE_MAX_ITER {
-            if g.abs() <= SAMPLE_U_TOL {
-                break;
-            }
-            if g > 0.0 {
-                hi = phi;
-            } else {
-                lo = phi;
-            }
-            let newton = phi - g / pdf;
-            let next = if newton > lo && newton < hi {
-                newton
-            } else {
-                0.5 * (lo + hi)
-            };
-            if next <= lo || next >= hi {
-                // Bracket down to adjacent floats
-                break;
-            }
-            phi = next;
-            let (cdf, density) = self.cdf_and_pdf(phi);
-            (g, pdf) = (cdf - u, density);
-        }
-        (phi, pdf)
+        let cdf = if phi <= -PI {
+            0.0
+        } else if phi >= PI {
+            1.0
+        } else {
+            self.mix_cdf(phi, cdf_wc_half(phi, s, co, c))
+        };
+        (cdf, self.mix_pdf(pdf_wc_half(s, co, c)))
     }
 }
 
@@ -654,30 +580,6 @@ fn done_w(alpha: f64, d: f64, w: f64, t_max: f64, scale: f64, branch: FitBranch)
 mod tests {
     use super::*;
     use std::f64::consts::FRAC_PI_2;
-
-    #[test]
-    fn sample_with_pdf_returns_the_pdf_at_the_sample() {
-        // Pure lobe (the pdf from the inverse's sines), pure floor, mixtures, both signs of c
-        for (alpha, beta, c) in [
-            (0.0, 1.0, 0.8),
-            (1.0, 0.0, 0.0),
-            (0.1, 1.0, 0.5),
-            (0.05, 2.0, -0.8),
-            (1e-3, 1.0, 0.999),
-            (0.3, 1.0, -0.9999),
-        ] {
-            let g = Gwc::new(alpha, beta, c).unwrap();
-            for u in [0.0, 1e-12, 0.1, 0.5, 0.77, 1.0 - 1e-12, 1.0] {
-                let (phi, pdf) = g.sample_with_pdf(u);
-                assert_eq!(phi, g.sample(u));
-                let want = g.pdf(phi);
-                assert!(
-                    (pdf / want - 1.0).abs() < 1e-12,
-                    "{g:?} u {u}: {pdf} vs {want}"
-                );
-            }
-        }
-    }
 
     #[test]
     fn half_angle_cosine_vanishes_exactly_at_pi() {
