@@ -117,10 +117,10 @@ impl<'a> TableRef<'a> {
 
     /// S ≈ slope·ln(1/r) + const as r → 0, slope = ρ′² C_E cos θ′/π: sources at depth t ≫ r
     /// each add ρ′² C_E/(4π)·κ z_r/d_r³ ≈ ρ′² C_E cos θ′/(π t) (κ ≈ 4t, z_r = t cos θ′, d_r ≈ t).
-    fn log_slope(&self, s: &Slice) -> f64 {
-        let sin_t = s.theta.sin() / self.eta;
+    fn log_slope(&self, rho: f64, theta: f64) -> f64 {
+        let sin_t = theta.sin() / self.eta;
         let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
-        s.rho * s.rho * self.c_e * cos_t / PI
+        rho * rho * self.c_e * cos_t / PI
     }
 
     /// Σ over the slice's rows of weight × `values[(offset + k)·stride]`, in f64: radius node k
@@ -202,6 +202,47 @@ impl<'a> TableRef<'a> {
         acc
     }
 
+    /// [`TableRef::window_params`] over the slice of (`rho_weights`, `theta_weights`) without
+    /// building it: the same rows, in the same order, skipping the same zero weights, so the
+    /// same sums. For a lookup that needs nothing else of the slice (evaluation).
+    #[inline(never)]
+    fn window_at(&self, rho_weights: &Weights, theta_weights: &Weights, first: usize) -> [f32; 12] {
+        const WINDOW: usize = 4 * PARAMS_PER_NODE;
+        let (n_rho, n_theta, n_r) = self.axes.dims();
+        let (row_len, lo) = (n_r * PARAMS_PER_NODE, first * PARAMS_PER_NODE);
+        let mut acc = [0.0f32; WINDOW];
+        // The θ nodes inside the axis, consecutive rows of one slab per ρ′ node, and their
+        // weights (entry k of the four belongs to node segment + k − 1)
+        let segment = theta_weights.segment();
+        let (j0, j1) = (segment.saturating_sub(1), (segment + 2).min(n_theta - 1));
+        let theta_all = theta_weights.as_array();
+        let Some(theta_w) = theta_all.get(j0 + 1 - segment..=j1 + 1 - segment) else {
+            return acc;
+        };
+        for (k, &wa) in rho_weights.as_array().iter().enumerate() {
+            let Some(i) = (rho_weights.segment() + k)
+                .checked_sub(1)
+                .filter(|&i| i < n_rho)
+            else {
+                continue;
+            };
+            let start = (i * n_theta + j0) * row_len;
+            let Some(slab) = self.params.get(start..start + theta_w.len() * row_len) else {
+                continue;
+            };
+            for (row, &wb) in slab.chunks_exact(row_len).zip(theta_w) {
+                let w = (wa * wb) as f32;
+                if w == 0.0 {
+                    continue;
+                }
+                if let Some(window) = row.get(lo..).and_then(<[f32]>::first_chunk::<WINDOW>) {
+                    axpy12(&mut acc, w, window);
+                }
+            }
+        }
+        acc
+    }
+
     /// The GWC profile at (slice, r), from the radius and weights of [`TableRef::radius`].
     ///
     /// Along r, E is interpolated as exp(Catmull-Rom of ln E) wherever the four nodes of the
@@ -213,12 +254,31 @@ impl<'a> TableRef<'a> {
     /// (S/pdf and ρ_eff then differ by a median 8e-5, see the module docs).
     #[inline(always)]
     fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Gwc {
-        let (_, _, n_r) = self.axes.dims();
-        let segment = w.segment();
-        // The four nodes segment − 1 … segment + 2, as a window of consecutive nodes inside the
-        // array (tables have at least 4 radius nodes); nodes outside it have weight 0.
-        let first = segment.saturating_sub(1).min(n_r.saturating_sub(4));
+        let first = self.radial_window(w);
         let acc = self.window_params(s, first);
+        self.profile_from(acc, first, r_eval, w, s.rho, s.theta)
+    }
+
+    /// The first of the four consecutive radius nodes, inside the axis, that hold the weights
+    /// of `w` (nodes segment − 1 … segment + 2; tables have at least 4 radius nodes).
+    fn radial_window(&self, w: &Weights) -> usize {
+        let (_, _, n_r) = self.axes.dims();
+        w.segment().saturating_sub(1).min(n_r.saturating_sub(4))
+    }
+
+    /// The profile from (E, E_β, c) blended at the radius nodes `first..first + 4` (as
+    /// [`TableRef::window_params`] gives them), the radius weights `w` at `r_eval` and (ρ′, θ).
+    #[inline(always)]
+    fn profile_from(
+        &self,
+        acc: [f32; 12],
+        first: usize,
+        r_eval: f64,
+        w: &Weights,
+        rho: f64,
+        theta: f64,
+    ) -> Gwc {
+        let segment = w.segment();
         let params: [[f64; 3]; 4] =
             std::array::from_fn(|k| std::array::from_fn(|j| f64::from(acc[3 * k + j])));
         // Weight of window node first + k: entry first + k + 1 − segment of the four weights,
@@ -238,7 +298,8 @@ impl<'a> TableRef<'a> {
             let r1 = r_nodes[1];
             let [e1, e_beta1, c1] = params[1 - first];
             let beta1 = (e_beta1 / r1).clamp(0.0, e1.max(0.0) / r1);
-            let e_per_r = (e1 / r1).max(0.0) + TAU * self.log_slope(s) * (r1 / r_eval).ln();
+            let e_per_r =
+                (e1 / r1).max(0.0) + TAU * self.log_slope(rho, theta) * (r1 / r_eval).ln();
             return Gwc::from_table(e_per_r * r_eval, beta1, c1, r_eval);
         }
         let (mut e_lin, mut e_beta, mut c, mut ln_e) = (0.0, 0.0, 0.0, 0.0);
@@ -299,22 +360,34 @@ impl<'a> TableRef<'a> {
     /// stored axes (a scene bake keeps only some albedo rows: never extrapolated). Outside the
     /// radial support (r < 0, r beyond the last node, NaN r or φ) the value is 0.
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
+        let profile = self.profile_at_point(rho, theta, r)?;
+        if !phi.is_finite() {
+            return Some(0.0);
+        }
+        Some(profile.map_or(0.0, |g| g.eval(wrap_phi(phi))))
+    }
+
+    /// The GWC profile at (ρ′, θ, r) without building a slice (evaluation needs nothing else of
+    /// it): `None` if (ρ′, θ) is outside the axes, `Some(None)` where [`TableRef::radius`] is
+    /// `None`.
+    #[inline(always)]
+    fn profile_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<Gwc>> {
         // The three weight searches first: they are independent and overlap in the pipeline.
         let rho_weights = self.axes.rho().weights(rho)?;
         let theta_weights = self.axes.theta().weights(theta)?;
-        let radius = self.radius(r);
-        let (Some((r_eval, w)), true) = (radius, phi.is_finite()) else {
-            return Some(0.0);
+        let Some((r_eval, w)) = self.radius(r) else {
+            return Some(None);
         };
-        let s = self.slice_of(&rho_weights, &theta_weights, rho, theta);
-        Some(self.profile(&s, r_eval, &w).eval(wrap_phi(phi)))
+        let first = self.radial_window(&w);
+        let acc = self.window_at(&rho_weights, &theta_weights, first);
+        Some(Some(self.profile_from(acc, first, r_eval, &w, rho, theta)))
     }
 
     /// The perpendicular-incidence model: the θ = 0 slice at every θ, uniform in φ (pbrt's
     /// assumption), S = E(ρ′, 0, r)/(2πr).
     pub fn eval_perpendicular(&self, rho: f64, r: f64) -> Option<f64> {
-        let s = self.slice(rho, 0.0)?;
-        Some(self.profile_at(&s, r).map_or(0.0, |g| g.integral() / TAU))
+        let profile = self.profile_at_point(rho, 0.0, r)?;
+        Some(profile.map_or(0.0, |g| g.integral() / TAU))
     }
 
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
