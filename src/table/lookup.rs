@@ -215,6 +215,28 @@ impl<'a> TableRef<'a> {
         // weights (entry k of the four belongs to node segment + k − 1)
         let segment = theta_weights.segment();
         let (j0, j1) = (segment.saturating_sub(1), (segment + 2).min(n_theta - 1));
+        let (wr, wt) = (rho_weights.as_array(), theta_weights.as_array());
+        if j1 == j0 + 3 && rho_weights.segment() >= 1 && rho_weights.segment() + 2 < n_rho {
+            // Inside both axes (the usual case): 4 slabs of 4 rows, each slab checked once. A
+            // zero weight (a lookup on a node) adds exactly 0: no test needed.
+            let i0 = rho_weights.segment() - 1;
+            for (a, &wa) in wr.iter().enumerate() {
+                let start = ((i0 + a) * n_theta + j0) * row_len + lo;
+                let Some(slab) = self.params.get(start..start + 3 * row_len + WINDOW) else {
+                    continue;
+                };
+                for (b, &wb) in wt.iter().enumerate() {
+                    let w = (wa * wb) as f32;
+                    let off = b * row_len;
+                    if let Some(window) =
+                        slab.get(off..off + WINDOW).and_then(|v| v.try_into().ok())
+                    {
+                        axpy12(&mut acc, w, window);
+                    }
+                }
+            }
+            return acc;
+        }
         let theta_all = theta_weights.as_array();
         let Some(theta_w) = theta_all.get(j0 + 1 - segment..=j1 + 1 - segment) else {
             return acc;
@@ -302,9 +324,10 @@ impl<'a> TableRef<'a> {
                 (e1 / r1).max(0.0) + TAU * self.log_slope(rho, theta) * (r1 / r_eval).ln();
             return Gwc::from_table(e_per_r * r_eval, beta1, c1, r_eval);
         }
+        let ln = ln_energies(acc, weights);
         let (mut e_lin, mut e_beta, mut c, mut ln_e) = (0.0, 0.0, 0.0, 0.0);
         let mut positive = true;
-        for (&wk, [e, eb, ck]) in weights.iter().zip(params) {
+        for ((&wk, [e, eb, ck]), ln) in weights.iter().zip(params).zip(ln) {
             if wk == 0.0 {
                 continue;
             }
@@ -312,8 +335,7 @@ impl<'a> TableRef<'a> {
             e_beta += wk * eb;
             c += wk * ck;
             if e > 0.0 {
-                // The nodes are f32 values: their logarithms in f32 lose nothing.
-                ln_e += wk * f64::from((e as f32).ln());
+                ln_e += wk * f64::from(ln);
             } else {
                 positive = false;
             }
@@ -504,6 +526,21 @@ fn axpy12(acc: &mut [f32; 12], w: f32, x: &[f32; 12]) {
     for k in 0..12 {
         acc[k] += w * x[k];
     }
+}
+
+/// ln E of the four nodes of a (E, E_β, c) window that carry weight and energy (0 for the
+/// others). The nodes are f32 values: their logarithms in f32 lose nothing. Out of line, so
+/// that the four library calls do not force the caller's sums to and from the stack.
+#[inline(never)]
+fn ln_energies(window: [f32; 12], weights: [f64; 4]) -> [f32; 4] {
+    std::array::from_fn(|k| {
+        let e = window[PARAMS_PER_NODE * k];
+        if weights[k] != 0.0 && e > 0.0 {
+            e.ln()
+        } else {
+            0.0
+        }
+    })
 }
 
 /// Maps any finite φ into [−π, π] (the profile is 2π-periodic and even).
