@@ -42,7 +42,11 @@
 //!   residual is at rounding level (4ε times the polynomial's summed coefficient magnitudes),
 //!   or after [`MAX_ITERATIONS`]. pbrt stops at 10⁻⁶ and has no iteration cap.
 
+mod guide;
+mod sampling;
+
 use crate::error::{finite, in_range, Error, Result};
+use guide::Guide;
 
 /// Tolerance of the Newton–bisection solves, in units of the segment parameter t.
 ///
@@ -64,6 +68,8 @@ pub struct Nodes {
     /// and wᵢ/(x_{i+2} − xᵢ) of the two end slopes (NaN where the end is one-sided; unused
     /// there). Derived from `x` once so that [`Nodes::weights`] does no division.
     segment_factors: Box<[[f64; 3]]>,
+    /// Cells that narrow the segment search down to a node or two (nodes ≥ 0 only).
+    guide: Option<Guide>,
 }
 
 /// The Catmull-Rom weights of the four nodes around one point.
@@ -110,18 +116,6 @@ struct Positive {
     mass: f64,
 }
 
-/// One segment together with the CDF that a caller supplied for it.
-#[derive(Debug, Clone, Copy)]
-struct Piece {
-    positive: Positive,
-    /// Cumulative value at the segment's first node.
-    c0: f64,
-    /// Cumulative increase over the segment, C_{k+1} − C_k.
-    dc: f64,
-    /// Total, C_{n−1}.
-    total: f64,
-}
-
 /// Two node sets are equal when their positions are (the rest is derived from them).
 impl PartialEq for Nodes {
     fn eq(&self, other: &Self) -> bool {
@@ -163,7 +157,12 @@ impl Nodes {
                 [1.0 / width, s0, s1]
             })
             .collect();
-        Ok(Self { x, segment_factors })
+        let guide = Guide::new(&x);
+        Ok(Self {
+            x,
+            segment_factors,
+            guide,
+        })
     }
 
     /// The node positions.
@@ -173,8 +172,9 @@ impl Nodes {
 
     /// The Catmull-Rom weights at `x`, or `None` if `x` is NaN or outside [x₀, x_{n−1}].
     ///
-    /// Find segment i with xᵢ ≤ x (the last segment for x = x_{n−1}) by binary search. With the
-    /// basis of the module docs, the weights of nodes i−1 … i+2 are
+    /// Find segment i with xᵢ ≤ x (the last segment for x = x_{n−1}): a guide computed with the
+    /// nodes (`catmull_rom/guide.rs`) narrows it down to one or two segments, or a binary search
+    /// does. With the basis of the module docs, the weights of nodes i−1 … i+2 are
     ///
     /// (−s₀h₁₀, h₀₀ − s₁h₁₁, h₀₁ + s₀h₁₀, s₁h₁₁), s₀ = wᵢ/(x_{i+1} − x_{i−1}), s₁ = wᵢ/(x_{i+2} − xᵢ);
     ///
@@ -260,147 +260,6 @@ impl Nodes {
         Some(total)
     }
 
-    /// Draws x from the density of the spline through `values` (see [`Nodes::pdf`]) by
-    /// inverting [`Nodes::cdf`] at `u` ∈ [0, 1].
-    ///
-    /// `cumulative(k)` is the CDF table Cₖ: normally the running integral written by
-    /// [`Nodes::integrate`] or [`Nodes::integrate_positive`] for the same `values`, perhaps
-    /// stored rounded or interpolated between table rows. Its last entry is the total T. Find the segment k with Cₖ ≤ u·T < C_{k+1} by binary search, then
-    /// solve Cₖ + (C_{k+1} − Cₖ)·P(t)/P(1) = u·T for t by Newton–bisection, where
-    /// P(t) = ∫₀ᵗ max(s, 0) dt is the integrated positive part of the segment's cubic.
-    ///
-    /// Returns `None` if `u` is NaN or outside [0, 1], if T is not positive and finite (for
-    /// example all values zero), or if the density at the solution is 0 (for example u = 0
-    /// when f₀ = 0). Every returned sample has a positive, finite pdf equal to [`Nodes::pdf`]
-    /// at `x` up to rounding, and [`Nodes::cdf`] at `x` gives back `u` up to the solver
-    /// tolerance.
-    ///
-    /// # Sampling a row-interpolated table
-    /// Interpolate along the first axis with [`Weights`] and sample along the second:
-    /// ```
-    /// use bssrdf_zoo::catmull_rom::Nodes;
-    /// # fn main() -> bssrdf_zoo::Result<()> {
-    /// let albedo = Nodes::new(vec![0.0, 0.5, 0.9, 1.0])?;
-    /// let radius = Nodes::new(vec![0.0, 0.1, 0.3, 1.0, 3.0])?;
-    /// let n = radius.as_slice().len();
-    /// // One row per albedo node, stored as f32 as a table would be.
-    /// let mut profile = Vec::new();
-    /// let mut cdf = Vec::new();
-    /// for &a in albedo.as_slice() {
-    ///     let row: Vec<f64> = radius.as_slice().iter().map(|r| a * r * (-r).exp()).collect();
-    ///     let mut row_cdf = vec![0.0; n];
-    ///     radius.integrate(|j| row[j], &mut row_cdf);
-    ///     profile.extend(row.iter().map(|&v| v as f32));
-    ///     cdf.extend(row_cdf.iter().map(|&c| c as f32));
-    /// }
-    /// let w = albedo.weights(0.7).expect("0.7 is inside the albedo nodes");
-    /// let row = |j: usize| w.apply(|i| f64::from(profile[i * n + j]));
-    /// let row_cdf = |j: usize| w.apply(|i| f64::from(cdf[i * n + j]));
-    /// let s = radius.sample(row, row_cdf, 0.5).expect("the density is positive");
-    /// assert!((radius.pdf(row, row_cdf, s.x) - s.pdf).abs() < 1e-9 * s.pdf);
-    /// assert!((radius.cdf(row, row_cdf, s.x).unwrap() - 0.5).abs() < 1e-9);
-    /// # Ok(())
-    /// # }
-    /// ```
-    pub fn sample(
-        &self,
-        values: impl Fn(usize) -> f64,
-        cumulative: impl Fn(usize) -> f64,
-        u: f64,
-    ) -> Option<Sample> {
-        if !(0.0..=1.0).contains(&u) {
-            return None;
-        }
-        let total = cumulative(self.x.len() - 1);
-        if !positive_finite(total) {
-            return None;
-        }
-        let goal = u * total;
-        let k = find_interval(self.x.len(), |i| cumulative(i) <= goal);
-        let piece = self.piece(k, &values, &cumulative, total)?;
-        let positive = piece.positive;
-        if !positive_finite(piece.dc) || !positive_finite(positive.mass) {
-            return None;
-        }
-        let share = ((goal - piece.c0) / piece.dc).clamp(0.0, 1.0);
-        let t = positive.solve(share * positive.mass);
-        let pdf = piece.pdf(t);
-        if pdf <= 0.0 {
-            return None;
-        }
-        Some(Sample {
-            x: positive.segment.at(t),
-            value: positive.segment.value(t),
-            pdf,
-        })
-    }
-
-    /// The density that [`Nodes::sample`] draws from, per unit of x, at `x`:
-    ///
-    /// p(x) = (C_{k+1} − Cₖ)·max(s(x), 0)/(wₖ·Pₖ·T) on segment k, with Pₖ = ∫₀¹ max(s, 0) dt.
-    ///
-    /// Each segment carries the probability (C_{k+1} − Cₖ)/T that the table gives it, spread in
-    /// proportion to the positive part of the spline: negative lobes get density 0. With C
-    /// from [`Nodes::integrate_positive`] this is max(s(x), 0)/T; with C from
-    /// [`Nodes::integrate`] and a spline ≥ 0 it is s(x)/T. A table rounded to f32 only
-    /// rescales each segment slightly. Sample, pdf and cdf are an exact triad whenever C never
-    /// decreases.
-    ///
-    /// C can decrease when it comes from [`Nodes::integrate`] and a tail undershoots, or when
-    /// table rows are interpolated with Catmull-Rom weights (some are negative). Segments where
-    /// it decreases get density 0, and the sampler cannot reach the stretch before them where C
-    /// exceeds its later values. Sampler and pdf then disagree by about the total decrease of
-    /// C, relative to T (2·10⁻⁷ for the exponential profile of the tests on pbrt's radius
-    /// grid).
-    ///
-    /// Returns 0 for NaN `x`, `x` outside [x₀, x_{n−1}], a total T that is not positive and
-    /// finite, and segments where C_{k+1} − Cₖ or Pₖ is not positive.
-    pub fn pdf(
-        &self,
-        values: impl Fn(usize) -> f64,
-        cumulative: impl Fn(usize) -> f64,
-        x: f64,
-    ) -> f64 {
-        let total = cumulative(self.x.len() - 1);
-        self.find_segment(x)
-            .and_then(|k| self.piece(k, &values, &cumulative, total))
-            .map_or(0.0, |piece| piece.pdf(piece.positive.segment.t_at(x)))
-    }
-
-    /// The CDF of the sampled density at `x`, the inverse of [`Nodes::sample`]: on segment k,
-    /// u = (Cₖ + (C_{k+1} − Cₖ)·P(t)/P(1))/T, clamped to [0, 1]; 0 below x₀ and 1 above x_{n−1}.
-    ///
-    /// On a segment with P(1) ≤ 0, which the sampler never selects, P(t)/P(1) is replaced by t.
-    /// `None` if `x` is NaN or the total T is not positive and finite.
-    pub fn cdf(
-        &self,
-        values: impl Fn(usize) -> f64,
-        cumulative: impl Fn(usize) -> f64,
-        x: f64,
-    ) -> Option<f64> {
-        let total = cumulative(self.x.len() - 1);
-        if x.is_nan() || !positive_finite(total) {
-            return None;
-        }
-        let (first, last) = self.ends();
-        if x <= first {
-            return Some(0.0);
-        }
-        if x >= last {
-            return Some(1.0);
-        }
-        let k = self.find_segment(x)?;
-        let piece = self.piece(k, &values, &cumulative, total)?;
-        let positive = piece.positive;
-        let t = positive.segment.t_at(x);
-        let share = if positive_finite(positive.mass) {
-            (positive.integral_to(t) / positive.mass).clamp(0.0, 1.0)
-        } else {
-            t
-        };
-        Some(((piece.c0 + piece.dc * share) / total).clamp(0.0, 1.0))
-    }
-
     /// Solves s(x) = y for x, for a spline through increasing `values` (pbrt's
     /// `InvertCatmullRom`, used to invert albedo ↦ effective albedo).
     ///
@@ -443,27 +302,52 @@ impl Nodes {
 
     /// The segment i containing `x` (xᵢ ≤ x, the last one for x = x_{n−1}), or `None` if `x`
     /// is NaN or outside [x₀, x_{n−1}].
+    #[inline]
     fn find_segment(&self, x: f64) -> Option<usize> {
         let (first, last) = self.ends();
         if x.is_nan() || x < first || x > last {
             return None;
         }
-        // Nodes ≤ x (at least one, since x ≥ x₀), as a segment index in [0, n − 2].
-        let below = self.x.partition_point(|&xi| xi <= x);
-        Some(below.saturating_sub(1).min(self.x.len() - 2))
+        // Segments lo ≤ i ≤ hi can hold x, so nodes up to lo are ≤ x: count those after it
+        let (lo, hi) = match &self.guide {
+            Some(guide) => guide.range(x),
+            None => (0, self.x.len() - 2),
+        };
+        let after = self
+            .x
+            .get(lo + 1..=hi)
+            .map_or(0, |nodes| nodes.partition_point(|&xi| xi <= x));
+        Some(lo + after)
+    }
+
+    /// The values of nodes i − 1 … i + 2, 0 for nodes outside the array (`values` is only
+    /// called with indices inside it).
+    fn around(&self, values: &impl Fn(usize) -> f64, i: usize) -> [f64; 4] {
+        let n = self.x.len();
+        let at = |j: usize| if j < n { values(j) } else { 0.0 };
+        [
+            i.checked_sub(1).map_or(0.0, at),
+            at(i),
+            at(i + 1),
+            at(i + 2),
+        ]
     }
 
     /// Segment i of the spline through `values`, with the slopes of the module docs.
     fn segment(&self, i: usize, values: &impl Fn(usize) -> f64) -> Option<Segment> {
+        self.segment_from(i, self.around(values, i))
+    }
+
+    /// Segment i from the values of nodes i − 1 … i + 2 (those outside the array unused).
+    fn segment_from(&self, i: usize, [f_before, f0, f1, f_after]: [f64; 4]) -> Option<Segment> {
         let (x0, x1) = (*self.x.get(i)?, *self.x.get(i + 1)?);
-        let (f0, f1) = (values(i), values(i + 1));
         let width = x1 - x0;
-        let d0 = match i.checked_sub(1).and_then(|h| Some((h, *self.x.get(h)?))) {
-            Some((h, x_before)) => (f1 - values(h)) * width / (x1 - x_before),
+        let d0 = match i.checked_sub(1).and_then(|h| self.x.get(h)) {
+            Some(&x_before) => (f1 - f_before) * width / (x1 - x_before),
             None => f1 - f0,
         };
         let d1 = match self.x.get(i + 2) {
-            Some(&x_after) => (values(i + 2) - f0) * width / (x_after - x0),
+            Some(&x_after) => (f_after - f0) * width / (x_after - x0),
             None => f1 - f0,
         };
         Some(Segment {
@@ -473,24 +357,6 @@ impl Nodes {
             f1,
             d0,
             d1,
-        })
-    }
-
-    /// Segment k with its cumulative values.
-    fn piece(
-        &self,
-        k: usize,
-        values: &impl Fn(usize) -> f64,
-        cumulative: &impl Fn(usize) -> f64,
-        total: f64,
-    ) -> Option<Piece> {
-        let positive = self.segment(k, values)?.positive();
-        let c0 = cumulative(k);
-        Some(Piece {
-            positive,
-            c0,
-            dc: cumulative(k + 1) - c0,
-            total,
         })
     }
 }
@@ -703,23 +569,6 @@ impl Positive {
             before += mass;
         }
         end
-    }
-}
-
-impl Piece {
-    /// The sampled density at parameter t, ΔC·max(s(t), 0)/(w·P(1)·T), or 0 where the
-    /// segment cannot be sampled.
-    fn pdf(&self, t: f64) -> f64 {
-        let Positive { segment, mass, .. } = self.positive;
-        if !positive_finite(self.dc) || !positive_finite(mass) || !positive_finite(self.total) {
-            return 0.0;
-        }
-        let p = self.dc * segment.value(t).max(0.0) / (segment.width() * mass * self.total);
-        if positive_finite(p) {
-            p
-        } else {
-            0.0
-        }
     }
 }
 

@@ -40,10 +40,12 @@
 //!
 //! # Sampling
 //!
-//! cdf(φ) = λ(φ + π)/2π + (1 − λ)·cdf_WC(φ; c) is inverted by Newton steps safeguarded by a
-//! bisection bracket (§4.2), started at cdf_WC⁻¹(u) (the α = 0 answer, usually close because
-//! 2πα ≪ β in practice). Stops when |cdf(φ) − u| ≤ 10⁻¹³ or the bracket is down to adjacent
-//! floats; at most 100 iterations (bisection alone needs about 60).
+//! cdf(φ) = λ(φ + π)/2π + (1 − λ)·cdf_WC(φ; c) is inverted by Newton-type steps safeguarded
+//! by a bisection bracket (§4.2), started at cdf_WC⁻¹(u) (the α = 0 answer, usually close
+//! because 2πα ≪ β in practice), in the variable w = cdf_WC(φ) where that is the tamer one and
+//! in φ elsewhere (`gwc/sample.rs`). Stops when the residual is at most 10⁻¹³ or the bracket is
+//! down to adjacent floats; at most 100 iterations (bisection alone needs about 60). The
+//! density at the sample comes with it.
 //!
 //! # Three-anchor fit (§3.3), derived
 //!
@@ -135,6 +137,8 @@
 //! Source: A. Ferrier, *Non-perpendicular incidence BSSRDF model*, internship report, 2016:
 //! §3.2 (model, Eq. 1), §3.3 (anchors, fit), §4.1 (evaluation), §4.2 (sampling), §7.3.
 
+mod sample;
+
 use std::f64::consts::{PI, TAU};
 
 use crate::error::{finite, in_range, Error, Result};
@@ -150,9 +154,6 @@ pub const C_LIMIT: f64 = 1.0 - f64::EPSILON;
 
 /// Tolerance on |cdf(φ) − u| at which [`Gwc::sample`] stops.
 pub const SAMPLE_U_TOL: f64 = 1e-13;
-
-/// Iteration cap of the Newton–bisection in [`Gwc::sample`].
-const SAMPLE_MAX_ITER: usize = 100;
 
 /// Checks that `value` is finite and ≥ 0 (−0 allowed), naming it in the error otherwise.
 fn non_negative(name: &'static str, value: f64) -> Result<f64> {
@@ -208,15 +209,8 @@ fn tail_wc(s: f64, co: f64, c: f64) -> f64 {
     ((1.0 - c) * co).atan2((1.0 + c) * s) / PI
 }
 
-/// Wrapped Cauchy density pdf_WC(φ; c) = (1/2π)(1 − c²)/(1 + c² − 2c·cos φ), in rad⁻¹.
-///
-/// Zero for φ outside [−π, π] or NaN; c is clamped into [−[`C_LIMIT`], `C_LIMIT`] (NaN → 0).
-pub fn pdf_wc(phi: f64, c: f64) -> f64 {
-    if !in_domain(phi) {
-        return 0.0;
-    }
-    let c = clamp_c(c);
-    let (s, co) = half_angle(phi);
+/// pdf_WC from (sin h, cos h) and a clamped c.
+fn pdf_wc_half(s: f64, co: f64, c: f64) -> f64 {
     // Denominator 1 + c² − 2c·cos φ without cancellation
     let den = if c >= 0.0 {
         (1.0 - c) * (1.0 - c) + 4.0 * c * s * s
@@ -224,6 +218,27 @@ pub fn pdf_wc(phi: f64, c: f64) -> f64 {
         (1.0 + c) * (1.0 + c) - 4.0 * c * co * co
     };
     (1.0 - c) * (1.0 + c) / (TAU * den)
+}
+
+/// cdf_WC for φ inside (−π, π), from (sin h, cos h) and a clamped c.
+fn cdf_wc_half(phi: f64, s: f64, co: f64, c: f64) -> f64 {
+    let t = tail_wc(s, co, c);
+    if phi >= 0.0 {
+        1.0 - t
+    } else {
+        t
+    }
+}
+
+/// Wrapped Cauchy density pdf_WC(φ; c) = (1/2π)(1 − c²)/(1 + c² − 2c·cos φ), in rad⁻¹.
+///
+/// Zero for φ outside [−π, π] or NaN; c is clamped into [−[`C_LIMIT`], `C_LIMIT`] (NaN → 0).
+pub fn pdf_wc(phi: f64, c: f64) -> f64 {
+    if !in_domain(phi) {
+        return 0.0;
+    }
+    let (s, co) = half_angle(phi);
+    pdf_wc_half(s, co, clamp_c(c))
 }
 
 /// Wrapped Cauchy distribution function ∫_{−π}^{φ} pdf_WC, exactly 0 at −π and 1 at π.
@@ -239,12 +254,7 @@ pub fn cdf_wc(phi: f64, c: f64) -> f64 {
         return 1.0;
     }
     let (s, co) = half_angle(phi);
-    let t = tail_wc(s, co, clamp_c(c));
-    if phi >= 0.0 {
-        1.0 - t
-    } else {
-        t
-    }
+    cdf_wc_half(phi, s, co, clamp_c(c))
 }
 
 /// Inverse of [`cdf_wc`]: the φ ∈ [−π, π] with cdf_WC(φ; c) = u.
@@ -252,17 +262,13 @@ pub fn cdf_wc(phi: f64, c: f64) -> f64 {
 /// Equal to 2·arctan(((1−c)/(1+c))·tan(π(u − 1/2))) (Ferrier 2016, §4.2), evaluated without
 /// tan. u is clamped into [0, 1] (NaN → 0); c is clamped as in [`pdf_wc`].
 pub fn inv_cdf_wc(u: f64, c: f64) -> f64 {
-    let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
-    let c = clamp_c(c);
-    // Tail mass t beyond |φ| and its complement m = 1/2 − t, both without cancellation
-    let (t, m, sign) = if u >= 0.5 {
-        (1.0 - u, u - 0.5, 1.0)
-    } else {
-        (u, 0.5 - u, -1.0)
-    };
-    // Solve π·t = atan2((1−c)·cos h, (1+c)·sin h) for h = |φ|/2
-    let h = ((1.0 - c) * (PI * m).sin()).atan2((1.0 + c) * (PI * t).sin());
-    sign * (2.0 * h).min(PI)
+    inv_cdf_wc_with_pdf(u, c).0
+}
+
+/// [`inv_cdf_wc`] and pdf_WC there.
+fn inv_cdf_wc_with_pdf(u: f64, c: f64) -> (f64, f64) {
+    let at = sample::LobePoint::at(u, c);
+    (at.phi, at.pdf)
 }
 
 /// A General Wrapped Cauchy profile f(φ) = α + β·pdf_WC(φ; c) (see the module docs).
@@ -379,7 +385,18 @@ impl Gwc {
         if !in_domain(phi) {
             return 0.0;
         }
-        self.lambda / TAU + (1.0 - self.lambda) * pdf_wc(phi, self.c)
+        self.mix_pdf(pdf_wc(phi, self.c))
+    }
+
+    /// λ/2π + (1 − λ)·`lobe`, the density from the lobe's.
+    fn mix_pdf(&self, lobe: f64) -> f64 {
+        self.lambda / TAU + (1.0 - self.lambda) * lobe
+    }
+
+    /// λ(φ + π)/2π + (1 − λ)·`lobe`, clamped into [0, 1]: the distribution from the lobe's.
+    fn mix_cdf(&self, phi: f64, lobe: f64) -> f64 {
+        let uniform = (phi + PI) / TAU;
+        (self.lambda * uniform + (1.0 - self.lambda) * lobe).clamp(0.0, 1.0)
     }
 
     /// Distribution function ∫_{−π}^{φ} pdf, the inverse of [`Gwc::sample`]:
@@ -393,50 +410,21 @@ impl Gwc {
         if phi >= PI {
             return 1.0;
         }
-        let uniform = (phi + PI) / TAU;
-        (self.lambda * uniform + (1.0 - self.lambda) * cdf_wc(phi, self.c)).clamp(0.0, 1.0)
+        self.mix_cdf(phi, cdf_wc(phi, self.c))
     }
 
-    /// Samples φ ∈ [−π, π] with density [`Gwc::pdf`] from u ∈ [0, 1], inverting [`Gwc::cdf`]
-    /// (clamped into [0, 1], NaN → 0).
-    ///
-    /// Newton–bisection started at cdf_WC⁻¹(u; c); see the module docs for the stopping rule.
-    pub fn sample(&self, u: f64) -> f64 {
-        let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
-        // Pure floor or pure lobe: invert directly
-        if self.lambda >= 1.0 {
-            return (TAU * u - PI).clamp(-PI, PI);
-        }
-        let start = inv_cdf_wc(u, self.c);
-        if self.lambda <= 0.0 {
-            return start;
-        }
-        // Newton steps kept inside a shrinking bracket [lo, hi] around the root
-        let (mut lo, mut hi) = (-PI, PI);
-        let mut phi = start;
-        for _ in 0..SAMPLE_MAX_ITER {
-            let g = self.cdf(phi) - u;
-            if g.abs() <= SAMPLE_U_TOL {
-                break;
-            }
-            if g > 0.0 {
-                hi = phi;
-            } else {
-                lo = phi;
-            }
-            let newton = phi - g / self.pdf(phi);
-            let next = if newton > lo && newton < hi {
-                newton
-            } else {
-                0.5 * (lo + hi)
-            };
-            if next <= lo || next >= hi {
-                // Bracket down to adjacent floats
-                break;
-            }
-            phi = next;
-        }
-        phi
+    /// [`Gwc::cdf`] and [`Gwc::pdf`] at φ ∈ [−π, π], from one sin h and cos h.
+    fn cdf_and_pdf(&self, phi: f64) -> (f64, f64) {
+        let (s, co) = half_angle(phi);
+        let c = clamp_c(self.c);
+        let cdf = if phi <= -PI {
+            0.0
+        } else if phi >= PI {
+            1.0
+        } else {
+            self.mix_cdf(phi, cdf_wc_half(phi, s, co, c))
+        };
+        (cdf, self.mix_pdf(pdf_wc_half(s, co, c)))
     }
 }
 

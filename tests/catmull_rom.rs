@@ -254,6 +254,60 @@ fn weights_at_the_ends_stay_in_bounds() {
     assert_eq!(nodes.weights(2.0).unwrap().segment(), n - 2);
 }
 
+/// The float next to `x` towards +∞ (x finite).
+fn next_up(x: f64) -> f64 {
+    if x == 0.0 {
+        f64::from_bits(1)
+    } else if x > 0.0 {
+        f64::from_bits(x.to_bits() + 1)
+    } else {
+        f64::from_bits(x.to_bits() - 1)
+    }
+}
+
+#[test]
+fn segment_search_matches_a_linear_scan() {
+    // The search narrows down with cells over the bit pattern of x (nodes ≥ 0) or bisects
+    // (nodes below 0, or spread over too many octaves); both must find the segment a scan does.
+    let albedo: Vec<f64> = (0..100)
+        .map(|i| (1.0 - (-8.0 * i as f64 / 99.0).exp()) / (1.0 - (-8.0f64).exp()))
+        .collect();
+    let grids = [
+        geometric_radii(),
+        albedo,
+        (0..10).map(|j| j as f64 * 10f64.to_radians()).collect(),
+        uneven_nodes(),
+        vec![0.0, 1.0],
+        vec![3.0, 3.5, 7.0, 1e6],
+        vec![-2.0, -0.5, 0.0, 0.25, 4.0],
+        vec![1e-300, 1e-200, 1.0, 1e200, 1e300],
+        vec![0.0, 5e-324, 1e-320, 1e-310],
+    ];
+    let mut rng = SplitMix64(17);
+    for grid in grids {
+        let nodes = Nodes::new(grid.clone()).unwrap();
+        let n = grid.len();
+        let scan = |x: f64| (0..n - 1).rev().find(|&i| grid[i] <= x).unwrap_or(0);
+        let (first, last) = (grid[0], grid[n - 1]);
+        let mut points: Vec<f64> = grid.iter().flat_map(|&x| [x, next_up(x)]).collect();
+        points.extend((0..2000).map(|_| first + (last - first) * rng.next_f64()));
+        // Log-uniform points too, where the grid spans many octaves
+        if first >= 0.0 {
+            let low = grid.iter().copied().find(|&x| x > 0.0).unwrap();
+            points.extend(
+                (0..2000).map(|_| (low.ln() + (last.ln() - low.ln()) * rng.next_f64()).exp()),
+            );
+        }
+        if first == 0.0 {
+            points.push(-0.0);
+        }
+        for x in points.into_iter().filter(|x| (first..=last).contains(x)) {
+            let got = nodes.weights(x).expect("inside the nodes").segment();
+            assert_eq!(got, scan(x), "x = {x:e} on {grid:?}");
+        }
+    }
+}
+
 #[test]
 fn out_of_range_and_nan_give_none() {
     let grid = uneven_nodes();

@@ -35,67 +35,145 @@ pub struct PathSample {
 }
 
 /// The (ρ′, θ) neighbourhood of a lookup: the nonzero products of the Catmull-Rom weights of
-/// the two axes (at most 4 × 4) with their row indices i·nθ + j, and the coefficient of the
-/// ln(1/r) growth of S there.
+/// the two axes (at most 4 × 4) with the offsets (i·nθ + j)·nr of their rows in the radial
+/// arrays, and (ρ′, θ) for the coefficient of the ln(1/r) growth of S.
+///
+/// Rows of zero weight are left out, loads included (at a node of an axis, θ = 0 in the
+/// perpendicular model, 12 of the 16 are). The rows in use are padded with weight-0 copies of
+/// the last one to a multiple of 4, so that the loops over them unroll by 4; a padding row
+/// adds exactly 0 (the values are finite).
 #[derive(Debug, Clone, Copy)]
 struct Slice {
-    rows: [u32; 16],
+    /// Rows in use: 4, 8, 12 or 16.
+    len: usize,
+    /// Index of node 0 of each row in `radial_cdf` (in `params`, times `PARAMS_PER_NODE`).
+    offsets: [u32; 16],
     /// f32: the table's values are f32 and are blended in f32 (see `window_params`).
     weights: [f32; 16],
+    /// The same weights in f64, for the blends in f64.
+    weights_f64: [f64; 16],
     rho: f64,
     theta: f64,
 }
 
 impl<'a> TableRef<'a> {
+    #[inline]
     fn slice(&self, rho: f64, theta: f64) -> Option<Slice> {
-        self.slice_with(&self.axes.rho().weights(rho)?, rho, theta)
+        let rho_weights = self.axes.rho().weights(rho)?;
+        let theta_weights = self.axes.theta().weights(theta)?;
+        Some(self.slice_of(&rho_weights, &theta_weights, rho, theta))
     }
 
-    fn slice_with(&self, rho_weights: &Weights, rho: f64, theta: f64) -> Option<Slice> {
-        let theta_weights = self.axes.theta().weights(theta)?;
-        let (n_rho, n_theta, _) = self.axes.dims();
-        // Nodes segment − 1 … segment + 2 of each axis; those outside the array have weight 0
-        // and are clamped to a valid row so that every index stays in bounds.
-        let nodes = |w: &Weights, n: usize| {
+    #[inline]
+    fn slice_of(
+        &self,
+        rho_weights: &Weights,
+        theta_weights: &Weights,
+        rho: f64,
+        theta: f64,
+    ) -> Slice {
+        let (n_rho, n_theta, n_r) = self.axes.dims();
+        // Nodes segment − 1 … segment + 2 of each axis. Those outside the array have weight 0
+        // and are left out below; clamped, their indices stay in bounds anyway. Offsets fit
+        // u32: the format caps a table far below 2³² values.
+        let offsets = |w: &Weights, n: usize, stride: usize| {
             let first = w.segment() as isize - 1;
-            [0isize, 1, 2, 3].map(|k| (first + k).clamp(0, n as isize - 1) as usize)
+            [0isize, 1, 2, 3]
+                .map(|k| ((first + k).clamp(0, n as isize - 1) as usize * stride) as u32)
         };
-        let (rho_nodes, theta_nodes) = (nodes(rho_weights, n_rho), nodes(&theta_weights, n_theta));
+        let rho_offsets = offsets(rho_weights, n_rho, n_theta * n_r);
+        let theta_offsets = offsets(theta_weights, n_theta, n_r);
         let (wr, wt) = (rho_weights.as_array(), theta_weights.as_array());
-        let mut s = Slice {
-            rows: [0; 16],
-            weights: [0.0; 16],
-            rho,
-            theta,
-        };
-        for a in 0..4 {
-            for b in 0..4 {
-                // Row indices fit u32: the format caps a table far below 2³² rows.
-                s.rows[4 * a + b] = (rho_nodes[a] * n_theta + theta_nodes[b]) as u32;
-                s.weights[4 * a + b] = (wr[a] * wt[b]) as f32;
+        let mut offsets: [u32; 16] =
+            std::array::from_fn(|k| rho_offsets[k / 4] + theta_offsets[k % 4]);
+        let mut weights: [f32; 16] = std::array::from_fn(|k| (wr[k / 4] * wt[k % 4]) as f32);
+        let mut len = 16;
+        if !weights.iter().fold(true, |all, &w| all & (w != 0.0)) {
+            // Keep the rows of nonzero weight in order, then pad with weight-0 copies of the
+            // last one (there is one: the weights of each axis sum to 1, so the largest product
+            // is at least 1/16).
+            len = 0;
+            for k in 0..16 {
+                if weights[k] != 0.0 {
+                    (offsets[len], weights[len]) = (offsets[k], weights[k]);
+                    len += 1;
+                }
+            }
+            let last = offsets[len.saturating_sub(1)];
+            while len % 4 != 0 {
+                (offsets[len], weights[len]) = (last, 0.0);
+                len += 1;
             }
         }
-        Some(s)
+        Slice {
+            len,
+            offsets,
+            weights,
+            weights_f64: weights.map(f64::from),
+            rho,
+            theta,
+        }
     }
 
     /// S ≈ slope·ln(1/r) + const as r → 0, slope = ρ′² C_E cos θ′/π: sources at depth t ≫ r
     /// each add ρ′² C_E/(4π)·κ z_r/d_r³ ≈ ρ′² C_E cos θ′/(π t) (κ ≈ 4t, z_r = t cos θ′, d_r ≈ t).
-    fn log_slope(&self, s: &Slice) -> f64 {
-        let sin_t = s.theta.sin() / self.eta;
+    fn log_slope(&self, rho: f64, theta: f64) -> f64 {
+        let sin_t = theta.sin() / self.eta;
         let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
-        s.rho * s.rho * self.c_e * cos_t / PI
+        rho * rho * self.c_e * cos_t / PI
     }
 
-    /// Σ over the slice's rows of weight × `value(row)`.
+    /// Σ over the slice's rows of weight × `values[(offset + k)·stride]`, in f64: radius node k
+    /// of `radial_cdf` (stride 1) or of one parameter of `params` (stride `PARAMS_PER_NODE`).
     #[inline]
-    fn blend(&self, s: &Slice, value: impl Fn(usize) -> f64) -> f64 {
+    fn blend(s: &Slice, values: &[f32], k: usize, stride: usize) -> f64 {
+        // In row order, as one sum: the rows' CDFs nearly cancel in C_{k+1} − C_k, so another
+        // order would move the radial density of a thin segment far beyond rounding.
         let mut sum = 0.0;
-        for (&row, &w) in s.rows.iter().zip(&s.weights) {
-            if w != 0.0 {
-                sum += f64::from(w) * value(row as usize);
+        let n = s.len.min(16);
+        for (offsets, weights) in s.offsets[..n]
+            .chunks_exact(4)
+            .zip(s.weights_f64[..n].chunks_exact(4))
+        {
+            for (&offset, &w) in offsets.iter().zip(weights) {
+                if let Some(&v) = values.get((offset as usize + k) * stride) {
+                    sum += w * f64::from(v);
+                }
             }
         }
         sum
+    }
+
+    /// E at the radius nodes k − 1 … k + 2 (0 for nodes outside the axis), each exactly as
+    /// [`TableRef::blend`] gives it, in one pass over the rows: the four lie in one window
+    /// of `params` per row.
+    #[inline]
+    fn blend_e_around(&self, s: &Slice, k: usize) -> [f64; 4] {
+        let (_, _, n_r) = self.axes.dims();
+        if n_r < 4 {
+            let e = |j: usize| Self::blend(s, self.params, j, PARAMS_PER_NODE);
+            return [0, 1, 2, 3].map(|j| match (k + j).checked_sub(1) {
+                Some(node) if node < n_r => e(node),
+                _ => 0.0,
+            });
+        }
+        // A window of 4 nodes inside the axis, and where node k − 1 sits in it
+        let first = k.saturating_sub(1).min(n_r - 4);
+        let mut acc = [0.0f64; 4];
+        let n = s.len.min(16);
+        for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights_f64[..n]) {
+            let base = (offset as usize + first) * PARAMS_PER_NODE;
+            if let Some(window) = self.params.get(base..).and_then(<[f32]>::first_chunk::<10>) {
+                for (acc, &e) in acc.iter_mut().zip(window.iter().step_by(PARAMS_PER_NODE)) {
+                    *acc += w * f64::from(e);
+                }
+            }
+        }
+        match (first + 1).checked_sub(k) {
+            Some(0) => acc,
+            Some(_) => [0.0, acc[0], acc[1], acc[2]],
+            None => [acc[1], acc[2], acc[3], 0.0],
+        }
     }
 
     /// (E, E_β, c) at the four consecutive radius nodes `first..first + 4`, blended over the
@@ -104,29 +182,90 @@ impl<'a> TableRef<'a> {
     #[inline(never)]
     fn window_params(&self, s: &Slice, first: usize) -> [f32; 12] {
         const WINDOW: usize = 4 * PARAMS_PER_NODE;
-        let (_, _, n_r) = self.axes.dims();
         // Accumulated in f32, like the stored values: 16 terms with weights of magnitude ≤ ~1.2
         // add at most ~2e-7 relative, far below the table's interpolation error, and the
         // 12-wide window vectorises.
         let mut acc = [0.0f32; WINDOW];
-        for (&row, &w) in s.rows.iter().zip(&s.weights) {
-            if w == 0.0 {
-                continue;
-            }
-            let base = (row as usize * n_r + first) * PARAMS_PER_NODE;
-            if let Some(window) = self
-                .params
-                .get(base..base + WINDOW)
-                .and_then(|v| <&[f32; WINDOW]>::try_from(v).ok())
-            {
-                axpy12(&mut acc, w, window);
+        let n = s.len.min(16);
+        // Rows in groups of 4 (the slice pads to a multiple of 4): unrolled, less loop overhead
+        for (offsets, weights) in s.offsets[..n]
+            .chunks_exact(4)
+            .zip(s.weights[..n].chunks_exact(4))
+        {
+            for (&offset, &w) in offsets.iter().zip(weights) {
+                let base = (offset as usize + first) * PARAMS_PER_NODE;
+                if let Some(window) = self.params.get(base..).and_then(<[f32]>::first_chunk) {
+                    axpy12(&mut acc, w, window);
+                }
             }
         }
         acc
     }
 
-    /// The GWC profile at (slice, r); `None` for r outside [0, r_max] or NaN. PBD diverges like
-    /// ln(1/r) at r = 0; the table returns its value at r = 10⁻⁹ r₁ there (finite, documented).
+    /// [`TableRef::window_params`] over the slice of (`rho_weights`, `theta_weights`) without
+    /// building it: the same rows, in the same order, skipping the same zero weights, so the
+    /// same sums. For a lookup that needs nothing else of the slice (evaluation).
+    #[inline(never)]
+    fn window_at(&self, rho_weights: &Weights, theta_weights: &Weights, first: usize) -> [f32; 12] {
+        const WINDOW: usize = 4 * PARAMS_PER_NODE;
+        let (n_rho, n_theta, n_r) = self.axes.dims();
+        let (row_len, lo) = (n_r * PARAMS_PER_NODE, first * PARAMS_PER_NODE);
+        let mut acc = [0.0f32; WINDOW];
+        // The θ nodes inside the axis, consecutive rows of one slab per ρ′ node, and their
+        // weights (entry k of the four belongs to node segment + k − 1)
+        let segment = theta_weights.segment();
+        let (j0, j1) = (segment.saturating_sub(1), (segment + 2).min(n_theta - 1));
+        let (wr, wt) = (rho_weights.as_array(), theta_weights.as_array());
+        if j1 == j0 + 3 && rho_weights.segment() >= 1 && rho_weights.segment() + 2 < n_rho {
+            // Inside both axes (the usual case): 4 slabs of 4 rows, each slab checked once. A
+            // zero weight (a lookup on a node) adds exactly 0: no test needed.
+            let i0 = rho_weights.segment() - 1;
+            for (a, &wa) in wr.iter().enumerate() {
+                let start = ((i0 + a) * n_theta + j0) * row_len + lo;
+                let Some(slab) = self.params.get(start..start + 3 * row_len + WINDOW) else {
+                    continue;
+                };
+                for (b, &wb) in wt.iter().enumerate() {
+                    let w = (wa * wb) as f32;
+                    let off = b * row_len;
+                    if let Some(window) =
+                        slab.get(off..off + WINDOW).and_then(|v| v.try_into().ok())
+                    {
+                        axpy12(&mut acc, w, window);
+                    }
+                }
+            }
+            return acc;
+        }
+        let theta_all = theta_weights.as_array();
+        let Some(theta_w) = theta_all.get(j0 + 1 - segment..=j1 + 1 - segment) else {
+            return acc;
+        };
+        for (k, &wa) in rho_weights.as_array().iter().enumerate() {
+            let Some(i) = (rho_weights.segment() + k)
+                .checked_sub(1)
+                .filter(|&i| i < n_rho)
+            else {
+                continue;
+            };
+            let start = (i * n_theta + j0) * row_len;
+            let Some(slab) = self.params.get(start..start + theta_w.len() * row_len) else {
+                continue;
+            };
+            for (row, &wb) in slab.chunks_exact(row_len).zip(theta_w) {
+                let w = (wa * wb) as f32;
+                if w == 0.0 {
+                    continue;
+                }
+                if let Some(window) = row.get(lo..).and_then(<[f32]>::first_chunk::<WINDOW>) {
+                    axpy12(&mut acc, w, window);
+                }
+            }
+        }
+        acc
+    }
+
+    /// The GWC profile at (slice, r), from the radius and weights of [`TableRef::radius`].
     ///
     /// Along r, E is interpolated as exp(Catmull-Rom of ln E) wherever the four nodes of the
     /// segment hold positive energy: E(r) is close to the exponential of a smooth function, and
@@ -135,30 +274,43 @@ impl<'a> TableRef<'a> {
     /// and underflowed tails) E is the plain spline. The lobe's share E_β/E and c come from the
     /// plain spline. Sampling keeps the plain spline of E, so sample and pdf stay an exact pair
     /// (S/pdf and ρ_eff then differ by a median 8e-5, see the module docs).
-    fn profile(&self, s: &Slice, r: f64) -> Option<Gwc> {
-        let r_eval = if r > 0.0 {
-            r
-        } else if r == 0.0 {
-            self.first_radius() * 1e-9
-        } else {
-            return None;
-        };
-        let w = self.axes.r().weights(r_eval)?;
-        let (_, _, n_r) = self.axes.dims();
-        let segment = w.segment();
-        // The four nodes segment − 1 … segment + 2, as a window of consecutive nodes inside the
-        // array (tables have at least 4 radius nodes); nodes outside it have weight 0.
-        let first = segment.saturating_sub(1).min(n_r.saturating_sub(4));
+    #[inline(always)]
+    fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Gwc {
+        let first = self.radial_window(w);
         let acc = self.window_params(s, first);
-        let window: [[f64; 3]; 4] =
-            [0, 1, 2, 3].map(|k| [3 * k, 3 * k + 1, 3 * k + 2].map(|i| f64::from(acc[i])));
-        let mut weights = [0.0f64; 4];
-        for (k, wk) in w.iter() {
-            if let Some(slot) = k.checked_sub(first).and_then(|i| weights.get_mut(i)) {
-                *slot = wk;
-            }
-        }
-        let params = window;
+        self.profile_from(acc, first, r_eval, w, s.rho, s.theta)
+    }
+
+    /// The first of the four consecutive radius nodes, inside the axis, that hold the weights
+    /// of `w` (nodes segment − 1 … segment + 2; tables have at least 4 radius nodes).
+    fn radial_window(&self, w: &Weights) -> usize {
+        let (_, _, n_r) = self.axes.dims();
+        w.segment().saturating_sub(1).min(n_r.saturating_sub(4))
+    }
+
+    /// The profile from (E, E_β, c) blended at the radius nodes `first..first + 4` (as
+    /// [`TableRef::window_params`] gives them), the radius weights `w` at `r_eval` and (ρ′, θ).
+    #[inline(always)]
+    fn profile_from(
+        &self,
+        acc: [f32; 12],
+        first: usize,
+        r_eval: f64,
+        w: &Weights,
+        rho: f64,
+        theta: f64,
+    ) -> Gwc {
+        let segment = w.segment();
+        let params: [[f64; 3]; 4] =
+            std::array::from_fn(|k| std::array::from_fn(|j| f64::from(acc[3 * k + j])));
+        // Weight of window node first + k: entry first + k + 1 − segment of the four weights,
+        // whose entries for nodes −1 and n_r (dropped here) are 0.
+        let wa = w.as_array();
+        let weights = match (first + 1).checked_sub(segment) {
+            Some(0) => wa,
+            Some(_) => [wa[1], wa[2], wa[3], 0.0],
+            None => [0.0, wa[0], wa[1], wa[2]],
+        };
         let r_nodes = self.axes.r().as_slice();
         if segment == 0 && r_nodes[0] == 0.0 {
             // First interval from r₀ = 0: PBD grows like slope·ln(1/r), isotropically, while the
@@ -168,12 +320,14 @@ impl<'a> TableRef<'a> {
             let r1 = r_nodes[1];
             let [e1, e_beta1, c1] = params[1 - first];
             let beta1 = (e_beta1 / r1).clamp(0.0, e1.max(0.0) / r1);
-            let e_per_r = (e1 / r1).max(0.0) + TAU * self.log_slope(s) * (r1 / r_eval).ln();
-            return Some(Gwc::from_table(e_per_r * r_eval, beta1, c1, r_eval));
+            let e_per_r =
+                (e1 / r1).max(0.0) + TAU * self.log_slope(rho, theta) * (r1 / r_eval).ln();
+            return Gwc::from_table(e_per_r * r_eval, beta1, c1, r_eval);
         }
+        let ln = ln_energies(acc, weights);
         let (mut e_lin, mut e_beta, mut c, mut ln_e) = (0.0, 0.0, 0.0, 0.0);
         let mut positive = true;
-        for (&wk, [e, eb, ck]) in weights.iter().zip(params) {
+        for ((&wk, [e, eb, ck]), ln) in weights.iter().zip(params).zip(ln) {
             if wk == 0.0 {
                 continue;
             }
@@ -181,8 +335,7 @@ impl<'a> TableRef<'a> {
             e_beta += wk * eb;
             c += wk * ck;
             if e > 0.0 {
-                // The nodes are f32 values: their logarithms in f32 lose nothing.
-                ln_e += wk * f64::from((e as f32).ln());
+                ln_e += wk * f64::from(ln);
             } else {
                 positive = false;
             }
@@ -197,7 +350,28 @@ impl<'a> TableRef<'a> {
         } else {
             0.0
         };
-        Some(Gwc::from_table(e, share * e / r_eval, c, r_eval))
+        Gwc::from_table(e, share * e / r_eval, c, r_eval)
+    }
+
+    /// The radius at which to evaluate r, with its Catmull-Rom weights; `None` for r outside
+    /// [0, r_max] or NaN. PBD diverges like ln(1/r) at r = 0; the table returns its value at
+    /// r = 10⁻⁹ r₁ there (finite, documented).
+    #[inline]
+    fn radius(&self, r: f64) -> Option<(f64, Weights)> {
+        let r_eval = if r > 0.0 {
+            r
+        } else if r == 0.0 {
+            self.first_radius() * 1e-9
+        } else {
+            return None;
+        };
+        Some((r_eval, self.axes.r().weights(r_eval)?))
+    }
+
+    /// The GWC profile at (slice, r), `None` where [`TableRef::radius`] is.
+    fn profile_at(&self, s: &Slice, r: f64) -> Option<Gwc> {
+        let (r_eval, w) = self.radius(r)?;
+        Some(self.profile(s, r_eval, &w))
     }
 
     fn first_radius(&self) -> f64 {
@@ -208,18 +382,34 @@ impl<'a> TableRef<'a> {
     /// stored axes (a scene bake keeps only some albedo rows: never extrapolated). Outside the
     /// radial support (r < 0, r beyond the last node, NaN r or φ) the value is 0.
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
-        let s = self.slice(rho, theta)?;
+        let profile = self.profile_at_point(rho, theta, r)?;
         if !phi.is_finite() {
             return Some(0.0);
         }
-        Some(self.profile(&s, r).map_or(0.0, |g| g.eval(wrap_phi(phi))))
+        Some(profile.map_or(0.0, |g| g.eval(wrap_phi(phi))))
+    }
+
+    /// The GWC profile at (ρ′, θ, r) without building a slice (evaluation needs nothing else of
+    /// it): `None` if (ρ′, θ) is outside the axes, `Some(None)` where [`TableRef::radius`] is
+    /// `None`.
+    #[inline(always)]
+    fn profile_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<Gwc>> {
+        // The three weight searches first: they are independent and overlap in the pipeline.
+        let rho_weights = self.axes.rho().weights(rho)?;
+        let theta_weights = self.axes.theta().weights(theta)?;
+        let Some((r_eval, w)) = self.radius(r) else {
+            return Some(None);
+        };
+        let first = self.radial_window(&w);
+        let acc = self.window_at(&rho_weights, &theta_weights, first);
+        Some(Some(self.profile_from(acc, first, r_eval, &w, rho, theta)))
     }
 
     /// The perpendicular-incidence model: the θ = 0 slice at every θ, uniform in φ (pbrt's
     /// assumption), S = E(ρ′, 0, r)/(2πr).
     pub fn eval_perpendicular(&self, rho: f64, r: f64) -> Option<f64> {
-        let s = self.slice(rho, 0.0)?;
-        Some(self.profile(&s, r).map_or(0.0, |g| g.integral() / TAU))
+        let profile = self.profile_at_point(rho, 0.0, r)?;
+        Some(profile.map_or(0.0, |g| g.integral() / TAU))
     }
 
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
@@ -231,7 +421,7 @@ impl<'a> TableRef<'a> {
 
     fn total(&self, s: &Slice) -> f64 {
         let (_, _, n_r) = self.axes.dims();
-        self.blend(s, |row| f64::from(self.radial_cdf[row * n_r + n_r - 1]))
+        Self::blend(s, self.radial_cdf, n_r - 1, 1)
     }
 
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
@@ -242,14 +432,12 @@ impl<'a> TableRef<'a> {
     }
 
     fn sample_slice(&self, s: &Slice, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let (_, _, n_r) = self.axes.dims();
-        let p = self.params;
-        let e = |k: usize| self.blend(s, |row| f64::from(p[(row * n_r + k) * PARAMS_PER_NODE]));
-        let cdf = |k: usize| self.blend(s, |row| f64::from(self.radial_cdf[row * n_r + k]));
-        let radial = self.axes.r().sample(e, cdf, u_r)?;
-        let g = self.profile(s, radial.x)?;
-        let phi = g.sample(u_phi);
-        let pdf_area = radial.pdf * g.pdf(phi) / radial.x;
+        let e = |k: usize| self.blend_e_around(s, k);
+        let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+        let radial = self.axes.r().sample_with(e, cdf, u_r)?;
+        let g = self.profile_at(s, radial.x)?;
+        let (phi, pdf_phi) = g.sample_with_pdf(u_phi);
+        let pdf_area = radial.pdf * pdf_phi / radial.x;
         (pdf_area.is_finite() && pdf_area > 0.0).then_some(Sample {
             r: radial.x,
             phi,
@@ -269,12 +457,10 @@ impl<'a> TableRef<'a> {
         if r <= 0.0 || !r.is_finite() {
             return 0.0;
         }
-        let (_, _, n_r) = self.axes.dims();
-        let p = self.params;
-        let e = |k: usize| self.blend(s, |row| f64::from(p[(row * n_r + k) * PARAMS_PER_NODE]));
-        let cdf = |k: usize| self.blend(s, |row| f64::from(self.radial_cdf[row * n_r + k]));
-        let pdf_r = self.axes.r().pdf(e, cdf, r);
-        match self.profile(s, r) {
+        let e = |k: usize| self.blend_e_around(s, k);
+        let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+        let pdf_r = self.axes.r().pdf_with(e, cdf, r);
+        match self.profile_at(s, r) {
             Some(g) if pdf_r > 0.0 => pdf_r * g.pdf(wrap_phi(phi)) / r,
             _ => 0.0,
         }
@@ -283,11 +469,9 @@ impl<'a> TableRef<'a> {
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let s = self.slice(rho, 0.0)?;
-        let (_, _, n_r) = self.axes.dims();
-        let p = self.params;
-        let e = |k: usize| self.blend(&s, |row| f64::from(p[(row * n_r + k) * PARAMS_PER_NODE]));
-        let cdf = |k: usize| self.blend(&s, |row| f64::from(self.radial_cdf[row * n_r + k]));
-        let radial = self.axes.r().sample(e, cdf, u_r)?;
+        let e = |k: usize| self.blend_e_around(&s, k);
+        let cdf = |k: usize| Self::blend(&s, self.radial_cdf, k, 1);
+        let radial = self.axes.r().sample_with(e, cdf, u_r)?;
         let phi = (TAU * u_phi - PI).clamp(-PI, PI);
         Some(Sample {
             r: radial.x,
@@ -307,7 +491,8 @@ impl<'a> TableRef<'a> {
         };
         let cdf = |j: usize| w_rho.apply(|i| f64::from(theta_cdf[i * n_theta + j]));
         let t = self.axes.theta().sample(rho_eff, cdf, u[0])?;
-        let s = self.slice_with(&w_rho, rho, t.x)?;
+        let w_theta = self.axes.theta().weights(t.x)?;
+        let s = self.slice_of(&w_rho, &w_theta, rho, t.x);
         let rphi = self.sample_slice(&s, u[1], u[2])?;
         let phi_prime = (TAU * u[3] - PI).clamp(-PI, PI);
         Some(PathSample {
@@ -341,6 +526,21 @@ fn axpy12(acc: &mut [f32; 12], w: f32, x: &[f32; 12]) {
     for k in 0..12 {
         acc[k] += w * x[k];
     }
+}
+
+/// ln E of the four nodes of a (E, E_β, c) window that carry weight and energy (0 for the
+/// others). The nodes are f32 values: their logarithms in f32 lose nothing. Out of line, so
+/// that the four library calls do not force the caller's sums to and from the stack.
+#[inline(never)]
+fn ln_energies(window: [f32; 12], weights: [f64; 4]) -> [f32; 4] {
+    std::array::from_fn(|k| {
+        let e = window[PARAMS_PER_NODE * k];
+        if weights[k] != 0.0 && e > 0.0 {
+            e.ln()
+        } else {
+            0.0
+        }
+    })
 }
 
 /// Maps any finite φ into [−π, π] (the profile is 2π-periodic and even).
