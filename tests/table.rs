@@ -335,3 +335,26 @@ fn round_trip_through_a_library_file_is_bit_exact_both_ways() {
         }
     }
 }
+
+#[test]
+fn invert_undoes_sample() {
+    let view = default_table().view();
+    let mut rng = Rng(SplitMix64::new(21));
+    for (rho, theta_deg) in [(0.5, 0.0), (0.9, 60.0), (0.999, 89.0)] {
+        let theta = f64::to_radians(theta_deg);
+        for _ in 0..2000 {
+            let (u_r, u_phi) = (rng.next(), rng.next());
+            let s = view.sample(rho, theta, u_r, u_phi).unwrap();
+            let (back_r, back_phi) = view.invert(rho, theta, s.r, s.phi).unwrap();
+            assert!(
+                (back_r - u_r).abs() < 1e-9,
+                "{rho} {theta_deg}: u_r {u_r} -> {back_r}"
+            );
+            assert!(
+                (back_phi - u_phi).abs() < 1e-9,
+                "{rho} {theta_deg}: u_phi {u_phi} -> {back_phi}"
+            );
+        }
+    }
+    assert!(view.invert(1.5, 0.0, 1.0, 0.0).is_none());
+}

@@ -517,6 +517,17 @@ impl<'a> TableRef<'a> {
         let cdf = |j: usize| w_rho.apply(|i| f64::from(theta_cdf[i * n_theta + j]));
         self.axes.theta().pdf(rho_eff, cdf, theta)
     }
+    /// The inverse of [`TableRef::sample`]: the uniforms (u_r, u_φ) that `sample` maps to
+    /// (r, φ), from the radial CDF of the interpolated spline and the GWC profile's analytic CDF.
+    /// `None` outside the axes or where the table holds no energy.
+    pub fn invert(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<(f64, f64)> {
+        let s = self.slice(rho, theta)?;
+        let e = |k: usize| Self::blend(&s, self.params, k, PARAMS_PER_NODE);
+        let cdf = |k: usize| Self::blend(&s, self.radial_cdf, k, 1);
+        let u_r = self.axes.r().cdf(e, cdf, r)?;
+        let g = self.profile_at(&s, r)?;
+        Some((u_r, g.cdf(wrap_phi(phi))))
+    }
 }
 
 /// acc += w·x over 12 lanes, written as three independent 4-lane updates so that it compiles to
