@@ -29,6 +29,9 @@ const TAYLOR_STEP: f64 = 1e-6;
 /// Largest relative change of pdf_WC over that step.
 const TAYLOR_DENSITY: f64 = 1e-5;
 
+/// 1/2π.
+const INV_TAU: f64 = 1.0 / TAU;
+
 /// The wrapped Cauchy lobe at φ = cdf_WC⁻¹(w): φ, the density and its logarithmic derivatives,
 /// all from the two sines of the inverse.
 #[derive(Debug, Clone, Copy)]
@@ -71,15 +74,16 @@ impl LobePoint {
             (1.0 + c) * (1.0 + c) - 4.0 * c * sin_m * sin_m
         };
         let one_minus_c2 = (1.0 - c) * (1.0 + c);
-        let r2 = x * x + y * y;
-        let (sin_phi, cos_phi) = (sign * 2.0 * x * y / r2, (x - y) * (x + y) / r2);
-        let d = one_minus_c2 * one_minus_c2 / num;
-        let dlog = -2.0 * c * sin_phi / d;
+        // Two divisions where four would do: 1/(x² + y²), and 1/D = num/(1 − c²)²
+        let inv_r2 = 1.0 / (x * x + y * y);
+        let (sin_phi, cos_phi) = (sign * 2.0 * x * y * inv_r2, (x - y) * (x + y) * inv_r2);
+        let inv_d = num / (one_minus_c2 * one_minus_c2);
+        let dlog = -2.0 * c * sin_phi * inv_d;
         Self {
             phi: sign * (2.0 * h).min(PI),
             pdf: num / (TAU * one_minus_c2),
             dlog,
-            d2: -2.0 * c * cos_phi / d + 2.0 * dlog * dlog,
+            d2: -2.0 * c * cos_phi * inv_d + 2.0 * dlog * dlog,
         }
     }
 }
@@ -127,7 +131,7 @@ impl Gwc {
         if lambda > (1.0 - lambda) * (1.0 - c) / (1.0 + c) {
             return self.sample_in_phi(u, at.phi);
         }
-        let residual = |w: f64, phi: f64| lambda * (phi + PI) / TAU + (1.0 - lambda) * w - u;
+        let residual = |w: f64, phi: f64| lambda * (phi + PI) * INV_TAU + (1.0 - lambda) * w - u;
         let mut w = u;
         let mut h = residual(w, at.phi);
         let (mut lo, mut hi) = (0.0, 1.0);
@@ -140,9 +144,10 @@ impl Gwc {
             } else {
                 lo = w;
             }
-            let p = at.pdf;
-            let d1 = lambda / (TAU * p) + (1.0 - lambda);
-            let d2 = -lambda * at.dlog / (TAU * p * p);
+            // One division for the derivatives and the Taylor series: 1/p
+            let inv_p = 1.0 / at.pdf;
+            let d1 = lambda * inv_p * INV_TAU + (1.0 - lambda);
+            let d2 = -lambda * at.dlog * inv_p * inv_p * INV_TAU;
             let den = 2.0 * d1 * d1 - h * d2;
             let step = if den > 0.0 {
                 2.0 * h * d1 / den
@@ -161,14 +166,14 @@ impl Gwc {
             // A short step: φ(w) and p(φ) to second order, the third-order terms are below
             // the tolerance (cdf error ~ |δ|·(Δp/p)², density error ~ (Δp/p)³)
             let delta = next - w;
-            let dphi = delta / p - at.dlog * delta * delta / (2.0 * p * p);
+            let dphi = delta * inv_p - 0.5 * at.dlog * (delta * inv_p) * (delta * inv_p);
             let dp = at.dlog * dphi;
             if delta.abs() <= TAYLOR_STEP && dp.abs() <= TAYLOR_DENSITY {
-                let pdf = p * (1.0 + dp + 0.5 * at.d2 * dphi * dphi);
+                let pdf = at.pdf * (1.0 + dp + 0.5 * at.d2 * dphi * dphi);
                 return ((at.phi + dphi).clamp(-PI, PI), self.mix_pdf(pdf));
             }
+            at = LobePoint::at(next, self.c);
             w = next;
-            at = LobePoint::at(w, self.c);
             h = residual(w, at.phi);
         }
         (at.phi, self.mix_pdf(at.pdf))
