@@ -358,3 +358,27 @@ fn invert_undoes_sample() {
     }
     assert!(view.invert(1.5, 0.0, 1.0, 0.0).is_none());
 }
+
+#[test]
+fn steep_tails_interpolate_ln_e_even_where_the_plain_spline_undershoots() {
+    // Coarse grid, ρ′ = 0.95, θ = 0.2, r = 30: the four node energies are positive but the plain
+    // spline of E dips below zero there; the table used to return 0 (PBD: about 2e-9).
+    let (table, _) = bake(
+        1.33,
+        Moments::Exact,
+        &Grid::preset(GridPreset::Coarse),
+        false,
+    )
+    .unwrap();
+    let pbd = bssrdf_zoo::pbd::Pbd::new(
+        0.95,
+        bssrdf_zoo::medium::Boundary::new(1.33, Moments::Exact).unwrap(),
+    )
+    .unwrap();
+    let got = table.view().eval(0.95, 0.2, 30.0, 0.0).unwrap();
+    let want = pbd.eval(0.2, 30.0, 0.0, bssrdf_zoo::pbd::Rule::Reference);
+    assert!(
+        got > 0.0 && (got / want - 1.0).abs() < 0.1,
+        "{got} vs {want}"
+    );
+}
