@@ -4,20 +4,10 @@
 use bssrdf_zoo::format::{Compression, LibraryBuilder, Material, Provenance};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
-use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bssrdf(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bssrdf"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod cli_common;
+use cli_common::{bssrdf, text};
 
 fn code(o: &Output) -> Option<i32> {
     assert!(!text(&o.stderr).contains("panicked"), "{}", text(&o.stderr));

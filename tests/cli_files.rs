@@ -2,25 +2,10 @@
 //! pack/unpack, the named materials, the walk, and their error paths (exit code 2 for bad
 //! input, 1 for a failed check).
 
-use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bssrdf(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bssrdf"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{:?}: {}", o.status, text(&o.stderr));
-    text(&o.stdout)
-}
+mod cli_common;
+use cli_common::{bssrdf, ok, text};
 
 fn fails_with(o: &Output, code: i32, needle: &str) {
     assert_eq!(o.status.code(), Some(code), "stderr: {}", text(&o.stderr));

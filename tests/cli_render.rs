@@ -1,27 +1,10 @@
 //! `bssrdf render` end to end: files written, summaries printed, bad input refused with exit
 //! code 2 and the value named.
 
-use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bssrdf(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bssrdf"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("run bssrdf")
-}
-
-fn ok(o: &Output) -> String {
-    let out = String::from_utf8_lossy(&o.stdout).to_string();
-    assert!(
-        o.status.success(),
-        "{}\n{}",
-        out,
-        String::from_utf8_lossy(&o.stderr)
-    );
-    out
-}
+mod cli_common;
+use cli_common::{bssrdf, ok};
 
 fn fails_with(o: &Output, needle: &str) {
     let err = String::from_utf8_lossy(&o.stderr);

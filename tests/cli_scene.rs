@@ -3,24 +3,10 @@
 //! lookups against a full bake through the real binary, and every error path (exit 2).
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bssrdf(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bssrdf"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{:?}: {}", o.status, text(&o.stderr));
-    text(&o.stdout)
-}
+mod cli_common;
+use cli_common::{bssrdf, ok, text};
 
 fn json(o: &Output) -> serde_json::Value {
     serde_json::from_str(&ok(o)).expect("one JSON object")
