@@ -211,13 +211,30 @@ fn tail_wc(s: f64, co: f64, c: f64) -> f64 {
 
 /// pdf_WC from (sin h, cos h) and a clamped c.
 fn pdf_wc_half(s: f64, co: f64, c: f64) -> f64 {
-    // Denominator 1 + c² − 2c·cos φ without cancellation
-    let den = if c >= 0.0 {
+    (1.0 - c) * (1.0 + c) / (TAU * wc_denominator(s, co, c))
+}
+
+/// 1 + c² − 2c·cos φ from (sin h, cos h) and a clamped c, without cancellation.
+fn wc_denominator(s: f64, co: f64, c: f64) -> f64 {
+    if c >= 0.0 {
         (1.0 - c) * (1.0 - c) + 4.0 * c * s * s
     } else {
         (1.0 + c) * (1.0 + c) - 4.0 * c * co * co
-    };
-    (1.0 - c) * (1.0 + c) / (TAU * den)
+    }
+}
+
+/// f(φ) of the profile [`Gwc::from_table`]`(e, beta, c, r)` builds, for r > 0 given as 1/r and
+/// φ in [−π, π], with the same clamps and without building it: (E/r + β(L − 1))/2π with
+/// L = 2π·pdf_WC(φ; c). Equal to `from_table(…).eval(φ)` up to rounding, with two dependent
+/// divisions fewer after E is known (an evaluation's E comes last, out of a logarithm).
+#[inline]
+pub(crate) fn table_value(e: f64, beta: f64, c: f64, inv_r: f64, phi: f64) -> f64 {
+    let (s, co) = half_angle(phi);
+    let c = clamp_c(c);
+    let lobe = (1.0 - c) * (1.0 + c) / wc_denominator(s, co, c);
+    let beta = if beta.is_finite() { beta.max(0.0) } else { 0.0 };
+    let e_per_r = (e * inv_r).max(0.0);
+    (e_per_r + beta.min(e_per_r) * (lobe - 1.0)) * (1.0 / TAU)
 }
 
 /// cdf_WC for φ inside (−π, π), from (sin h, cos h) and a clamped c.

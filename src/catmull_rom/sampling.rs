@@ -65,17 +65,24 @@ impl Nodes {
         cumulative: impl Fn(usize) -> f64,
         u: f64,
     ) -> Option<Sample> {
-        self.sample_with(|i| self.around(&values, i), cumulative, u)
+        self.sample_with(|i| self.around(&values, i), cumulative, u, None)
     }
 
     /// [`Nodes::sample`] with the values read four at a time: `around(i)` gives those of nodes
     /// i − 1 … i + 2 (entries for nodes outside the array are not used), as
     /// [`Nodes::around`] does. A caller that interpolates table rows reads each row once.
+    ///
+    /// `hint` is a guess of the segment (for a table, the segment of the row with the largest
+    /// weight): the search starts there and walks, reading Cₖ at the nodes it passes, instead
+    /// of bisecting all the nodes. Any hint gives the same segment wherever C increases; a
+    /// good one saves most of the reads of C, which for an interpolated table are the
+    /// expensive part of a draw.
     pub(crate) fn sample_with(
         &self,
         around: impl Fn(usize) -> [f64; 4],
         cumulative: impl Fn(usize) -> f64,
         u: f64,
+        hint: Option<usize>,
     ) -> Option<Sample> {
         if !(0.0..=1.0).contains(&u) {
             return None;
@@ -85,7 +92,10 @@ impl Nodes {
             return None;
         }
         let goal = u * total;
-        let (k, c0, c1) = self.find_cumulative(&cumulative, goal, total);
+        let (k, c0, c1) = match hint {
+            Some(hint) => self.find_cumulative_near(&cumulative, goal, total, hint),
+            None => self.find_cumulative(&cumulative, goal, total),
+        };
         let piece = Piece {
             positive: self.segment_from(k, around(k))?.positive(),
             c0,
@@ -195,9 +205,21 @@ impl Nodes {
         total: f64,
     ) -> (usize, f64, f64) {
         let len = self.x.len();
-        let (mut lo, mut hi) = (1, len.saturating_sub(1));
-        // C_{lo−1} and C_hi once read (NaN until then)
-        let (mut c_below, mut c_above) = (f64::NAN, total);
+        Self::bisect_cumulative(cumulative, goal, (1, f64::NAN), (len - 1, total))
+    }
+
+    /// Bisection for the segment of `goal` among the nodes lo … hi: the first node i in
+    /// [lo, hi] with Cᵢ > `goal` ends segment i − 1, where node hi counts as above `goal` (it is
+    /// known to be, or is the last node). `below` is C_{lo−1} if known (NaN if not: it is read
+    /// when needed), `above` is C_hi.
+    fn bisect_cumulative(
+        cumulative: &impl Fn(usize) -> f64,
+        goal: f64,
+        (mut lo, below): (usize, f64),
+        (mut hi, above): (usize, f64),
+    ) -> (usize, f64, f64) {
+        let first = lo;
+        let (mut c_below, mut c_above) = (below, above);
         while lo < hi {
             let mid = lo + (hi - lo) / 2;
             let c = cumulative(mid);
@@ -208,10 +230,48 @@ impl Nodes {
             }
         }
         let k = lo - 1;
-        if k == 0 {
-            c_below = cumulative(0);
+        if lo == first && c_below.is_nan() {
+            c_below = cumulative(k);
         }
         (k, c_below, c_above)
+    }
+
+    /// [`Nodes::find_cumulative`] started from segment `hint`: reads C at its two nodes, walks
+    /// at most two segments towards `goal`, and bisects what is left beyond. Where C increases,
+    /// exactly one segment k (0 ≤ k ≤ n − 2) has (k = 0 or Cₖ ≤ goal) and
+    /// (k = n − 2 or goal < C_{k+1}), and both searches return it; where C decreases somewhere,
+    /// either may return another segment that also satisfies both conditions.
+    fn find_cumulative_near(
+        &self,
+        cumulative: &impl Fn(usize) -> f64,
+        goal: f64,
+        total: f64,
+        hint: usize,
+    ) -> (usize, f64, f64) {
+        let last = self.x.len() - 1;
+        let c = |i: usize| if i == last { total } else { cumulative(i) };
+        let mut k = hint.min(last - 1);
+        let (mut c0, mut c1) = (cumulative(k), c(k + 1));
+        for _ in 0..2 {
+            if k > 0 && goal < c0 {
+                (k, c1) = (k - 1, c0);
+                c0 = cumulative(k);
+            } else if k + 1 < last && c1 <= goal {
+                (k, c0) = (k + 1, c1);
+                c1 = c(k + 1);
+            } else {
+                return (k, c0, c1);
+            }
+        }
+        if k > 0 && goal < c0 {
+            // Below node k, which is above goal
+            Self::bisect_cumulative(cumulative, goal, (1, f64::NAN), (k, c0))
+        } else if k + 1 < last && c1 <= goal {
+            // Beyond node k + 1, which is at most goal
+            Self::bisect_cumulative(cumulative, goal, (k + 2, c1), (last, total))
+        } else {
+            (k, c0, c1)
+        }
     }
 
     /// Segment k with its cumulative values.
@@ -246,6 +306,53 @@ impl Piece {
             p
         } else {
             0.0
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Nodes;
+
+    /// The hinted search returns the bisection's segment and cumulative values for every hint
+    /// and every goal, node values and the ends included, where C increases.
+    #[test]
+    fn hinted_search_agrees_with_bisection() {
+        let nodes = Nodes::new((0..12).map(|i| f64::from(i).powf(1.5)).collect::<Vec<_>>())
+            .expect("increasing nodes");
+        let c: Vec<f64> = (0..12).map(|i| f64::from(i * i) + f64::from(i)).collect();
+        let total = c[11];
+        let cumulative = |k: usize| c[k];
+        let goals = (0..=200)
+            .map(|j| total * f64::from(j) / 200.0)
+            .chain(c.iter().copied());
+        for goal in goals {
+            let want = nodes.find_cumulative(&cumulative, goal, total);
+            for hint in 0..14 {
+                let got = nodes.find_cumulative_near(&cumulative, goal, total, hint);
+                assert_eq!(got, want, "goal {goal}, hint {hint}");
+            }
+        }
+    }
+
+    /// Where C decreases, the hinted search still returns a segment that brackets the goal.
+    #[test]
+    fn hinted_search_brackets_the_goal_where_the_cdf_dips() {
+        let nodes = Nodes::new((0..8).map(f64::from).collect::<Vec<_>>()).expect("nodes");
+        let c = [0.0, 1.0, 3.0, 2.5, 4.0, 6.0, 5.9, 8.0];
+        let cumulative = |k: usize| c[k];
+        for j in 0..=80 {
+            let goal = 8.0 * f64::from(j) / 80.0;
+            for hint in 0..8 {
+                let (k, c0, c1) = nodes.find_cumulative_near(&cumulative, goal, 8.0, hint);
+                assert!(k <= 6);
+                assert_eq!((c0, c1), (c[k], c[k + 1]));
+                assert!(k == 0 || c0 <= goal, "goal {goal}, hint {hint}: C_k = {c0}");
+                assert!(
+                    k == 6 || goal < c1,
+                    "goal {goal}, hint {hint}: C_k+1 = {c1}"
+                );
+            }
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use super::{TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
-use crate::gwc::Gwc;
+use crate::gwc::{table_value, Gwc};
 use std::f64::consts::{PI, TAU};
 
 /// One draw of (r, φ) for a given (ρ′, θ).
@@ -280,7 +280,8 @@ impl<'a> TableRef<'a> {
     fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Gwc {
         let first = self.radial_window(w);
         let acc = self.window_params(s, first);
-        self.profile_from(acc, first, r_eval, w, s.rho, s.theta)
+        let [e, beta, c] = self.cell_from(acc, first, r_eval, w, s.rho, s.theta);
+        Gwc::from_table(e, beta, c, r_eval)
     }
 
     /// The first of the four consecutive radius nodes, inside the axis, that hold the weights
@@ -290,10 +291,11 @@ impl<'a> TableRef<'a> {
         w.segment().saturating_sub(1).min(n_r.saturating_sub(4))
     }
 
-    /// The profile from (E, E_β, c) blended at the radius nodes `first..first + 4` (as
+    /// The arguments (E, β, c) of [`Gwc::from_table`] for the profile at `r_eval`, from
+    /// (E, E_β, c) blended at the radius nodes `first..first + 4` (as
     /// [`TableRef::window_params`] gives them), the radius weights `w` at `r_eval` and (ρ′, θ).
     #[inline(always)]
-    fn profile_from(
+    fn cell_from(
         &self,
         acc: [f32; 12],
         first: usize,
@@ -301,7 +303,7 @@ impl<'a> TableRef<'a> {
         w: &Weights,
         rho: f64,
         theta: f64,
-    ) -> Gwc {
+    ) -> [f64; 3] {
         let segment = w.segment();
         let params: [[f64; 3]; 4] =
             std::array::from_fn(|k| std::array::from_fn(|j| f64::from(acc[3 * k + j])));
@@ -324,7 +326,7 @@ impl<'a> TableRef<'a> {
             let beta1 = (e_beta1 / r1).clamp(0.0, e1.max(0.0) / r1);
             let e_per_r =
                 (e1 / r1).max(0.0) + TAU * self.log_slope(rho, theta) * (r1 / r_eval).ln();
-            return Gwc::from_table(e_per_r * r_eval, beta1, c1, r_eval);
+            return [e_per_r * r_eval, beta1, c1];
         }
         let ln = ln_energies(acc, weights);
         let (mut e_lin, mut e_beta, mut c, mut ln_e) = (0.0, 0.0, 0.0, 0.0);
@@ -350,7 +352,7 @@ impl<'a> TableRef<'a> {
         } else {
             0.0
         };
-        Gwc::from_table(e, share * e / r_eval, c, r_eval)
+        [e, share * e / r_eval, c]
     }
 
     /// The radius at which to evaluate r, with its Catmull-Rom weights; `None` for r outside
@@ -382,18 +384,20 @@ impl<'a> TableRef<'a> {
     /// stored axes (a scene bake keeps only some albedo rows: never extrapolated). Outside the
     /// radial support (r < 0, r beyond the last node, NaN r or φ) the value is 0.
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
-        let profile = self.profile_at_point(rho, theta, r)?;
+        let cell = self.cell_at_point(rho, theta, r)?;
         if !phi.is_finite() {
             return Some(0.0);
         }
-        Some(profile.map_or(0.0, |g| g.eval(wrap_phi(phi))))
+        Some(cell.map_or(0.0, |([e, beta, c], r_eval)| {
+            table_value(e, beta, c, 1.0 / r_eval, wrap_phi(phi))
+        }))
     }
 
-    /// The GWC profile at (ρ′, θ, r) without building a slice (evaluation needs nothing else of
-    /// it): `None` if (ρ′, θ) is outside the axes, `Some(None)` where [`TableRef::radius`] is
-    /// `None`.
+    /// The arguments (E, β, c) of [`Gwc::from_table`] for the profile at (ρ′, θ, r), with the
+    /// radius to evaluate at, without building a slice (evaluation needs nothing else of it):
+    /// `None` if (ρ′, θ) is outside the axes, `Some(None)` where [`TableRef::radius`] is `None`.
     #[inline(always)]
-    fn profile_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<Gwc>> {
+    fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<([f64; 3], f64)>> {
         // The three weight searches first: they are independent and overlap in the pipeline.
         let rho_weights = self.axes.rho().weights(rho)?;
         let theta_weights = self.axes.theta().weights(theta)?;
@@ -402,14 +406,19 @@ impl<'a> TableRef<'a> {
         };
         let first = self.radial_window(&w);
         let acc = self.window_at(&rho_weights, &theta_weights, first);
-        Some(Some(self.profile_from(acc, first, r_eval, &w, rho, theta)))
+        Some(Some((
+            self.cell_from(acc, first, r_eval, &w, rho, theta),
+            r_eval,
+        )))
     }
 
     /// The perpendicular-incidence model: the θ = 0 slice at every θ, uniform in φ (pbrt's
     /// assumption), S = E(ρ′, 0, r)/(2πr).
     pub fn eval_perpendicular(&self, rho: f64, r: f64) -> Option<f64> {
-        let profile = self.profile_at_point(rho, 0.0, r)?;
-        Some(profile.map_or(0.0, |g| g.integral() / TAU))
+        let cell = self.cell_at_point(rho, 0.0, r)?;
+        Some(cell.map_or(0.0, |([e, beta, c], r_eval)| {
+            Gwc::from_table(e, beta, c, r_eval).integral() / TAU
+        }))
     }
 
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
@@ -432,9 +441,7 @@ impl<'a> TableRef<'a> {
     }
 
     fn sample_slice(&self, s: &Slice, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let e = |k: usize| self.blend_e_around(s, k);
-        let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
-        let radial = self.axes.r().sample_with(e, cdf, u_r)?;
+        let radial = self.sample_radius(s, u_r)?;
         let g = self.profile_at(s, radial.x)?;
         let (phi, pdf_phi) = g.sample_with_pdf(u_phi);
         let pdf_area = radial.pdf * pdf_phi / radial.x;
@@ -443,6 +450,36 @@ impl<'a> TableRef<'a> {
             phi,
             pdf_area,
         })
+    }
+
+    /// Draws r from the spline of E interpolated over the slice, by inverting its radial CDF
+    /// (the rows' CDFs blended with the same weights).
+    ///
+    /// The segment search starts from the segment of the row with the largest weight, found in
+    /// that row's own CDF (one contiguous f32 row instead of 16 scattered ones): the blended
+    /// CDF is a mixture of rows of nearby (ρ′, θ), so the guess is usually exact or one segment
+    /// off, and the search reads the blended CDF at two or three nodes instead of bisecting 64.
+    fn sample_radius(&self, s: &Slice, u: f64) -> Option<crate::catmull_rom::Sample> {
+        let (_, _, n_r) = self.axes.dims();
+        let n = s.len.min(16);
+        let mut heaviest = 0;
+        for k in 1..n {
+            if s.weights_f64[k] > s.weights_f64[heaviest] {
+                heaviest = k;
+            }
+        }
+        let hint = s.offsets.get(heaviest).and_then(|&offset| {
+            let row = self
+                .radial_cdf
+                .get(offset as usize..offset as usize + n_r)?;
+            let (&total, inner) = row.split_last()?;
+            let goal = (u * f64::from(total)) as f32;
+            // Nodes 1 … n − 2 at most goal: segment of the first node above it, minus one
+            Some(inner.get(1..)?.partition_point(|&c| c <= goal))
+        });
+        let e = |k: usize| self.blend_e_around(s, k);
+        let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+        self.axes.r().sample_with(e, cdf, u, hint)
     }
 
     /// Density per unit area of [`TableRef::sample`] at (r, φ), reduced mfp⁻².
@@ -469,9 +506,7 @@ impl<'a> TableRef<'a> {
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let s = self.slice(rho, 0.0)?;
-        let e = |k: usize| self.blend_e_around(&s, k);
-        let cdf = |k: usize| Self::blend(&s, self.radial_cdf, k, 1);
-        let radial = self.axes.r().sample_with(e, cdf, u_r)?;
+        let radial = self.sample_radius(&s, u_r)?;
         let phi = (TAU * u_phi - PI).clamp(-PI, PI);
         Some(Sample {
             r: radial.x,
