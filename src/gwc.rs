@@ -138,10 +138,12 @@
 //! §3.2 (model, Eq. 1), §3.3 (anchors, fit), §4.1 (evaluation), §4.2 (sampling), §7.3.
 
 mod sample;
+mod trig;
 
 use std::f64::consts::{PI, TAU};
 
 use crate::error::{finite, in_range, Error, Result};
+use trig::sin_quarter;
 
 /// Anchor cosines (cos φ1, cos φ2, cos φ3) of the three-anchor fit (Ferrier 2016, §3.3).
 pub const ANCHOR_COS: [f64; 3] = [0.9530, 0.4050, -0.7527];
@@ -201,7 +203,7 @@ fn clamp_c(c: f64) -> f64 {
 /// (sin h, cos h) for h = |φ|/2, with cos h exactly 0 at |φ| = π (the float `PI`).
 fn half_angle(phi: f64) -> (f64, f64) {
     let a = phi.abs();
-    ((0.5 * a).sin(), (0.5 * (PI - a)).sin())
+    (sin_quarter(0.5 * a), sin_quarter(0.5 * (PI - a)))
 }
 
 /// One-sided tail mass ∫_{|φ|}^{π} pdf_WC, from (sin h, cos h), in [0, 1/2].
@@ -601,7 +603,7 @@ mod tests {
 
     #[test]
     fn half_angle_cosine_vanishes_exactly_at_pi() {
-        assert_eq!(half_angle(PI), (FRAC_PI_2.sin(), 0.0));
+        assert_eq!(half_angle(PI), (sin_quarter(FRAC_PI_2), 0.0));
         assert_eq!(half_angle(-PI).1, 0.0);
         assert_eq!(half_angle(0.0), (0.0, 1.0));
     }

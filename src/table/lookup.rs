@@ -48,10 +48,9 @@ struct Slice {
     len: usize,
     /// Index of node 0 of each row in `radial_cdf` (in `params`, times `PARAMS_PER_NODE`).
     offsets: [u32; 16],
-    /// f32: the table's values are f32 and are blended in f32 (see `window_params`).
+    /// f32: the table's values are f32 and are blended in f32 (see `window_params`); the blends
+    /// in f64 widen them (exactly).
     weights: [f32; 16],
-    /// The same weights in f64, for the blends in f64.
-    weights_f64: [f64; 16],
     rho: f64,
     theta: f64,
 }
@@ -109,7 +108,6 @@ impl<'a> TableRef<'a> {
             len,
             offsets,
             weights,
-            weights_f64: weights.map(f64::from),
             rho,
             theta,
         }
@@ -133,11 +131,11 @@ impl<'a> TableRef<'a> {
         let n = s.len.min(16);
         for (offsets, weights) in s.offsets[..n]
             .chunks_exact(4)
-            .zip(s.weights_f64[..n].chunks_exact(4))
+            .zip(s.weights[..n].chunks_exact(4))
         {
             for (&offset, &w) in offsets.iter().zip(weights) {
                 if let Some(&v) = values.get((offset as usize + k) * stride) {
-                    sum += w * f64::from(v);
+                    sum += f64::from(w) * f64::from(v);
                 }
             }
         }
@@ -161,7 +159,8 @@ impl<'a> TableRef<'a> {
         let first = k.saturating_sub(1).min(n_r - 4);
         let mut acc = [0.0f64; 4];
         let n = s.len.min(16);
-        for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights_f64[..n]) {
+        for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights[..n]) {
+            let w = f64::from(w);
             let base = (offset as usize + first) * PARAMS_PER_NODE;
             if let Some(window) = self.params.get(base..).and_then(<[f32]>::first_chunk::<10>) {
                 for (acc, &e) in acc.iter_mut().zip(window.iter().step_by(PARAMS_PER_NODE)) {
@@ -267,20 +266,14 @@ impl<'a> TableRef<'a> {
         acc
     }
 
-    /// The GWC profile at (slice, r), from the radius and weights of [`TableRef::radius`].
-    ///
-    /// Along r, E is interpolated as exp(Catmull-Rom of ln E) wherever the four nodes of the
-    /// segment hold positive energy: E(r) is close to the exponential of a smooth function, and
-    /// on the 1.2-ratio grid this removes most of the spline's error in the exponential tail
-    /// (see the README for the measured effect). Elsewhere (the first interval, where E(0) = 0,
-    /// and underflowed tails) E is the plain spline. The lobe's share E_β/E and c come from the
-    /// plain spline. Sampling keeps the plain spline of E, so sample and pdf stay an exact pair
-    /// (S/pdf and ρ_eff then differ by a median 8e-5, see the module docs).
+    /// The GWC profile at (slice, r), from the radius and weights of [`TableRef::radius`], for
+    /// the samplers: its normalised density in φ is the table's, its energy the plain spline
+    /// of E (see [`TableRef::cell_from`]; the density does not depend on it).
     #[inline(always)]
     fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Gwc {
         let first = self.radial_window(w);
         let acc = self.window_params(s, first);
-        let [e, beta, c] = self.cell_from(acc, first, r_eval, w, s.rho, s.theta);
+        let [e, beta, c] = self.cell_from::<false>(acc, first, r_eval, w, s.rho, s.theta);
         Gwc::from_table(e, beta, c, r_eval)
     }
 
@@ -294,8 +287,19 @@ impl<'a> TableRef<'a> {
     /// The arguments (E, β, c) of [`Gwc::from_table`] for the profile at `r_eval`, from
     /// (E, E_β, c) blended at the radius nodes `first..first + 4` (as
     /// [`TableRef::window_params`] gives them), the radius weights `w` at `r_eval` and (ρ′, θ).
+    ///
+    /// Along r, E is interpolated as exp(Catmull-Rom of ln E) wherever the four nodes of the
+    /// segment hold positive energy (`LOG_ENERGY`): E(r) is close to the exponential of a
+    /// smooth function, and on the 1.2-ratio grid this removes most of the spline's error in the
+    /// exponential tail (see the README for the measured effect). Elsewhere (the first interval,
+    /// where E(0) = 0, and underflowed tails) E is the plain spline. The lobe's share E_β/E and
+    /// c come from the plain spline, so the profile's normalised density in φ (the floor's
+    /// weight λ = 1 − E_β/E and c) does not depend on how E is interpolated, except in the first
+    /// interval: the samplers skip the logarithms (`LOG_ENERGY = false`). Sampling keeps the
+    /// plain spline of E along r, so sample and pdf stay an exact pair (S/pdf and ρ_eff then
+    /// differ by a median 8e-5, see the module docs).
     #[inline(always)]
-    fn cell_from(
+    fn cell_from<const LOG_ENERGY: bool>(
         &self,
         acc: [f32; 12],
         first: usize,
@@ -328,7 +332,13 @@ impl<'a> TableRef<'a> {
                 (e1 / r1).max(0.0) + TAU * self.log_slope(rho, theta) * (r1 / r_eval).ln();
             return [e_per_r * r_eval, beta1, c1];
         }
-        let ln = ln_energies(acc, weights);
+        // (The energies' logarithms come straight from the window: reading them from `params`
+        // instead makes the compiler scalarise the blend's loads.)
+        let ln = if LOG_ENERGY {
+            ln_energies(acc, weights)
+        } else {
+            [0.0; 4]
+        };
         let (mut e_lin, mut e_beta, mut c, mut ln_e) = (0.0, 0.0, 0.0, 0.0);
         let mut positive = true;
         for ((&wk, [e, eb, ck]), ln) in weights.iter().zip(params).zip(ln) {
@@ -346,7 +356,11 @@ impl<'a> TableRef<'a> {
         }
         // All four node energies positive: ln E interpolates even where the plain spline of E
         // undershoots below zero in a steep tail (it would give 0 there).
-        let e = if positive { ln_e.exp() } else { e_lin };
+        let e = if LOG_ENERGY && positive {
+            ln_e.exp()
+        } else {
+            e_lin
+        };
         let share = if e_lin > 0.0 {
             (e_beta / e_lin).clamp(0.0, 1.0)
         } else {
@@ -407,7 +421,7 @@ impl<'a> TableRef<'a> {
         let first = self.radial_window(&w);
         let acc = self.window_at(&rho_weights, &theta_weights, first);
         Some(Some((
-            self.cell_from(acc, first, r_eval, &w, rho, theta),
+            self.cell_from::<true>(acc, first, r_eval, &w, rho, theta),
             r_eval,
         )))
     }
@@ -464,7 +478,7 @@ impl<'a> TableRef<'a> {
         let n = s.len.min(16);
         let mut heaviest = 0;
         for k in 1..n {
-            if s.weights_f64[k] > s.weights_f64[heaviest] {
+            if s.weights[k] > s.weights[heaviest] {
                 heaviest = k;
             }
         }
@@ -474,8 +488,10 @@ impl<'a> TableRef<'a> {
                 .get(offset as usize..offset as usize + n_r)?;
             let (&total, inner) = row.split_last()?;
             let goal = (u * f64::from(total)) as f32;
-            // Nodes 1 … n − 2 at most goal: segment of the first node above it, minus one
-            Some(inner.get(1..)?.partition_point(|&c| c <= goal))
+            // Nodes 1 … n − 2 at most goal: segment of the first node above it, minus one (the
+            // row's CDF never decreases). Counted, not bisected: the loads are independent and
+            // the comparisons vectorise, where a bisection waits for each load in turn.
+            Some(inner.get(1..)?.iter().filter(|&&c| c <= goal).count())
         });
         let e = |k: usize| self.blend_e_around(s, k);
         let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
