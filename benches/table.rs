@@ -1,6 +1,8 @@
 //! The angular table: bake of the default grid, evaluate, sample, pdf and the path-tracing draw,
 //! with the perpendicular model (pbrt's assumption: θ = 0 slice, uniform φ) measured in the same
-//! run as the baseline. Run: `cargo bench --bench table`.
+//! run as the baseline, and the Catmull-Rom weights on each of the table's three axes (an
+//! evaluation computes one set per axis). Run: `cargo bench --bench table`, or
+//! `cargo bench --bench table -- axes` for the weights alone.
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::rng::SplitMix64;
@@ -38,6 +40,25 @@ fn bench(c: &mut Criterion) {
             ]
         })
         .collect();
+
+    // The weights at the lookups' own (ρ′, θ, r), on the axes as baked (f32-rounded nodes)
+    let axes = table.axes();
+    let mut group = c.benchmark_group("axes");
+    for (name, nodes, k) in [
+        ("rho", axes.rho(), 0),
+        ("theta", axes.theta(), 1),
+        ("r", axes.r(), 2),
+    ] {
+        let xs: Vec<f64> = points.iter().map(|p| p[k]).collect();
+        let mut i = 0usize;
+        group.bench_function(format!("weights_{name}"), |b| {
+            b.iter(|| {
+                i = (i + 1) % xs.len();
+                nodes.weights(black_box(xs[i]))
+            })
+        });
+    }
+    group.finish();
 
     let mut group = c.benchmark_group("lookup");
     let mut i = 0usize;

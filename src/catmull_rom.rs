@@ -42,10 +42,14 @@
 //!   residual is at rounding level (4ε times the polynomial's summed coefficient magnitudes),
 //!   or after [`MAX_ITERATIONS`]. pbrt stops at 10⁻⁶ and has no iteration cap.
 
+mod cells;
 mod guide;
 mod sampling;
+#[cfg(test)]
+mod tests;
 
 use crate::error::{finite, in_range, Error, Result};
+use cells::{Cell, Cells};
 use guide::Guide;
 
 /// Tolerance of the Newton–bisection solves, in units of the segment parameter t.
@@ -64,12 +68,25 @@ pub const MAX_ITERATIONS: usize = 100;
 #[derive(Debug, Clone)]
 pub struct Nodes {
     x: Box<[f64]>,
-    /// Per segment i: [1/wᵢ, s₀, s₁], the inverse width and the factors wᵢ/(x_{i+1} − x_{i−1})
-    /// and wᵢ/(x_{i+2} − xᵢ) of the two end slopes (NaN where the end is one-sided; unused
-    /// there). Derived from `x` once so that [`Nodes::weights`] does no division.
-    segment_factors: Box<[[f64; 3]]>,
-    /// Cells that narrow the segment search down to a node or two (nodes ≥ 0 only).
+    /// Per segment, what [`Nodes::weights`] needs of it, derived from `x` once so that it does
+    /// no division.
+    spans: Box<[Span]>,
+    /// Cells that give the segment of x directly (`catmull_rom/cells.rs`), or none. Their hot
+    /// segments are those where [`Span::is_simple`].
+    cells: Cells,
+    /// Without cells: cells that narrow the search down to a few nodes (nodes ≥ 0 only).
     guide: Option<Guide>,
+}
+
+/// Segment i as [`Nodes::weights`] reads it: xᵢ, 1/wᵢ and the factors s₀ = wᵢ/(x_{i+1} − x_{i−1})
+/// and s₁ = wᵢ/(x_{i+2} − xᵢ) of the two end slopes (NaN where the end is one-sided; unused
+/// there).
+#[derive(Debug, Clone, Copy)]
+struct Span {
+    x0: f64,
+    inv_width: f64,
+    s0: f64,
+    s1: f64,
 }
 
 /// The Catmull-Rom weights of the four nodes around one point.
@@ -80,7 +97,6 @@ pub struct Nodes {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Weights {
     segment: usize,
-    len: usize,
     w: [f64; 4],
 }
 
@@ -145,7 +161,7 @@ impl Nodes {
                 }
             }
         }
-        let segment_factors = (0..x.len() - 1)
+        let spans: Box<[Span]> = (0..x.len() - 1)
             .map(|i| {
                 let width = x[i + 1] - x[i];
                 let s0 = i
@@ -154,13 +170,26 @@ impl Nodes {
                 let s1 = x
                     .get(i + 2)
                     .map_or(f64::NAN, |&after| width / (after - x[i]));
-                [1.0 / width, s0, s1]
+                Span {
+                    x0: x[i],
+                    inv_width: 1.0 / width,
+                    s0,
+                    s1,
+                }
             })
             .collect();
-        let guide = Guide::new(&x);
+        let cells = Cells::new(&x, |i| {
+            spans.get(i).is_some_and(|span| span.is_simple(i, &x))
+        });
+        let guide = if cells.is_empty() {
+            Guide::new(&x)
+        } else {
+            None
+        };
         Ok(Self {
             x,
-            segment_factors,
+            spans,
+            cells,
             guide,
         })
     }
@@ -172,42 +201,55 @@ impl Nodes {
 
     /// The Catmull-Rom weights at `x`, or `None` if `x` is NaN or outside [x₀, x_{n−1}].
     ///
-    /// Find segment i with xᵢ ≤ x (the last segment for x = x_{n−1}): a guide computed with the
-    /// nodes (`catmull_rom/guide.rs`) narrows it down to one or two segments, or a binary search
-    /// does. With the basis of the module docs, the weights of nodes i−1 … i+2 are
+    /// Find segment i with xᵢ ≤ x (the last segment for x = x_{n−1}): keyed cells computed with
+    /// the nodes (`catmull_rom/cells.rs`) give it with one comparison, or a guide
+    /// (`catmull_rom/guide.rs`) and a binary search do. With the basis of the module docs, the
+    /// weights of nodes i−1 … i+2 are
     ///
     /// (−s₀h₁₀, h₀₀ − s₁h₁₁, h₀₁ + s₀h₁₀, s₁h₁₁), s₀ = wᵢ/(x_{i+1} − x_{i−1}), s₁ = wᵢ/(x_{i+2} − xᵢ);
     ///
     /// on the first segment h₁₀ moves from nodes (i−1, i+1) to (i, i+1) with s₀ = 1, and on the
     /// last segment h₁₁ moves from nodes (i, i+2) to (i, i+1) with s₁ = 1. They sum to 1. At a
     /// node, its weight is exactly 1 and the others exactly 0.
+    #[inline]
     pub fn weights(&self, x: f64) -> Option<Weights> {
-        let i = self.find_segment(x)?;
-        let (x0, [inv_width, s0, s1]) = (*self.x.get(i)?, *self.segment_factors.get(i)?);
-        let t = ((x - x0) * inv_width).clamp(0.0, 1.0);
-        let (t2, t3) = (t * t, t * t * t);
-        let mut w = [0.0, 2.0 * t3 - 3.0 * t2 + 1.0, -2.0 * t3 + 3.0 * t2, 0.0];
-        let (h10, h11) = (t3 - 2.0 * t2 + t, t3 - t2);
-        // Slope at xᵢ: central difference, or one-sided on the first segment
-        if i > 0 {
-            w[0] -= h10 * s0;
-            w[2] += h10 * s0;
-        } else {
-            w[1] -= h10;
-            w[2] += h10;
-        }
-        // Slope at x_{i+1}: central difference, or one-sided on the last segment
-        if i + 2 < self.x.len() {
-            w[1] -= h11 * s1;
-            w[3] += h11 * s1;
-        } else {
-            w[1] -= h11;
-            w[2] += h11;
-        }
+        // The common case: a hot cell gives a simple segment (`cells.rs`). Everything else
+        // (end segments, x outside or NaN, node sets without cells) takes the general path,
+        // which returns the whole result so that this one needs no saved registers.
+        let Some(cell) = self.cells.get(x) else {
+            return self.searched_weights(x);
+        };
+        let i = cell.hot_segment(x);
+        let Some(span) = self.spans.get(i) else {
+            return self.cell_weights(x, cell);
+        };
         Some(Weights {
             segment: i,
-            len: self.x.len(),
-            w,
+            w: span.simple_weights(x),
+        })
+    }
+
+    /// [`Nodes::weights`] for x in a cell that is not hot or not for x (x outside).
+    #[cold]
+    #[inline(never)]
+    fn cell_weights(&self, x: f64, cell: &Cell) -> Option<Weights> {
+        self.general_weights(x, cell.segment(x))
+    }
+
+    /// [`Nodes::weights`] where the cells miss x: no cells, or x is NaN or outside.
+    #[cold]
+    #[inline(never)]
+    fn searched_weights(&self, x: f64) -> Option<Weights> {
+        self.general_weights(x, self.search(x)?)
+    }
+
+    /// [`Nodes::weights`] on segment i, any segment; `None` if there is no segment i.
+    #[inline(always)]
+    fn general_weights(&self, x: f64, i: usize) -> Option<Weights> {
+        let span = self.spans.get(i)?;
+        Some(Weights {
+            segment: i,
+            w: span.weights(span.t(x), i == 0, i + 2 == self.x.len()),
         })
     }
 
@@ -304,6 +346,14 @@ impl Nodes {
     /// is NaN or outside [x₀, x_{n−1}].
     #[inline]
     fn find_segment(&self, x: f64) -> Option<usize> {
+        match self.cells.get(x) {
+            Some(cell) => Some(cell.segment(x)).filter(|&i| i < self.spans.len()),
+            None => self.search(x),
+        }
+    }
+
+    /// The segment search without cells: range check, then the guide and a binary search.
+    fn search(&self, x: f64) -> Option<usize> {
         let (first, last) = self.ends();
         if x.is_nan() || x < first || x > last {
             return None;
@@ -372,18 +422,90 @@ impl Weights {
         self.w
     }
 
-    /// The (node index, weight) pairs of nodes inside the array with a nonzero weight.
+    /// The (node index, weight) pairs of nodes inside the array with a nonzero weight (nodes
+    /// outside it have weight exactly 0).
     pub fn iter(&self) -> impl Iterator<Item = (usize, f64)> {
-        let Weights { segment, len, w } = *self;
+        let Weights { segment, w } = *self;
         w.into_iter().enumerate().filter_map(move |(k, weight)| {
             let node = (segment + k).checked_sub(1)?;
-            (node < len && weight != 0.0).then_some((node, weight))
+            (weight != 0.0).then_some((node, weight))
         })
     }
 
     /// Σ weight·f(node) over [`Weights::iter`]: the spline through the values `f` at the point.
     pub fn apply(&self, f: impl Fn(usize) -> f64) -> f64 {
         self.iter().map(|(node, weight)| weight * f(node)).sum()
+    }
+}
+
+impl Span {
+    /// Whether segment i (this span, of nodes `x`) is simple: interior (1 ≤ i ≤ n − 3), with
+    /// finite 1/wᵢ, s₀ and s₁, and t ≤ 1 without clamping for every x in [xᵢ, x_{i+1}), checked
+    /// at the float below x_{i+1} since t increases with x. [`Span::simple_weights`] needs this.
+    fn is_simple(&self, i: usize, x: &[f64]) -> bool {
+        let interior = i >= 1 && i + 3 <= x.len();
+        let finite = [self.inv_width, self.s0, self.s1]
+            .iter()
+            .all(|f| f.is_finite());
+        interior
+            && finite
+            && x.get(i + 1)
+                .is_some_and(|&x1| (cells::next_down(x1) - self.x0) * self.inv_width <= 1.0)
+    }
+
+    /// t = (x − xᵢ)/wᵢ for x in the span, clamped to [0, 1] (only rounding takes it out).
+    fn t(&self, x: f64) -> f64 {
+        ((x - self.x0) * self.inv_width).clamp(0.0, 1.0)
+    }
+
+    /// [`Span::weights`] at x in a simple span (see [`Span::is_simple`]), bit for bit.
+    ///
+    /// t = (x − xᵢ)/wᵢ needs no clamp there: x ≥ xᵢ makes it ≥ 0 (or −0 at x = −0, xᵢ = 0,
+    /// which the clamp keeps too), and the span is simple, so t ≤ 1. With d = 2t³ − 3t²,
+    /// h₀₀ = d + 1 and h₀₁ = −d, and with P = s₀h₁₀, Q = s₁h₁₁ the weights are
+    /// (0 − P, h₀₀ − Q, P − d, 0 + Q): the operations of [`Span::weights`] on an interior
+    /// segment, but P − d for h₀₁ + P. Those agree bit for bit: rounding is symmetric, so
+    /// h₀₁ = −d where d ≠ 0; d = +0 where t² and t³ are +0, and then h₀₁ = +0 and P ≥ +0; and
+    /// at t = −0, d = −0 and P = −0, and both give +0. `tests.rs` checks this over many t.
+    #[inline]
+    fn simple_weights(&self, x: f64) -> [f64; 4] {
+        self.interior_weights((x - self.x0) * self.inv_width)
+    }
+
+    /// The weights at t ∈ [0, 1] (or −0) on an interior segment with s₀, s₁ ≥ 0, as
+    /// [`Span::simple_weights`] computes them.
+    #[inline]
+    fn interior_weights(&self, t: f64) -> [f64; 4] {
+        let (t2, t3) = (t * t, t * t * t);
+        let d = 2.0 * t3 - 3.0 * t2;
+        let (h10, h11) = (t3 - 2.0 * t2 + t, t3 - t2);
+        let (p, q) = (h10 * self.s0, h11 * self.s1);
+        [0.0 - p, (d + 1.0) - q, p - d, 0.0 + q]
+    }
+
+    /// The weights at t ∈ [0, 1] (or −0) on segment i, with `first` = (i = 0) and `last` =
+    /// (i = n − 2), from the formula of [`Nodes::weights`].
+    fn weights(&self, t: f64, first: bool, last: bool) -> [f64; 4] {
+        let (t2, t3) = (t * t, t * t * t);
+        let mut w = [0.0, 2.0 * t3 - 3.0 * t2 + 1.0, -2.0 * t3 + 3.0 * t2, 0.0];
+        let (h10, h11) = (t3 - 2.0 * t2 + t, t3 - t2);
+        // Slope at xᵢ: central difference, or one-sided on the first segment
+        if first {
+            w[1] -= h10;
+            w[2] += h10;
+        } else {
+            w[0] -= h10 * self.s0;
+            w[2] += h10 * self.s0;
+        }
+        // Slope at x_{i+1}: central difference, or one-sided on the last segment
+        if last {
+            w[1] -= h11;
+            w[2] += h11;
+        } else {
+            w[1] -= h11 * self.s1;
+            w[3] += h11 * self.s1;
+        }
+        w
     }
 }
 

@@ -1,6 +1,7 @@
 //! A guide for the segment search of [`super::Nodes`]: cells over x, each with the range of
 //! segments that can hold its points, so that finding the segment of x is one table read and,
-//! usually, at most one comparison instead of a binary search over all the nodes.
+//! usually, at most one comparison instead of a binary search over all the nodes. Only node
+//! sets that the keyed cells (`cells.rs`) cannot separate use it.
 //!
 //! For v ≥ 0 the IEEE 754 bit pattern of v increases with v, and shifted right to keep the
 //! exponent and the top m bits of the mantissa it is a piecewise-linear approximation of
