@@ -119,7 +119,9 @@
 //!
 //! [`refine_minimax`] (`gwc/minimax.rs`) moves any admissible fit, the three-anchor one
 //! included, to the admissible GWC of smallest largest relative error over a few more samples,
-//! and keeps the fit unless that lowers the error at the samples.
+//! and keeps the fit unless that lowers the error at the samples. Tables store it where the
+//! three-anchor fit is weak (`table::bake`): their (E, E_β, c) stay GWC parameters, which no
+//! longer pass exactly through the anchors there.
 //!
 //! # Where it breaks down
 //!
