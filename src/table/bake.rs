@@ -264,22 +264,25 @@ fn node_at(pbd: &Pbd, theta: f64, r: f64, anchors: [f64; 3]) -> Result<NodeCell>
     })
 }
 
-/// Incidence from which every node is refined: 45°, less a hair so that a node at π/4 is
-/// refined whichever way its f32 rounding goes. Below it, only nodes whose three-anchor fit
-/// left its anchors (any branch but `Exact`) are.
-const REFINE_THETA_MIN: f64 = 0.25 * PI * (1.0 - 1e-6);
+/// Incidence from which every node is refined, degrees. Below it, only nodes whose
+/// three-anchor fit left its anchors (any branch but `Exact`) are (module docs).
+pub const REFINE_THETA_MIN_DEG: f64 = 45.0;
 
-/// The two azimuths the refinement samples besides φ = 0 and φ = π (radians): near the
-/// interior extremes of the error of PBD against its fits, 37–42° and 94–101° (measured on the
-/// default grid at θ ≥ 60° and r < 1, where the error is largest).
-const REFINE_PHI: [f64; 2] = [38.0 * PI / 180.0, 96.0 * PI / 180.0];
+/// Azimuths at which the refinement samples PBD besides the anchors, degrees: the ends 0 and
+/// 180, and 38 and 96, near the interior extremes of PBD's error against its fits (37–42° and
+/// 94–101° on the default grid at θ ≥ 60° and r < 1, where that error is largest).
+pub const REFINE_PHI_DEG: [f64; 4] = [0.0, 38.0, 96.0, 180.0];
+
+/// [`REFINE_THETA_MIN_DEG`] in radians, less a hair so that a node at π/4 is refined whichever
+/// way its f32 rounding goes.
+const REFINE_THETA_MIN: f64 = REFINE_THETA_MIN_DEG * PI / 180.0 * (1.0 - 1e-6);
 
 /// A node at θ > 0: the three-anchor fit, refined where it is weak (see [`REFINE_THETA_MIN`])
 /// to the smallest largest relative error over seven azimuths: the three anchors, where it is
-/// exact, and 0, [`REFINE_PHI`] and π, near the four extremes of its error. Returns the profile
-/// to store, the fit's branch and whether the refinement was kept ([`refine_minimax`] keeps
-/// the fit unless it lowers the largest error over the seven samples; so does an invalid
-/// sample, which PBD does not produce at r > 0).
+/// exact, and [`REFINE_PHI_DEG`], near the four extremes of its error. Returns the profile to
+/// store, the fit's branch and whether the refinement was kept ([`refine_minimax`] keeps the
+/// fit unless it lowers the largest error over the seven samples; so does an invalid sample,
+/// which PBD does not produce at r > 0).
 fn oblique_node(
     pbd: &Pbd,
     theta: f64,
@@ -291,16 +294,18 @@ fn oblique_node(
     if theta < REFINE_THETA_MIN && fit.branch == FitBranch::Exact {
         return Ok((fit.gwc, fit.branch, false));
     }
-    let extra =
-        [0.0, REFINE_PHI[0], REFINE_PHI[1], PI].map(|phi| pbd.eval(theta, r, phi, Rule::Fast));
+    // 180·π/180 is π exactly; min keeps the samples inside [0, π] regardless
+    let extra_phi = REFINE_PHI_DEG.map(|d| (d * PI / 180.0).min(PI));
+    let extra = extra_phi.map(|phi| pbd.eval(theta, r, phi, Rule::Fast));
+    // In increasing φ: 0, anchor 1 (17.6°), 38°, anchor 2 (66.1°), 96°, anchor 3 (138.8°), π
     let phi = [
-        0.0,
+        extra_phi[0],
         anchors[0],
-        REFINE_PHI[0],
+        extra_phi[1],
         anchors[1],
-        REFINE_PHI[1],
+        extra_phi[2],
         anchors[2],
-        PI,
+        extra_phi[3],
     ];
     let samples = [extra[0], f[0], extra[1], f[1], extra[2], f[2], extra[3]];
     Ok(match refine_minimax(&fit.gwc, &phi, &samples) {
