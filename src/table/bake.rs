@@ -22,7 +22,7 @@
 //!   error over the seven samples.
 //!
 //! Measured on the default grid (η = 1.33): 35,719 of the 56,700 nodes at θ > 0, r > 0 are
-//! refined and the bake takes 1.7 times as long. On the 100,000 points per case of
+//! refined and the bake takes 1.8 times as long. On the 100,000 points per case of
 //! `bssrdf validate` (seed 7), the node profiles computed at each point's own (θ, r) reach
 //! largest errors of 0.92 %, 0.92 % and 0.998 % at ρ′ = 0.5, 0.9 and 0.99 and θ = 89°, against
 //! 1.94 %, 1.04 % and 1.13 % for the three-anchor fit (at ρ′ = 0.5 beyond r ≈ 11, rarely drawn,
