@@ -115,6 +115,14 @@
 //! the limit of the exact branch as a profile flattens (β → 0); flattening through
 //! `AlphaClamped` (f2 → f1) reaches the same function with the constant in β instead.
 //!
+//! # Refinement
+//!
+//! [`refine_minimax`] (`gwc/minimax.rs`) moves any admissible fit, the three-anchor one
+//! included, to the admissible GWC of smallest largest relative error over a few more samples,
+//! and keeps the fit unless that lowers the error at the samples. Tables store it where the
+//! three-anchor fit is weak (`table::bake`): their (E, E_β, c) stay GWC parameters, which no
+//! longer pass exactly through the anchors there.
+//!
 //! # Where it breaks down
 //!
 //! - A GWC profile is monotone in |φ|; bumps between the anchors cannot be represented.
@@ -137,8 +145,11 @@
 //! Source: A. Ferrier, *Non-perpendicular incidence BSSRDF model*, internship report, 2016:
 //! §3.2 (model, Eq. 1), §3.3 (anchors, fit), §4.1 (evaluation), §4.2 (sampling), §7.3.
 
+mod minimax;
 mod sample;
 mod trig;
+
+pub use minimax::{refine_minimax, MinimaxFit, MINIMAX_MAX_SAMPLES};
 
 use std::f64::consts::{PI, TAU};
 

@@ -70,6 +70,16 @@ fn inspect_reports_tables_materials_and_provenance() {
     assert_eq!(json["tables"][0]["eta"], 1.33);
     assert_eq!(json["materials"][0]["name"], "white-grapefruit-juice");
     assert!(json["provenance"]["accuracy"]["tables"][0]["cases"].is_array());
+    // What the bake stores: three-anchor fits, minimax-refined where they are weak
+    let settings = &json["provenance"]["settings"];
+    assert_eq!(
+        settings["anchors_cos_phi"],
+        serde_json::json!([0.953, 0.405, -0.7527])
+    );
+    assert_eq!(
+        settings["minimax_refinement"],
+        serde_json::json!({"theta_min_deg": 45.0, "extra_phi_deg": [0.0, 38.0, 96.0, 180.0], "also_where_the_fit_clamped": true})
+    );
     assert!(json["sections"]
         .as_array()
         .unwrap()

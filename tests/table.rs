@@ -1,10 +1,16 @@
-//! The angular table model: bake determinism, sampling against pdf (chi-square), normalisation,
-//! the report's accuracy protocol (fast form), stability at the extremes, world units.
+//! The angular table model: bake determinism, what the bake stores, sampling against pdf
+//! (chi-square), normalisation, the report's accuracy protocol and its figure 9 (fast forms),
+//! stability at the extremes, world units.
 
 use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::gwc::{fit_three_anchors, FitBranch, Gwc, ANCHOR_COS};
+use bssrdf_zoo::medium::Boundary;
+use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::quadrature::GaussLegendre;
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::{bake, validate, AngularTable, Grid, GridPreset, World, REPORT_TABLE_2};
+use bssrdf_zoo::table::{
+    bake, node_cell, validate, AngularTable, Grid, GridPreset, World, REPORT_TABLE_2,
+};
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
@@ -170,6 +176,47 @@ fn protocol(samples: usize) -> Vec<bssrdf_zoo::table::ValidationRow> {
     validate(&default_table().view(), Moments::Exact, &cases, samples, 7).unwrap()
 }
 
+/// PBD at η = 1.33, as the tables of this file are baked.
+fn pbd(rho: f64) -> Pbd {
+    Pbd::new(rho, Boundary::new(1.33, Moments::Exact).unwrap()).unwrap()
+}
+
+/// The profile the bake stores at (ρ′, θ, r), computed at that exact point (no table).
+fn node_profile(pbd: &Pbd, theta: f64, r: f64) -> Gwc {
+    let [e, e_beta, c] = node_cell(pbd, theta, r).unwrap().cell;
+    Gwc::from_table(e, e_beta / r, c, r)
+}
+
+/// Largest relative error against the reference quadrature of the profiles the bake stores,
+/// each computed at its point's own (θ, r), over `n` points drawn with the default table's
+/// sampler at (ρ′, θ) as `validate` draws them: the table's accuracy without its
+/// interpolation.
+fn node_profile_max_error(rho: f64, theta_deg: f64, n: usize, seed: u64) -> f64 {
+    let (view, pbd, theta) = (default_table().view(), pbd(rho), theta_deg.to_radians());
+    let mut rng = SplitMix64::new(seed);
+    (0..n)
+        .filter_map(|_| view.sample(rho, theta, rng.next_f64(), rng.next_f64()))
+        .map(|s| {
+            let reference = pbd.eval(theta, s.r, s.phi, Rule::Reference);
+            (node_profile(&pbd, theta, s.r).eval(s.phi) / reference - 1.0).abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+// Ferrier's figure 9: at η = 1.33 and g = 0, for ρ′ = 0.5 and 0.99, every one of 100 000
+// points drawn with the table's sampler is within 1 % of the reference, "even for grazing
+// angles". The table holds it at 0° and 60° with the protocol's seed 7 (with other seeds a
+// point or two in 10⁵ next to r₁ can exceed 1 %: the lookup's first two radius intervals).
+// At 89° the profiles it stores hold it (for ρ′ = 0.99 and 0.9; for 0.5 up to r ≈ 11, beyond
+// which no GWC with α ≥ 0 does), but between the θ nodes 80° and 90° the spline's one-sided
+// end slope adds up to 0.17 %, and 2–3 % of the points at 89° end between 1 % and 1.16 %
+// (README, "Accuracy").
+
+/// Whether a case of the protocol is one of figure 9's that the table holds.
+fn figure_9_case(row: &bssrdf_zoo::table::ValidationRow) -> bool {
+    [0.5, 0.99].contains(&row.rho) && row.theta_deg < 89.0
+}
+
 #[test]
 fn accuracy_protocol_fast_form() {
     // 2 000 points per case (the full 100 000 are in the ignored test below and in
@@ -178,11 +225,15 @@ fn accuracy_protocol_fast_form() {
     for row in protocol(2_000) {
         let report = row.report_mean_rel_error.unwrap();
         assert!(row.mean_rel_error < 1.15 * report, "{row:?}");
+        assert!(!figure_9_case(&row) || row.max_rel_error < 0.01, "{row:?}");
     }
+    // Figure 9 at 89°, for the profiles the bake stores (no θ interpolation)
+    let worst = node_profile_max_error(0.99, 89.0, 3_000, 7);
+    assert!(worst < 0.01, "{worst}");
 }
 
 #[test]
-#[ignore = "full protocol: 900 000 reference evaluations, about ten seconds in release"]
+#[ignore = "full protocol and figure 9: 900 000 reference evaluations, 200 000 node fits, about 20 s in release"]
 fn accuracy_protocol_full() {
     for row in protocol(100_000) {
         println!("{row:?}");
@@ -190,6 +241,91 @@ fn accuracy_protocol_full() {
             row.mean_rel_error <= row.report_mean_rel_error.unwrap(),
             "{row:?}"
         );
+        assert!(!figure_9_case(&row) || row.max_rel_error < 0.01, "{row:?}");
+        // The table at 89°, the documented limit: a bound on the share of points above 1 %
+        if row.theta_deg == 89.0 {
+            assert!(
+                row.fraction_above_1pct < 0.03 && row.max_rel_error < 0.0125,
+                "{row:?}"
+            );
+        }
+    }
+    for rho in [0.9, 0.99] {
+        let worst = node_profile_max_error(rho, 89.0, 100_000, 7);
+        println!("node profiles at ({rho}, 89°): largest error {worst}");
+        assert!(worst < 0.01, "{rho}: {worst}");
+    }
+}
+
+#[test]
+fn bake_refines_where_the_three_anchor_fit_is_weak() {
+    let pbd = pbd(0.99);
+    let deg = PI / 180.0;
+    // Grazing incidence: refined, and better than the three-anchor fit over all φ
+    let (theta, r) = (89.0 * deg, 1.4);
+    let node = node_cell(&pbd, theta, r).unwrap();
+    assert!(node.refined && node.branch == FitBranch::Exact, "{node:?}");
+    let f = |phi: f64| pbd.eval(theta, r, phi, Rule::Fast);
+    let s = ANCHOR_COS.map(|x| f(x.acos()));
+    let fit = fit_three_anchors(s[0], s[1], s[2]).unwrap().gwc;
+    let dense_max = |g: &Gwc| {
+        (0..=360)
+            .map(|i| PI * i as f64 / 360.0)
+            .map(|p| (g.eval(p) / f(p) - 1.0).abs())
+            .fold(0.0, f64::max)
+    };
+    let (stored, three) = (dense_max(&node_profile(&pbd, theta, r)), dense_max(&fit));
+    assert!(stored < 0.01 && three > 0.011, "{stored} {three}");
+    // Below 45°, an exact fit is stored as it is
+    let node = node_cell(&pbd, 30.0 * deg, 1.4).unwrap();
+    assert!(!node.refined && node.branch == FitBranch::Exact, "{node:?}");
+    // ... but not where the fit clamped α (far out, here at ρ′ = 0.5)
+    let node = node_cell(&self::pbd(0.5), 30.0 * deg, 20.0).unwrap();
+    assert!(
+        node.refined && node.branch == FitBranch::AlphaClamped,
+        "{node:?}"
+    );
+    // θ = 0 and r = 0 keep their own rules
+    assert!(!node_cell(&pbd, 0.0, 1.4).unwrap().refined);
+    let zero = node_cell(&pbd, theta, 0.0).unwrap();
+    assert!(!zero.refined && zero.branch == FitBranch::Zero && zero.cell == [0.0; 3]);
+    // Arguments outside the grid's range are errors
+    assert!(node_cell(&pbd, -0.1, 1.0).is_err() && node_cell(&pbd, 1.6, 1.0).is_err());
+    assert!(node_cell(&pbd, 0.5, -1.0).is_err() && node_cell(&pbd, 0.5, f64::NAN).is_err());
+}
+
+#[test]
+fn stored_nodes_are_the_node_cells_and_r0_extends_c() {
+    // Every stored cell is `node_cell` rounded to f32, except c at r₀ = 0: the line through
+    // (r₁, c₁) and (r₂, c₂) extended to 0 (0 at θ = 0)
+    let table = default_table();
+    let axes = table.axes();
+    let (_, n_theta, n_r) = axes.dims();
+    let (rho_axis, theta_axis, r) = (
+        axes.rho().as_slice(),
+        axes.theta().as_slice(),
+        axes.r().as_slice(),
+    );
+    for (i, j) in [(10, 0), (57, 9), (80, 5), (99, 3)] {
+        let pbd = pbd(rho_axis[i]);
+        let row = &table.params()[(i * n_theta + j) * n_r * 3..][..n_r * 3];
+        for k in [1, 2, 20, 40, 63] {
+            let cell = node_cell(&pbd, theta_axis[j], r[k]).unwrap().cell;
+            let stored = &row[3 * k..3 * k + 3];
+            for (s, c) in stored.iter().zip(cell) {
+                assert!(
+                    *s == c as f32 || (s.abs() < f32::MIN_POSITIVE && c.abs() < 1e-37),
+                    "{i} {j} {k}"
+                );
+            }
+        }
+        let c = |k: usize| f64::from(row[3 * k + 2]);
+        let extended = c(1) - (c(2) - c(1)) / (r[2] - r[1]) * r[1];
+        assert_eq!(row[..2], [0.0, 0.0]);
+        assert_eq!(row[2], extended as f32, "{i} {j}");
+        if j == 0 {
+            assert_eq!(row[2], 0.0);
+        }
     }
 }
 

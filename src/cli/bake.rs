@@ -252,6 +252,11 @@ impl Baker {
             "fresnel_moments": format!("{:?}", self.moments).to_lowercase(),
             "theta_sampling": theta_sampling,
             "anchors_cos_phi": bssrdf_zoo::gwc::ANCHOR_COS,
+            "minimax_refinement": {
+                "theta_min_deg": bssrdf_zoo::table::REFINE_THETA_MIN_DEG,
+                "extra_phi_deg": bssrdf_zoo::table::REFINE_PHI_DEG,
+                "also_where_the_fit_clamped": true,
+            },
         });
         if let (Some(scene), Some(map)) = (scene, settings.as_object_mut()) {
             map.insert("scene".into(), scene);

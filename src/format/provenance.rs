@@ -337,6 +337,15 @@ mod tests {
     }
 
     #[test]
+    fn numbers_read_back_keep_their_shortest_form() {
+        // Shortest round-trip forms that a best-effort float parser reads 1 ulp off
+        // (0.012062905218408027 came back as ...028 before float_roundtrip).
+        let text = r#"{"accuracy":{"e":[0.012062905218408027,0.012094787878159763,5e-324,1.7976931348623157e+308]},"tool_version":"t"}"#;
+        let p = Provenance::from_json(text.as_bytes()).unwrap();
+        assert_eq!(String::from_utf8(p.to_canonical_json()).unwrap(), text);
+    }
+
+    #[test]
     fn duplicate_keys_are_rejected_at_any_depth() {
         for text in [
             r#"{"tool_version":"a","tool_version":"b"}"#,

@@ -42,7 +42,9 @@ mod lookup;
 mod subset;
 mod validate;
 
-pub use bake::{bake, BakeReport, Grid, GridPreset};
+pub use bake::{
+    bake, node_cell, BakeReport, Grid, GridPreset, NodeCell, REFINE_PHI_DEG, REFINE_THETA_MIN_DEG,
+};
 pub use io::FileTable;
 pub use lookup::{PathSample, Sample, World};
 pub use subset::{bake_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};

@@ -300,12 +300,14 @@ pub fn bake_rows(
     blocks.retain(|b| b.len() >= 2);
     let mut parts = Vec::with_capacity(blocks.len());
     let mut fit_branches = BTreeMap::new();
+    let mut refined = 0;
     let mut done = 0;
     for b in blocks {
         let (table, report) = bake(eta, moments, &grid.rho_rows(b.clone())?, theta_sampling)?;
         for (branch, count) in report.fit_branches {
             *fit_branches.entry(branch).or_insert(0) += count;
         }
+        refined += report.refined;
         parts.push(table);
         done += b.len();
         progress(done);
@@ -315,6 +317,7 @@ pub fn bake_rows(
         seconds: start.elapsed().as_secs_f64(),
         threads,
         fit_branches,
+        refined,
     };
     Ok((table, report))
 }
