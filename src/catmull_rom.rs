@@ -40,7 +40,8 @@
 //! - Equations are solved by Newton's method safeguarded by bisection, as in Numerical
 //!   Recipes' `rtsafe`. The solve stops when a step is at most [`T_TOLERANCE`] in t, when the
 //!   residual is at rounding level (4ε times the polynomial's summed coefficient magnitudes),
-//!   or after [`MAX_ITERATIONS`]. pbrt stops at 10⁻⁶ and has no iteration cap.
+//!   when two successive Newton steps predict an error below [`PREDICTED_TOLERANCE`] in t, or
+//!   after [`MAX_ITERATIONS`]. pbrt stops at 10⁻⁶ and has no iteration cap.
 
 mod cells;
 mod guide;
