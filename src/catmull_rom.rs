@@ -677,9 +677,12 @@ impl Segment {
             }
             parts
         };
+        // Empty parts (a = b) add exactly 0: skipped
+        let cubic = self.cubic();
         let mass = parts
             .iter()
-            .map(|&(a, b)| self.integral_to(b) - self.integral_to(a))
+            .filter(|&&(a, b)| b > a)
+            .map(|&(a, b)| cubic.integral_to(b) - cubic.integral_to(a))
             .sum();
         Positive {
             segment: self,
@@ -706,6 +709,10 @@ impl Positive {
         let cubic = segment.cubic();
         let (mut before, mut end) = (0.0, 0.0);
         for &(a, b) in &self.parts {
+            if b <= a {
+                // Empty (mass exactly 0)
+                continue;
+            }
             let start = cubic.integral_to(a);
             let mass = cubic.integral_to(b) - start;
             if mass <= 0.0 {

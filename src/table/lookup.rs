@@ -63,7 +63,7 @@ impl<'a> TableRef<'a> {
         Some(self.slice_of(&rho_weights, &theta_weights, rho, theta))
     }
 
-    #[inline]
+    #[inline(always)]
     fn slice_of(
         &self,
         rho_weights: &Weights,
