@@ -17,12 +17,30 @@
 //!
 //! where d₀, d₁ are the slopes at the two ends in t-units (per unit t, not per unit x):
 //! - d₀ = (f_{i+1} − f_{i−1})·wᵢ/(x_{i+1} − x_{i−1}), or f_{i+1} − fᵢ on the first segment;
-//! - d₁ = (f_{i+2} − fᵢ)·wᵢ/(x_{i+2} − xᵢ), or f_{i+1} − fᵢ on the last segment.
+//! - d₁ = (f_{i+2} − fᵢ)·wᵢ/(x_{i+2} − xᵢ), or on the last segment as its [`End`] says:
+//!   f_{i+1} − fᵢ ([`End::Chord`], the default) or 0 ([`End::Even`]).
 //!
 //! Both segments meeting at an interior node use the same slope dy/dx there, so the spline is
-//! C¹; it interpolates the node values and reproduces linear data exactly. It can undershoot
-//! below zero next to steep drops (for example in the tail of an exponential profile on a
-//! geometric grid).
+//! C¹; it interpolates the node values and, with chord ends, reproduces linear data exactly.
+//! It can undershoot below zero next to steep drops (for example in the tail of an exponential
+//! profile on a geometric grid).
+//!
+//! # The even end
+//! A function even about the last node, f(x_{n−1} + δ) = f(x_{n−1} − δ), has slope 0 there,
+//! which the chord slope misses by about f″·w/2. [`End::Even`] builds the spline of the node set
+//! mirrored about x_{n−1}: one node more, x_n = 2x_{n−1} − x_{n−2} with f_n = f_{n−2}, makes the
+//! last segment interior, and its central difference is
+//!
+//! d₁ = (f_n − f_{n−2})·w_{n−2}/(x_n − x_{n−2}) = 0.
+//!
+//! Nothing else changes: the slope at x_{n−2} still comes from x_{n−3} and x_{n−1}. So only the
+//! last segment differs from the chord rule: the h₁₁ term drops out, its weights are
+//! (−s₀h₁₀, h₀₀, h₀₁ + s₀h₁₀, 0) (never reaching the mirrored node) and its integral is
+//! w·((f_{n−2} + f_{n−1})/2 + d₀/12). The spline is still C¹, interpolates the nodes and has
+//! weights summing to 1. The last segment never takes the fast path of [`Nodes::weights`]
+//! (`catmull_rom/cells.rs`: only interior segments do), so both ends share it. The table's θ
+//! axis uses the even end when it ends at π/2 ([`crate::table::Axes::new`]), where the model
+//! depends on θ through sin θ only.
 //!
 //! # Sampling
 //! [`Nodes::sample`], [`Nodes::pdf`] and [`Nodes::cdf`] form a triad for a density shaped like
@@ -69,10 +87,24 @@ pub const MAX_ITERATIONS: usize = 100;
 /// solve stops without a confirming evaluation (see `newton_bisection`).
 pub const PREDICTED_TOLERANCE: f64 = 1e-10;
 
-/// Strictly increasing, finite spline nodes (at least 2), validated once at construction.
+/// The slope of a spline at its last node, x_{n−1} (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum End {
+    /// The slope of the last segment's chord, (f_{n−1} − f_{n−2})/w_{n−2}: pbrt's rule.
+    #[default]
+    Chord,
+    /// Slope 0: the spline of the nodes and values mirrored about x_{n−1}, for data even about
+    /// the last node.
+    Even,
+}
+
+/// Strictly increasing, finite spline nodes (at least 2), validated once at construction, with
+/// the [`End`] condition at the last one.
 #[derive(Debug, Clone)]
 pub struct Nodes {
     x: Box<[f64]>,
+    /// The slope at x_{n−1}; only the last segment depends on it.
+    end: End,
     /// Per segment, what [`Nodes::weights`] needs of it, derived from `x` once so that it does
     /// no division.
     spans: Box<[Span]>,
@@ -137,15 +169,17 @@ struct Positive {
     mass: f64,
 }
 
-/// Two node sets are equal when their positions are (the rest is derived from them).
+/// Two node sets are equal when their positions and end conditions are (the rest is derived
+/// from them).
 impl PartialEq for Nodes {
     fn eq(&self, other: &Self) -> bool {
-        self.x == other.x
+        self.x == other.x && self.end == other.end
     }
 }
 
 impl Nodes {
-    /// Validates the nodes: at least 2, all finite, strictly increasing.
+    /// Validates the nodes: at least 2, all finite, strictly increasing. The spline takes the
+    /// chord slope at both ends (see [`Nodes::with_end`]).
     ///
     /// Errors name the offending node (or node count).
     pub fn new(x: impl Into<Box<[f64]>>) -> Result<Self> {
@@ -193,10 +227,23 @@ impl Nodes {
         };
         Ok(Self {
             x,
+            end: End::Chord,
             spans,
             cells,
             guide,
         })
+    }
+
+    /// The same nodes with the slope `end` at the last node. Weights, integrals, sampling and
+    /// inversion all follow it; it changes the last segment only.
+    #[must_use]
+    pub fn with_end(self, end: End) -> Self {
+        Self { end, ..self }
+    }
+
+    /// The slope at the last node.
+    pub fn end(&self) -> End {
+        self.end
     }
 
     /// The node positions.
@@ -214,8 +261,9 @@ impl Nodes {
     /// (−s₀h₁₀, h₀₀ − s₁h₁₁, h₀₁ + s₀h₁₀, s₁h₁₁), s₀ = wᵢ/(x_{i+1} − x_{i−1}), s₁ = wᵢ/(x_{i+2} − xᵢ);
     ///
     /// on the first segment h₁₀ moves from nodes (i−1, i+1) to (i, i+1) with s₀ = 1, and on the
-    /// last segment h₁₁ moves from nodes (i, i+2) to (i, i+1) with s₁ = 1. They sum to 1. At a
-    /// node, its weight is exactly 1 and the others exactly 0.
+    /// last segment h₁₁ moves from nodes (i, i+2) to (i, i+1) with s₁ = 1 ([`End::Chord`]) or
+    /// drops out ([`End::Even`]). They sum to 1. At a node, its weight is exactly 1 and the
+    /// others exactly 0.
     #[inline]
     pub fn weights(&self, x: f64) -> Option<Weights> {
         // The common case: a hot cell gives a simple segment (`cells.rs`). Everything else
@@ -254,8 +302,15 @@ impl Nodes {
         let span = self.spans.get(i)?;
         Some(Weights {
             segment: i,
-            w: span.weights(span.t(x), i == 0, i + 2 == self.x.len()),
+            w: span.weights(span.t(x), i == 0, self.end_of(i)),
         })
+    }
+
+    /// The end condition that sets the slope at x_{i+1} of segment i: `None` where node i + 2
+    /// exists (central difference), the nodes' [`End`] on the last segment.
+    #[inline(always)]
+    fn end_of(&self, i: usize) -> Option<End> {
+        (i + 2 >= self.x.len()).then_some(self.end)
     }
 
     /// The spline through `values` at `x`: Σₖ wₖ·f_{node k}, or `None` if `x` is NaN or outside
@@ -403,10 +458,10 @@ impl Nodes {
         } else {
             f1 - f0
         };
-        let d1 = if i + 2 < self.x.len() {
-            (f_after - f0) * span.s1
-        } else {
-            f1 - f0
+        let d1 = match (i + 2 < self.x.len(), self.end) {
+            (true, _) => (f_after - f0) * span.s1,
+            (false, End::Chord) => f1 - f0,
+            (false, End::Even) => 0.0,
         };
         Some(Segment {
             x0,
@@ -491,9 +546,10 @@ impl Span {
         [0.0 - p, (d + 1.0) - q, p - d, 0.0 + q]
     }
 
-    /// The weights at t ∈ [0, 1] (or −0) on segment i, with `first` = (i = 0) and `last` =
-    /// (i = n − 2), from the formula of [`Nodes::weights`].
-    fn weights(&self, t: f64, first: bool, last: bool) -> [f64; 4] {
+    /// The weights at t ∈ [0, 1] (or −0) on segment i, with `first` = (i = 0) and `last` the
+    /// end condition if i = n − 2 (see [`Nodes::end_of`]), from the formula of
+    /// [`Nodes::weights`].
+    fn weights(&self, t: f64, first: bool, last: Option<End>) -> [f64; 4] {
         let (t2, t3) = (t * t, t * t * t);
         let mut w = [0.0, 2.0 * t3 - 3.0 * t2 + 1.0, -2.0 * t3 + 3.0 * t2, 0.0];
         let (h10, h11) = (t3 - 2.0 * t2 + t, t3 - t2);
@@ -505,13 +561,17 @@ impl Span {
             w[0] -= h10 * self.s0;
             w[2] += h10 * self.s0;
         }
-        // Slope at x_{i+1}: central difference, or one-sided on the last segment
-        if last {
-            w[1] -= h11;
-            w[2] += h11;
-        } else {
-            w[1] -= h11 * self.s1;
-            w[3] += h11 * self.s1;
+        // Slope at x_{i+1}: central difference, or on the last segment one-sided or zero
+        match last {
+            None => {
+                w[1] -= h11 * self.s1;
+                w[3] += h11 * self.s1;
+            }
+            Some(End::Chord) => {
+                w[1] -= h11;
+                w[2] += h11;
+            }
+            Some(End::Even) => {}
         }
         w
     }

@@ -208,9 +208,11 @@ fn node_profile_max_error(rho: f64, theta_deg: f64, n: usize, seed: u64) -> f64 
 // angles". The table holds it at 0° and 60° with the protocol's seed 7 (with other seeds a
 // point or two in 10⁵ next to r₁ can exceed 1 %: the lookup's first two radius intervals).
 // At 89° the profiles it stores hold it (for ρ′ = 0.99 and 0.9; for 0.5 up to r ≈ 11, beyond
-// which no GWC with α ≥ 0 does), but between the θ nodes 80° and 90° the spline's one-sided
-// end slope adds up to 0.17 %, and 2–3 % of the points at 89° end between 1 % and 1.16 %
-// (README, "Accuracy").
+// which no GWC with α ≥ 0 does), and since the θ spline ends with slope 0 at 90° so does the
+// table, but for a few points in 10⁵ per case: beyond r ≈ 10.6 at ρ′ = 0.5, or in the first
+// two radius intervals. With the chord slope at 90°, 2.4–2.6 % of the points at 89° ended
+// between 1 % and 1.16 % (README, "Accuracy"). 0.99 at 89° reaches 0.9995 % with seed 7, too
+// close to 1 % to count as a figure 9 case here.
 
 /// Whether a case of the protocol is one of figure 9's that the table holds.
 fn figure_9_case(row: &bssrdf_zoo::table::ValidationRow) -> bool {
@@ -226,6 +228,12 @@ fn accuracy_protocol_fast_form() {
         let report = row.report_mean_rel_error.unwrap();
         assert!(row.mean_rel_error < 1.15 * report, "{row:?}");
         assert!(!figure_9_case(&row) || row.max_rel_error < 0.01, "{row:?}");
+        // At 89°, with slope 0 at 90°: none of the 2 000 points above 1 % (with the chord
+        // slope there, 2.6 % of them at ρ′ = 0.9 and 0.99)
+        assert!(
+            row.theta_deg < 89.0 || row.fraction_above_1pct == 0.0,
+            "{row:?}"
+        );
     }
     // Figure 9 at 89°, for the profiles the bake stores (no θ interpolation)
     let worst = node_profile_max_error(0.99, 89.0, 3_000, 7);
@@ -242,10 +250,11 @@ fn accuracy_protocol_full() {
             "{row:?}"
         );
         assert!(!figure_9_case(&row) || row.max_rel_error < 0.01, "{row:?}");
-        // The table at 89°, the documented limit: a bound on the share of points above 1 %
+        // The table at 89°, the documented limit: at most a few points in 10⁵ above 1 %
+        // (seed 7: 1, 1 and 0, up to 1.06 %; 2.6 % of them with the chord slope at 90°)
         if row.theta_deg == 89.0 {
             assert!(
-                row.fraction_above_1pct < 0.03 && row.max_rel_error < 0.0125,
+                row.fraction_above_1pct <= 5e-5 && row.max_rel_error < 0.0125,
                 "{row:?}"
             );
         }
@@ -517,4 +526,102 @@ fn steep_tails_interpolate_ln_e_even_where_the_plain_spline_undershoots() {
         got > 0.0 && (got / want - 1.0).abs() < 0.1,
         "{got} vs {want}"
     );
+}
+
+/// The θ axis ends with slope 0 at 90°, where PBD's slope is 0 (it depends on θ through sin θ
+/// only): approaching the last node, lookups level off. Their difference quotient over the
+/// last ε falls in proportion to ε (to 1/16 of the chord's slope over 80°–90° at ε = 0.01 and
+/// 1/160 at ε = 0.001 here), while with the chord rule it would stay near the chord's slope.
+#[test]
+fn lookups_approach_grazing_incidence_with_zero_slope() {
+    let view = default_table().view();
+    let theta = view.axes().theta().as_slice();
+    let n = theta.len();
+    let (last, before) = (theta[n - 1], theta[n - 2]);
+    let width = last - before;
+    for (rho, r, phi) in [
+        (0.5, 0.3, 0.0),
+        (0.9, 1.0, 1.0),
+        (0.99, 3.0, PI),
+        (0.7, 0.01, -0.5),
+        (0.2, 8.0, 0.3),
+    ] {
+        type Lookup<'a> = Box<dyn Fn(f64) -> f64 + 'a>;
+        let lookups: [(&str, Lookup); 4] = [
+            ("eval", Box::new(|t| view.eval(rho, t, r, phi).unwrap())),
+            ("pdf", Box::new(|t| view.pdf(rho, t, r, phi))),
+            (
+                "ρ_eff",
+                Box::new(|t| view.effective_albedo(rho, t).unwrap()),
+            ),
+            ("pdf_θ", Box::new(|t| view.pdf_theta(rho, t))),
+        ];
+        for (name, f) in lookups {
+            let chord = (f(last) - f(before)) / width;
+            // The table blends f32 values: differences carry noise of about 1e-7 relative
+            let noise = 1e-7 * f(last).abs();
+            for (eps, share) in [(1e-2, 0.1), (1e-3, 0.015)] {
+                let quotient = (f(last) - f(last - eps)) / eps;
+                assert!(
+                    quotient.abs() <= share * chord.abs() + noise / eps,
+                    "{name}({rho}, θ, {r}, {phi}) over the last {eps} rad: {quotient:e}, \
+                     chord {chord:e}"
+                );
+            }
+        }
+    }
+}
+
+/// Every table's θ axis, baked, read back or cut to albedo rows, has slope 0 at its last node
+/// exactly when that is π/2 (as f32, or within 10⁻⁶ rad); the other axes keep chord slopes.
+/// The stored θ CDF integrates that spline.
+#[test]
+fn theta_axis_ends_flat_exactly_at_grazing_incidence() {
+    use bssrdf_zoo::catmull_rom::End;
+    use bssrdf_zoo::table::Axes;
+    let table = default_table();
+    let axes = table.axes();
+    assert_eq!(axes.theta().end(), End::Even);
+    assert_eq!(axes.rho().end(), End::Chord);
+    assert_eq!(axes.r().end(), End::Chord);
+    assert_eq!(
+        *axes.theta().as_slice().last().unwrap(),
+        f64::from(PI as f32 / 2.0)
+    );
+    let subset = table.subset_rows(3..7).unwrap();
+    assert_eq!(subset.axes().theta().end(), End::Even);
+    let end_of = |last: f64| {
+        let axes = Axes::new(vec![0.0, 1.0], vec![0.0, 0.5, last], vec![0.0, 1.0]).unwrap();
+        axes.theta().end()
+    };
+    assert_eq!(end_of(PI / 2.0), End::Even);
+    assert_eq!(end_of(PI / 2.0 + 9e-7), End::Even);
+    assert_eq!(end_of(PI / 2.0 - 9e-7), End::Even);
+    assert_eq!(end_of(PI / 2.0 + 2e-6), End::Chord);
+    assert_eq!(end_of(PI / 2.0 - 2e-6), End::Chord);
+    assert_eq!(end_of(80f64.to_radians()), End::Chord);
+
+    // The θ CDF of each albedo row is the integral of the even-end spline through ρ_eff: the
+    // chord rule's, plus w·(ρ_eff(90°) − ρ_eff(80°))/12 on the last segment
+    let (n_rho, n_theta, n_r) = axes.dims();
+    let theta_cdf = table.theta_cdf().unwrap();
+    let chord_axis = bssrdf_zoo::catmull_rom::Nodes::new(axes.theta().as_slice().to_vec()).unwrap();
+    let theta = axes.theta().as_slice();
+    let width = theta[n_theta - 1] - theta[n_theta - 2];
+    let mut even = vec![0.0; n_theta];
+    let mut chord = vec![0.0; n_theta];
+    for i in (0..n_rho).step_by(7) {
+        let rho_eff = |j: usize| f64::from(table.radial_cdf()[(i * n_theta + j) * n_r + n_r - 1]);
+        let total = axes.theta().integrate_positive(rho_eff, &mut even).unwrap();
+        chord_axis.integrate_positive(rho_eff, &mut chord).unwrap();
+        let stored = &theta_cdf[i * n_theta..(i + 1) * n_theta];
+        for (j, (&s, &c)) in stored.iter().zip(&even).enumerate() {
+            assert_eq!(s, c as f32, "row {i}, node {j}");
+        }
+        let gain = width * (rho_eff(n_theta - 1) - rho_eff(n_theta - 2)) / 12.0;
+        assert!(
+            (total - chord[n_theta - 1] - gain).abs() <= 1e-12 * total,
+            "row {i}"
+        );
+    }
 }

@@ -1,16 +1,16 @@
 //! [`Nodes::weights`] and [`Nodes::find_segment`] against a straightforward reference (a plain
 //! binary search and the weight formula as written before the keyed cells), bit for bit, on
-//! the default table's axes and on irregular node sets, at every node, the floats next to each,
-//! random points, the ends, outside, NaN, ±∞ and ±0.
+//! the default table's axes and on irregular node sets, with either [`End`], at every node,
+//! the floats next to each, random points, the ends, outside, NaN, ±∞ and ±0.
 
 use super::cells::{next_down, next_up};
-use super::{Nodes, Span};
+use super::{End, Nodes, Span};
 use crate::rng::SplitMix64;
 use crate::table::{Grid, GridPreset};
 
 /// Segment and weights by the reference: segment i = the number of nodes x₁ … x_{n−2} that are
 /// ≤ v, then the formula with its end branches, all factors computed on the spot.
-fn reference(x: &[f64], v: f64) -> Option<(usize, [f64; 4])> {
+fn reference(x: &[f64], end: End, v: f64) -> Option<(usize, [f64; 4])> {
     let n = x.len();
     if v.is_nan() || v < x[0] || v > x[n - 1] {
         return None;
@@ -33,7 +33,7 @@ fn reference(x: &[f64], v: f64) -> Option<(usize, [f64; 4])> {
         let s1 = width / (x[i + 2] - x[i]);
         w[1] -= h11 * s1;
         w[3] += h11 * s1;
-    } else {
+    } else if end == End::Chord {
         w[1] -= h11;
         w[2] += h11;
     }
@@ -189,18 +189,21 @@ fn weights_and_segments_match_the_reference_bit_for_bit() {
     let sets: Vec<Vec<f64>> = table_axes().into_iter().chain(irregular()).collect();
     let mut with_cells = 0;
     for x in &sets {
-        let nodes = Nodes::new(x.clone()).expect("increasing finite nodes");
-        with_cells += usize::from(!nodes.cells.is_empty());
-        for v in points(x, &mut rng) {
-            let want = reference(x, v);
-            let got = nodes.weights(v).map(|w| (w.segment(), w.as_array()));
-            assert_eq!(
-                bits(got),
-                bits(want),
-                "x = {v:e} ({:#x}) on {x:?}",
-                v.to_bits()
-            );
-            assert_eq!(nodes.find_segment(v), want.map(|(i, _)| i), "x = {v:e}");
+        let chord = Nodes::new(x.clone()).expect("increasing finite nodes");
+        with_cells += usize::from(!chord.cells.is_empty());
+        for nodes in [chord.clone(), chord.with_end(End::Even)] {
+            let end = nodes.end();
+            for v in points(x, &mut rng) {
+                let want = reference(x, end, v);
+                let got = nodes.weights(v).map(|w| (w.segment(), w.as_array()));
+                assert_eq!(
+                    bits(got),
+                    bits(want),
+                    "x = {v:e} ({:#x}) on {x:?}, {end:?}",
+                    v.to_bits()
+                );
+                assert_eq!(nodes.find_segment(v), want.map(|(i, _)| i), "x = {v:e}");
+            }
         }
     }
     // The table's axes all take the keyed cells; some irregular sets do not
@@ -250,7 +253,7 @@ fn interior_weights_match_the_general_formula_bit_for_bit() {
                 s0,
                 s1,
             };
-            let (got, want) = (span.interior_weights(t), span.weights(t, false, false));
+            let (got, want) = (span.interior_weights(t), span.weights(t, false, None));
             assert_eq!(
                 got.map(f64::to_bits),
                 want.map(f64::to_bits),

@@ -19,10 +19,11 @@
 //! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ).
 //!
 //! Evaluation (algorithm 1) interpolates (E, E_β, c) with tensor-product Catmull-Rom weights in
-//! (ρ′, θ, r), forms α = (E − E_β)/(2πr), β = E_β/r and returns α + β pdf_WC(φ; c). Two
-//! refinements along r, both measured against PBD (README): E is interpolated as
-//! exp(Catmull-Rom of ln E) where the segment's energy is positive, and the first interval
-//! [0, r₁] adds PBD's isotropic ln(1/r) growth, ρ′² C_E cos θ′/π · ln(r₁/r), to the profile at r₁.
+//! (ρ′, θ, r), with slope 0 at θ = 90° where PBD's is (see [`Axes::new`]), forms
+//! α = (E − E_β)/(2πr), β = E_β/r and returns α + β pdf_WC(φ; c). Two refinements along r,
+//! both measured against PBD (README): E is interpolated as exp(Catmull-Rom of ln E) where the
+//! segment's energy is positive, and the first interval [0, r₁] adds PBD's isotropic ln(1/r)
+//! growth, ρ′² C_E cos θ′/π · ln(r₁/r), to the profile at r₁.
 //! Sampling (algorithm 2) draws r from the plain spline of E interpolated at (ρ′, θ), then φ
 //! from the GWC profile at that r by Newton–bisection on its analytic CDF; `pdf` is exactly the
 //! density of `sample`. Because evaluation refines the spline, S/pdf is ρ_eff only to within
@@ -50,11 +51,17 @@ pub use lookup::{PathSample, Sample, World};
 pub use subset::{bake_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
 pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
 
-use crate::catmull_rom::Nodes;
+use crate::catmull_rom::{End, Nodes};
 use crate::fresnel::Moments;
+use std::f64::consts::FRAC_PI_2;
 
 /// Number of f32 values per (ρ′, θ, r) node in the parameter array: E, E_β, c.
 pub const PARAMS_PER_NODE: usize = 3;
+
+/// How far from π/2 the last θ node may lie and still be grazing incidence, where the θ spline
+/// has slope 0 (format-spec.md §10), radians: 8 f32 ulps there. π/2 rounded to f32, the node
+/// the bake writes, is 4.4·10⁻⁸ above it.
+pub const THETA_GRAZING_TOLERANCE: f64 = 1e-6;
 
 /// The three axes of a table.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,10 +73,20 @@ pub struct Axes {
 
 impl Axes {
     /// Builds axes from node values (each validated: ≥ 2 finite, strictly increasing nodes).
+    ///
+    /// This is where every table (baked, read from a file, or a subset) gets its splines, so
+    /// all of them interpolate alike: chord slopes at the ends of the ρ′ and r axes and at
+    /// θ's first node, and slope 0 at θ's last node when it is π/2 (within
+    /// [`THETA_GRAZING_TOLERANCE`]): PBD depends on θ only through sin θ = η sin θ′, which is
+    /// even about π/2 ([`End::Even`]).
     pub fn new(rho: Vec<f64>, theta: Vec<f64>, r: Vec<f64>) -> crate::Result<Self> {
+        let end = match theta.last() {
+            Some(&last) if (last - FRAC_PI_2).abs() <= THETA_GRAZING_TOLERANCE => End::Even,
+            _ => End::Chord,
+        };
         Ok(Self {
             rho: Nodes::new(rho)?,
-            theta: Nodes::new(theta)?,
+            theta: Nodes::new(theta)?.with_end(end),
             r: Nodes::new(r)?,
         })
     }

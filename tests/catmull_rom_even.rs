@@ -1,0 +1,250 @@
+//! Tests of the even end condition of `catmull_rom` ([`End::Even`]: slope 0 at the last node,
+//! the spline of the nodes and values mirrored about it): zero slope, interpolation, weights
+//! that sum to 1, agreement with the chord rule away from the last segment, better
+//! reproduction of data even about the last node, exact integration, and the sampling triad
+//! (round trips and chi-square).
+
+mod catmull_rom_common;
+
+use bssrdf_zoo::catmull_rom::{End, Nodes};
+use catmull_rom_common::{chi_square, simpson, uneven_nodes, SplitMix64, EXACT, SOLVED};
+use std::f64::consts::FRAC_PI_2;
+
+/// The table's default θ axis: 0°, 10°, …, 90°, in radians.
+fn theta_nodes() -> Vec<f64> {
+    (0..10).map(|j| FRAC_PI_2 * f64::from(j) / 9.0).collect()
+}
+
+/// Random values in [0.2, 1.2) at the nodes of `grid`.
+fn random_values(grid: &[f64], seed: u64) -> Vec<f64> {
+    let mut rng = SplitMix64(seed);
+    grid.iter().map(|_| 0.2 + rng.next_f64()).collect()
+}
+
+/// Both end conditions on the same nodes.
+fn both(grid: &[f64]) -> (Nodes, Nodes) {
+    let chord = Nodes::new(grid.to_vec()).unwrap();
+    let even = chord.clone().with_end(End::Even);
+    (chord, even)
+}
+
+/// ds/dx at the last node, from the cubic of the last segment: the one-sided second-order
+/// difference (3s(x) − 4s(x − h) + s(x − 2h))/(2h), whose error is s‴h²/3.
+fn end_slope(nodes: &Nodes, values: &[f64], h: f64) -> f64 {
+    let x = *nodes.as_slice().last().unwrap();
+    let s = |x: f64| nodes.evaluate(|i| values[i], x).unwrap();
+    (3.0 * s(x) - 4.0 * s(x - h) + s(x - 2.0 * h)) / (2.0 * h)
+}
+
+#[test]
+fn end_is_chord_unless_asked_and_part_of_equality() {
+    let (chord, even) = both(&theta_nodes());
+    assert_eq!(chord.end(), End::Chord);
+    assert_eq!(even.end(), End::Even);
+    assert_ne!(chord, even);
+    assert_eq!(even, chord.clone().with_end(End::Even));
+    assert_eq!(chord, even.with_end(End::Chord));
+}
+
+#[test]
+fn even_end_has_zero_slope_at_the_last_node() {
+    for (grid, seed) in [(theta_nodes(), 1), (uneven_nodes(), 2), (vec![0.0, 0.7], 3)] {
+        let values = random_values(&grid, seed);
+        let n = grid.len();
+        let width = grid[n - 1] - grid[n - 2];
+        let h = 1e-4 * width;
+        let (chord, even) = both(&grid);
+        // The chord rule's slope is the chord's; the even end's is 0, both up to the
+        // difference's error s‴h²/3 (|s‴| = 6|c₃|/w³ with |c₃| ≲ 5 for these values, so
+        // 10⁻⁷/w) and its rounding (≈ 10⁻¹⁵/h)
+        let chord_slope = (values[n - 1] - values[n - 2]) / width;
+        let bound = 1e-6 / width;
+        assert!(chord_slope.abs() > 1e3 * bound, "{chord_slope}");
+        let slope = end_slope(&chord, &values, h);
+        assert!(
+            (slope - chord_slope).abs() < bound,
+            "{slope} vs {chord_slope}"
+        );
+        let slope = end_slope(&even, &values, h);
+        assert!(slope.abs() < bound, "slope {slope} at the even end");
+    }
+}
+
+#[test]
+fn even_end_interpolates_the_nodes_and_its_weights_sum_to_one() {
+    let mut rng = SplitMix64(4);
+    for grid in [theta_nodes(), uneven_nodes(), vec![-1.0, 2.0]] {
+        let (_, even) = both(&grid);
+        let n = grid.len();
+        for (k, &x) in grid.iter().enumerate() {
+            let w = even.weights(x).unwrap();
+            let unit: Vec<(usize, f64)> = w.iter().collect();
+            assert_eq!(unit, vec![(k, 1.0)], "node {k}");
+        }
+        let (first, last) = (grid[0], grid[n - 1]);
+        for _ in 0..10_000 {
+            let x = first + (last - first) * rng.next_f64();
+            let w = even.weights(x).unwrap();
+            assert!(
+                (w.as_array().iter().sum::<f64>() - 1.0).abs() < EXACT,
+                "x = {x}"
+            );
+            assert!(w.iter().all(|(node, _)| node < n), "x = {x}");
+        }
+    }
+}
+
+#[test]
+fn even_end_changes_only_the_last_segment() {
+    let mut rng = SplitMix64(5);
+    for grid in [theta_nodes(), uneven_nodes()] {
+        let (chord, even) = both(&grid);
+        let n = grid.len();
+        for _ in 0..10_000 {
+            let x = grid[0] + (grid[n - 1] - grid[0]) * rng.next_f64();
+            let (a, b) = (chord.weights(x).unwrap(), even.weights(x).unwrap());
+            if x < grid[n - 2] {
+                assert_eq!(a, b, "x = {x}");
+            } else if x > grid[n - 2] {
+                assert_ne!(a, b, "x = {x}");
+            }
+        }
+    }
+}
+
+#[test]
+fn even_end_reproduces_data_even_about_the_last_node_better_than_the_chord() {
+    // sin θ on the table's θ nodes, even about 90° like PBD, and cos(x − 2) on uneven nodes
+    // ending at 2. Largest error on the last segment: the chord's d₁ error
+    // (f_{n−1} − f_{n−2})·max|h₁₁| against the central difference's O(w³) at x_{n−2}.
+    type Case = (Vec<f64>, fn(f64) -> f64);
+    let cases: [Case; 2] = [
+        (theta_nodes(), f64::sin),
+        (uneven_nodes(), |x| (x - 2.0).cos()),
+    ];
+    for (grid, f) in cases {
+        let n = grid.len();
+        assert_eq!(f(grid[n - 1]), 1.0);
+        let values: Vec<f64> = grid.iter().map(|&x| f(x)).collect();
+        let (chord, even) = both(&grid);
+        let error = |nodes: &Nodes| {
+            (0..=1000)
+                .map(|k| grid[n - 2] + (grid[n - 1] - grid[n - 2]) * f64::from(k) / 1000.0)
+                .map(|x| (nodes.evaluate(|i| values[i], x).unwrap() - f(x)).abs())
+                .fold(0.0, f64::max)
+        };
+        let (chord_error, even_error) = (error(&chord), error(&even));
+        assert!(
+            even_error < chord_error / 5.0,
+            "even {even_error:e} vs chord {chord_error:e}"
+        );
+    }
+}
+
+#[test]
+fn even_end_integrates_exactly() {
+    for (grid, seed) in [(theta_nodes(), 6), (uneven_nodes(), 7), (vec![0.0, 0.7], 8)] {
+        let values = random_values(&grid, seed);
+        let (chord, even) = both(&grid);
+        let n = grid.len();
+        let mut cumulative = vec![0.0; n];
+        let total = even.integrate(|i| values[i], &mut cumulative).unwrap();
+        let spline = |x: f64| even.evaluate(|i| values[i], x).unwrap();
+        let mut quadrature = 0.0;
+        for k in 1..n {
+            quadrature += simpson(spline, grid[k - 1], grid[k], 64);
+            assert!((cumulative[k] - quadrature).abs() < 1e-12 * (1.0 + quadrature));
+        }
+        assert_eq!(total, cumulative[n - 1]);
+        // Against the chord rule: the last segment gains w·(d₁ − 0)/12, d₁ = f_{n−1} − f_{n−2}
+        let mut chord_cumulative = vec![0.0; n];
+        let chord_total = chord
+            .integrate(|i| values[i], &mut chord_cumulative)
+            .unwrap();
+        let width = grid[n - 1] - grid[n - 2];
+        let gain = width * (values[n - 1] - values[n - 2]) / 12.0;
+        assert!((total - chord_total - gain).abs() < EXACT * (1.0 + total.abs()));
+        assert_eq!(cumulative[..n - 1], chord_cumulative[..n - 1]);
+    }
+}
+
+/// Values on the θ nodes that rise to the last node and end flat there, with a dip near 0 so
+/// that the positive part and a decreasing signed CDF are exercised too.
+fn grazing_values() -> (Vec<f64>, Vec<f64>) {
+    let grid = theta_nodes();
+    let values = grid
+        .iter()
+        .enumerate()
+        .map(|(k, &x)| if k == 1 { 1e-4 } else { 0.05 + x.sin() })
+        .collect();
+    (grid, values)
+}
+
+#[test]
+fn even_end_sample_pdf_and_cdf_round_trip() {
+    let (grid, values) = grazing_values();
+    let (_, even) = both(&grid);
+    let f = |i: usize| values[i];
+    let n = grid.len();
+    let mut signed = vec![0.0; n];
+    even.integrate(f, &mut signed).unwrap();
+    let mut positive = vec![0.0; n];
+    let total = even.integrate_positive(f, &mut positive).unwrap();
+    for cumulative in [&signed, &positive] {
+        let c = |k: usize| cumulative[k];
+        let mut rng = SplitMix64(9);
+        let edges = [0.0, 1e-12, 0.5, 1.0 - f64::EPSILON, 1.0];
+        for u in (0..10_000).map(|_| rng.next_f64()).chain(edges) {
+            let s = even.sample(f, c, u).unwrap();
+            assert!(s.x >= grid[0] && s.x <= grid[n - 1]);
+            assert!((even.cdf(f, c, s.x).unwrap() - u).abs() < SOLVED, "u = {u}");
+            assert!(
+                (even.pdf(f, c, s.x) - s.pdf).abs() < 1e-9 * s.pdf,
+                "u = {u}"
+            );
+            // The sampled value is the even-end spline's
+            let spline = even.evaluate(f, s.x).unwrap();
+            assert!((s.value - spline).abs() < EXACT, "u = {u}");
+        }
+    }
+    // With the positive-part CDF the density is exactly max(s, 0)/T of the even-end spline
+    let mut rng = SplitMix64(10);
+    for _ in 0..10_000 {
+        let s = even.sample(f, |k| positive[k], rng.next_f64()).unwrap();
+        assert!((s.pdf - s.value / total).abs() < 1e-9 * s.pdf);
+    }
+}
+
+#[test]
+fn chi_square_even_end() {
+    let (grid, values) = grazing_values();
+    let (_, even) = both(&grid);
+    let mut cumulative = vec![0.0; grid.len()];
+    even.integrate_positive(|i| values[i], &mut cumulative)
+        .unwrap();
+    let (f, c) = (|i: usize| values[i], |k: usize| cumulative[k]);
+    chi_square(
+        &grid,
+        0x5eed_00e0,
+        16,
+        |u| even.sample(f, c, u).map(|s| s.x),
+        |x| even.pdf(f, c, x),
+    );
+}
+
+#[test]
+fn even_end_invert_round_trip() {
+    // sin θ increases on [0, π/2], and so does its even-end spline (d₀ ≤ 3(f₁ − f₀) there)
+    let grid = theta_nodes();
+    let values: Vec<f64> = grid.iter().map(|x| x.sin()).collect();
+    let (_, even) = both(&grid);
+    let f = |i: usize| values[i];
+    for k in 0..=1000 {
+        let x = FRAC_PI_2 * f64::from(k) / 1000.0;
+        let y = even.evaluate(f, x).unwrap();
+        let back = even.invert(f, y).unwrap();
+        // Near the flat end s(x) − s(x_{n−1}) ~ (x_{n−1} − x)², so x is resolved to √ε
+        let tolerance = if x > 1.5 { 1e-7 } else { SOLVED };
+        assert!((back - x).abs() < tolerance, "x = {x}: {back}");
+    }
+}
