@@ -374,6 +374,24 @@ impl Gwc {
         }
     }
 
+    /// The profile of unit integral (2πα + β = 1) whose lobe carries `share` ∈ [0, 1] of it
+    /// (NaN → 0), with c clamped as in [`Gwc::from_table`]: what a sampler needs of a table
+    /// cell, since the normalised density depends on the share and c only. λ = 1 − share
+    /// directly, without the divisions of [`Gwc::from_table`].
+    pub(crate) fn normalised(share: f64, c: f64) -> Self {
+        let share = if share.is_nan() {
+            0.0
+        } else {
+            share.clamp(0.0, 1.0)
+        };
+        Self {
+            alpha: (1.0 - share) * (1.0 / TAU),
+            beta: share,
+            c: clamp_c(c),
+            lambda: 1.0 - share,
+        }
+    }
+
     /// Isotropic floor α (unit of f).
     pub fn alpha(&self) -> f64 {
         self.alpha

@@ -55,6 +55,14 @@ struct Slice {
     theta: f64,
 }
 
+/// The lobe of a cell from [`TableRef::cell_from`]: its share E_β/E of the energy, or (in the
+/// first radius interval, where the floor grows like ln(1/r)) its β outright.
+#[derive(Debug, Clone, Copy)]
+enum Lobe {
+    Share(f64),
+    Beta(f64),
+}
+
 impl<'a> TableRef<'a> {
     #[inline]
     fn slice(&self, rho: f64, theta: f64) -> Option<Slice> {
@@ -275,8 +283,10 @@ impl<'a> TableRef<'a> {
         // Through `black_box`: seen through, the interleaved reads of (E, E_β, c) below make the
         // compiler split the blend into half-empty vectors (measured 2× slower)
         let acc = std::hint::black_box(self.window_params(s, first));
-        let [e, beta, c] = self.cell_from::<false>(acc, first, r_eval, w, s.rho, s.theta);
-        Gwc::from_table(e, beta, c, r_eval)
+        match self.cell_from::<false>(acc, first, r_eval, w, s.rho, s.theta) {
+            (_, Lobe::Share(share), c) => Gwc::normalised(share, c),
+            (e, Lobe::Beta(beta), c) => Gwc::from_table(e, beta, c, r_eval),
+        }
     }
 
     /// The first of the four consecutive radius nodes, inside the axis, that hold the weights
@@ -286,9 +296,10 @@ impl<'a> TableRef<'a> {
         w.segment().saturating_sub(1).min(n_r.saturating_sub(4))
     }
 
-    /// The arguments (E, β, c) of [`Gwc::from_table`] for the profile at `r_eval`, from
-    /// (E, E_β, c) blended at the radius nodes `first..first + 4` (as
-    /// [`TableRef::window_params`] gives them), the radius weights `w` at `r_eval` and (ρ′, θ).
+    /// The cell (E, lobe, c) of the profile at `r_eval` (E, β = share·E/r or the lobe's β, and
+    /// c are the arguments of [`Gwc::from_table`]), from (E, E_β, c) blended at the radius nodes
+    /// `first..first + 4` (as [`TableRef::window_params`] gives them), the radius weights `w` at
+    /// `r_eval` and (ρ′, θ).
     ///
     /// Along r, E is interpolated as exp(Catmull-Rom of ln E) wherever the four nodes of the
     /// segment hold positive energy (`LOG_ENERGY`): E(r) is close to the exponential of a
@@ -309,7 +320,7 @@ impl<'a> TableRef<'a> {
         w: &Weights,
         rho: f64,
         theta: f64,
-    ) -> [f64; 3] {
+    ) -> (f64, Lobe, f64) {
         let segment = w.segment();
         let params: [[f64; 3]; 4] =
             std::array::from_fn(|k| std::array::from_fn(|j| f64::from(acc[3 * k + j])));
@@ -332,7 +343,7 @@ impl<'a> TableRef<'a> {
             let beta1 = (e_beta1 / r1).clamp(0.0, e1.max(0.0) / r1);
             let e_per_r =
                 (e1 / r1).max(0.0) + TAU * self.log_slope(rho, theta) * (r1 / r_eval).ln();
-            return [e_per_r * r_eval, beta1, c1];
+            return (e_per_r * r_eval, Lobe::Beta(beta1), c1);
         }
         // (The energies' logarithms come straight from the window: reading them from `params`
         // instead makes the compiler scalarise the blend's loads.)
@@ -368,7 +379,7 @@ impl<'a> TableRef<'a> {
         } else {
             0.0
         };
-        [e, share * e / r_eval, c]
+        (e, Lobe::Share(share), c)
     }
 
     /// The radius at which to evaluate r, with its Catmull-Rom weights; `None` for r outside
@@ -424,10 +435,12 @@ impl<'a> TableRef<'a> {
         };
         let first = self.radial_window(&w);
         let acc = self.window_at(&rho_weights, &theta_weights, first);
-        Some(Some((
-            self.cell_from::<true>(acc, first, r_eval, &w, rho, theta),
-            r_eval,
-        )))
+        let (e, lobe, c) = self.cell_from::<true>(acc, first, r_eval, &w, rho, theta);
+        let beta = match lobe {
+            Lobe::Share(share) => share * e / r_eval,
+            Lobe::Beta(beta) => beta,
+        };
+        Some(Some(([e, beta, c], r_eval)))
     }
 
     /// The perpendicular-incidence model: the θ = 0 slice at every θ, uniform in φ (pbrt's
