@@ -627,6 +627,37 @@ fn done_w(alpha: f64, d: f64, w: f64, t_max: f64, scale: f64, branch: FitBranch)
 
 #[cfg(test)]
 mod tests {
+
+    /// The samplers' normalised profile draws and weighs φ like the full profile it stands for.
+    #[test]
+    fn normalised_profile_matches_the_table_profile_in_phi() {
+        for (e, share, c) in [
+            (0.3, 0.0, 0.2),
+            (2.0, 0.4, 0.9),
+            (1e-30, 1.0, -0.5),
+            (5.0, 0.17, 0.0),
+        ] {
+            let r = 0.7;
+            let full = Gwc::from_table(e, share * e / r, c, r);
+            let unit = Gwc::normalised(share, c);
+            assert!((unit.integral() - 1.0).abs() < 1e-15);
+            for k in 0..=40 {
+                let phi = -PI + TAU * f64::from(k) / 40.0;
+                let (a, b) = (full.pdf(phi), unit.pdf(phi));
+                assert!(
+                    (a - b).abs() <= 1e-14 * a.max(1.0),
+                    "pdf at {phi}: {a} vs {b}"
+                );
+                let (a, b) = (full.cdf(phi), unit.cdf(phi));
+                assert!((a - b).abs() <= 1e-14, "cdf at {phi}: {a} vs {b}");
+            }
+            for u in [0.0, 0.1, 0.5, 0.93, 1.0] {
+                let (a, b) = (full.sample(u), unit.sample(u));
+                assert!((a - b).abs() <= 1e-12, "sample at {u}: {a} vs {b}");
+            }
+        }
+        assert_eq!(Gwc::normalised(f64::NAN, 0.3).integral(), 1.0);
+    }
     use super::*;
     use std::f64::consts::FRAC_PI_2;
 

@@ -64,7 +64,7 @@ enum Lobe {
 }
 
 impl<'a> TableRef<'a> {
-    #[inline]
+    #[inline(always)]
     fn slice(&self, rho: f64, theta: f64) -> Option<Slice> {
         let rho_weights = self.axes.rho().weights(rho)?;
         let theta_weights = self.axes.theta().weights(theta)?;
