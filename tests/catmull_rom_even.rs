@@ -17,7 +17,7 @@ fn theta_nodes() -> Vec<f64> {
 
 /// Random values in [0.2, 1.2) at the nodes of `grid`.
 fn random_values(grid: &[f64], seed: u64) -> Vec<f64> {
-    let mut rng = SplitMix64(seed);
+    let mut rng = SplitMix64::new(seed);
     grid.iter().map(|_| 0.2 + rng.next_f64()).collect()
 }
 
@@ -72,7 +72,7 @@ fn even_end_has_zero_slope_at_the_last_node() {
 
 #[test]
 fn even_end_interpolates_the_nodes_and_its_weights_sum_to_one() {
-    let mut rng = SplitMix64(4);
+    let mut rng = SplitMix64::new(4);
     for grid in [theta_nodes(), uneven_nodes(), vec![-1.0, 2.0]] {
         let (_, even) = both(&grid);
         let n = grid.len();
@@ -96,7 +96,7 @@ fn even_end_interpolates_the_nodes_and_its_weights_sum_to_one() {
 
 #[test]
 fn even_end_changes_only_the_last_segment() {
-    let mut rng = SplitMix64(5);
+    let mut rng = SplitMix64::new(5);
     for grid in [theta_nodes(), uneven_nodes()] {
         let (chord, even) = both(&grid);
         let n = grid.len();
@@ -192,7 +192,7 @@ fn even_end_sample_pdf_and_cdf_round_trip() {
     let total = even.integrate_positive(f, &mut positive).unwrap();
     for cumulative in [&signed, &positive] {
         let c = |k: usize| cumulative[k];
-        let mut rng = SplitMix64(9);
+        let mut rng = SplitMix64::new(9);
         let edges = [0.0, 1e-12, 0.5, 1.0 - f64::EPSILON, 1.0];
         for u in (0..10_000).map(|_| rng.next_f64()).chain(edges) {
             let s = even.sample(f, c, u).unwrap();
@@ -208,7 +208,7 @@ fn even_end_sample_pdf_and_cdf_round_trip() {
         }
     }
     // With the positive-part CDF the density is exactly max(s, 0)/T of the even-end spline
-    let mut rng = SplitMix64(10);
+    let mut rng = SplitMix64::new(10);
     for _ in 0..10_000 {
         let s = even.sample(f, |k| positive[k], rng.next_f64()).unwrap();
         assert!((s.pdf - s.value / total).abs() < 1e-9 * s.pdf);

@@ -7,7 +7,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use bssrdf_zoo::gwc::{cdf_wc, inv_cdf_wc, pdf_wc, Gwc, C_LIMIT};
 use bssrdf_zoo::Error;
-use gwc_common::{chi2_critical_1e6, integrate, SplitMix64};
+use gwc_common::{chi2_critical_1e6, integrate, SplitMix64, UniformRange};
 
 /// Quadrature tolerance, and the tolerance quadrature results are held to.
 const QUAD_TOL: f64 = 1e-11;
@@ -66,7 +66,7 @@ fn wc_reference_values() {
 
 #[test]
 fn wc_cdf_agrees_with_the_papers_tan_form_inside_the_domain() {
-    let mut rng = SplitMix64(1);
+    let mut rng = SplitMix64::new(1);
     for _ in 0..10_000 {
         let c = rng.range(-0.99, 0.99);
         let phi = rng.range(-3.0, 3.0);
@@ -135,12 +135,12 @@ fn wc_cdf_is_exact_and_continuous_at_plus_minus_pi() {
 
 #[test]
 fn wc_inverse_cdf_round_trip() {
-    let mut rng = SplitMix64(2);
+    let mut rng = SplitMix64::new(2);
     let edge_u = [0.0, 1e-300, 1e-16, 0.25, 0.5, 0.75, 1.0 - 1e-16, 1.0];
     for c in CS {
         assert_eq!(inv_cdf_wc(0.0, c), -PI);
         assert_eq!(inv_cdf_wc(1.0, c), PI);
-        let us = edge_u.into_iter().chain((0..2000).map(|_| rng.uniform()));
+        let us = edge_u.into_iter().chain((0..2000).map(|_| rng.next_f64()));
         for u in us {
             let phi = inv_cdf_wc(u, c);
             assert!(phi.abs() <= PI);
@@ -302,7 +302,7 @@ fn cdf_is_zero_one_monotone_and_integrates_the_pdf() {
 
 #[test]
 fn profile_is_even_and_zero_outside_the_domain() {
-    let mut rng = SplitMix64(3);
+    let mut rng = SplitMix64::new(3);
     for g in profiles() {
         for _ in 0..1000 {
             let phi = rng.range(0.0, PI);
@@ -318,7 +318,7 @@ fn profile_is_even_and_zero_outside_the_domain() {
 
 #[test]
 fn sample_round_trips_through_cdf() {
-    let mut rng = SplitMix64(4);
+    let mut rng = SplitMix64::new(4);
     let extreme = [
         (1e-6, 1.0, 1.0 - 1e-9),
         (0.3, 1.0, -0.9999),
@@ -330,7 +330,7 @@ fn sample_round_trips_through_cdf() {
     for g in gs {
         assert_eq!((g.sample(0.0), g.sample(1.0)), (-PI, PI));
         let us = [1e-300, 1e-12, 0.5, 1.0 - 1e-12].into_iter();
-        for u in us.chain((0..5000).map(|_| rng.uniform())) {
+        for u in us.chain((0..5000).map(|_| rng.next_f64())) {
             let phi = g.sample(u);
             assert!(phi.abs() <= PI);
             assert!((g.cdf(phi) - u).abs() < ROUND_TRIP_TOL, "{g:?}, u = {u}");
@@ -412,10 +412,10 @@ fn sample_matches_pdf_chi_square() {
         (0.02, 1.0, -0.8),
         (0.05, 1.0, 0.9),
     ];
-    let mut rng = SplitMix64(0x5eed);
+    let mut rng = SplitMix64::new(0x5eed);
     for (a, b, c) in cases {
         let g = Gwc::new(a, b, c).unwrap();
-        let (chi2, dof) = chi_square(&g, &mut || g.sample(rng.uniform()));
+        let (chi2, dof) = chi_square(&g, &mut || g.sample(rng.next_f64()));
         let critical = chi2_critical_1e6(dof);
         assert!(
             chi2 < critical,
@@ -428,11 +428,11 @@ fn sample_matches_pdf_chi_square() {
 #[test]
 fn chi_square_detects_a_slightly_wrong_sampler() {
     // The test above has power: sampling c = 0.53 or α 50 % too large against c = 0.5 fails
-    let mut rng = SplitMix64(7);
+    let mut rng = SplitMix64::new(7);
     let g = Gwc::new(0.1, 1.0, 0.5).unwrap();
     for wrong in [Gwc::new(0.1, 1.0, 0.53), Gwc::new(0.15, 1.0, 0.5)] {
         let wrong = wrong.unwrap();
-        let (chi2, dof) = chi_square(&g, &mut || wrong.sample(rng.uniform()));
+        let (chi2, dof) = chi_square(&g, &mut || wrong.sample(rng.next_f64()));
         assert!(chi2 > chi2_critical_1e6(dof), "χ² = {chi2}");
     }
 }

@@ -14,7 +14,7 @@ use bssrdf_zoo::gwc::{
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::Error;
-use gwc_common::SplitMix64;
+use gwc_common::{SplitMix64, UniformRange};
 
 /// The seven azimuths the bake refines over: the anchors and 0, 38°, 96°, π.
 fn seven_azimuths() -> [f64; 7] {
@@ -99,7 +99,7 @@ fn levels_the_error_of_pbd_at_grazing_incidence() {
 
 #[test]
 fn recovers_a_gwc_from_a_wrong_start() {
-    let mut rng = SplitMix64(3);
+    let mut rng = SplitMix64::new(3);
     let phi = seven_azimuths();
     for _ in 0..200 {
         let truth = Gwc::new(
@@ -137,7 +137,7 @@ fn an_exact_start_is_kept() {
 
 #[test]
 fn never_worse_than_the_start_at_its_samples() {
-    let mut rng = SplitMix64(17);
+    let mut rng = SplitMix64::new(17);
     let mut refined = 0;
     for case in 0..2_000 {
         // Smooth non-GWC profiles: a GWC times a low-order cosine series, von Mises, or

@@ -16,23 +16,8 @@ pub const Z_ONE_IN_A_MILLION: f64 = 4.753_424_308_822_899;
 /// Samples per chi-square test.
 pub const CHI_SQUARE_SAMPLES: usize = 1_000_000;
 
-/// SplitMix64 (Steele, Lea, Flood 2014), enough for tests.
-pub struct SplitMix64(pub u64);
-
-impl SplitMix64 {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1) with 53 random bits.
-    pub fn next_f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-}
+/// The crate's own generator (SplitMix64), seeded per test.
+pub use bssrdf_zoo::rng::SplitMix64;
 
 /// pbrt's radius grid: r₀ = 0, r₁ = 0.0025, rᵢ = 1.2·r_{i−1}, 64 nodes up to 202.85.
 pub fn geometric_radii() -> Vec<f64> {
@@ -106,7 +91,7 @@ pub fn chi_square(
     assert!((normalization - 1.0).abs() < 1e-6, "∫pdf = {normalization}");
 
     let mut counts = vec![0u64; probabilities.len()];
-    let mut rng = SplitMix64(seed);
+    let mut rng = SplitMix64::new(seed);
     for _ in 0..CHI_SQUARE_SAMPLES {
         let u = rng.next_f64();
         let x = sample(u).unwrap_or_else(|| panic!("sampling failed at u = {u}"));

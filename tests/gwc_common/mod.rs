@@ -1,27 +1,19 @@
-//! Helpers shared by the GWC integration tests: a seeded RNG and adaptive quadrature.
+//! Helpers shared by the GWC integration tests: the seeded RNG and adaptive quadrature.
 
 #![allow(dead_code)]
 
-/// SplitMix64 (Steele, Lea, Flood 2014): tiny, seedable, good enough for test inputs.
-pub struct SplitMix64(pub u64);
+/// The crate's own generator (SplitMix64), seeded per test.
+pub use bssrdf_zoo::rng::SplitMix64;
 
-impl SplitMix64 {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1) with 53 random bits.
-    pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
+/// Uniform draws in a range from the crate's generator.
+pub trait UniformRange {
     /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.uniform()
+    fn range(&mut self, lo: f64, hi: f64) -> f64;
+}
+
+impl UniformRange for SplitMix64 {
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next_f64()
     }
 }
 
