@@ -298,13 +298,9 @@ fn path_of(bytes: &[u8]) -> Result<&std::path::Path, Failure> {
 /// thread is using.
 #[no_mangle]
 pub unsafe extern "C" fn bssrdf_library_close(library: *mut bssrdf_library) {
-    if library.is_null() {
-        return;
-    }
-    // SAFETY: the contract: a pointer from `Box::into_raw` in `bssrdf_library_open`, closed once.
-    let library = unsafe { Box::from_raw(library) };
-    // Dropping cannot panic (an `Arc` decrement and an unmap), but stay inside the guard.
-    let _ = catch_unwind(AssertUnwindSafe(move || drop(library)));
+    // SAFETY: the contract: NULL or a pointer from `Box::into_raw` in `bssrdf_library_open`,
+    // closed once.
+    unsafe { release(library) }
 }
 
 /// Stores the number of tables (one per η baked) in `*out_count`.
@@ -447,12 +443,23 @@ pub unsafe extern "C" fn bssrdf_library_medium(
 /// `channel` is NULL or a handle not yet released, which no other thread is using.
 #[no_mangle]
 pub unsafe extern "C" fn bssrdf_channel_release(channel: *mut bssrdf_channel) {
-    if channel.is_null() {
+    // SAFETY: the contract: NULL or a pointer from `Box::into_raw` in this module, released once.
+    unsafe { release(channel) }
+}
+
+/// Frees a handle made by `Box::into_raw`; NULL does nothing. Dropping a handle cannot panic (an
+/// `Arc` decrement and perhaps an unmap), but it stays inside the panic guard all the same.
+///
+/// # Safety
+/// `handle` is NULL or a pointer from `Box::into_raw` of a `T`, freed once, which no other
+/// thread is using.
+unsafe fn release<T>(handle: *mut T) {
+    if handle.is_null() {
         return;
     }
-    // SAFETY: the contract: a pointer from `Box::into_raw` in this module, released once.
-    let channel = unsafe { Box::from_raw(channel) };
-    let _ = catch_unwind(AssertUnwindSafe(move || drop(channel)));
+    // SAFETY: the caller's contract.
+    let handle = unsafe { Box::from_raw(handle) };
+    let _ = catch_unwind(AssertUnwindSafe(move || drop(handle)));
 }
 
 /// Stores the channel's ρ′, σ′t, η and table index in `*out_info`.
