@@ -606,7 +606,7 @@ impl Segment {
 
     /// s(t).
     fn value(&self, t: f64) -> f64 {
-        self.cubic().value(t)
+        horner(self.coefficients(), t)
     }
 
     /// s and its integral with their coefficients computed once, for repeated evaluation.
@@ -655,12 +655,17 @@ struct Cubic {
     integral: [f64; 4],
 }
 
+/// c₀ + c₁t + c₂t² + c₃t³ by Horner's scheme.
+#[inline]
+fn horner([c0, c1, c2, c3]: [f64; 4], t: f64) -> f64 {
+    c0 + t * (c1 + t * (c2 + t * c3))
+}
+
 impl Cubic {
     /// s(t).
     #[inline]
     fn value(&self, t: f64) -> f64 {
-        let [c0, c1, c2, c3] = self.c;
-        c0 + t * (c1 + t * (c2 + t * c3))
+        horner(self.c, t)
     }
 
     /// S(t) = ∫₀ᵗ s dt.
