@@ -236,18 +236,17 @@ fn wc_denominator(s: f64, co: f64, c: f64) -> f64 {
     }
 }
 
-/// f(φ) of the profile [`Gwc::from_table`]`(e, beta, c, r)` builds, for r > 0 given as 1/r and
-/// φ in [−π, π], with the same clamps and without building it: (E/r + β(L − 1))/2π with
-/// L = 2π·pdf_WC(φ; c). Equal to `from_table(…).eval(φ)` up to rounding, with two dependent
-/// divisions fewer after E is known (an evaluation's E comes last, out of a logarithm).
+/// f(φ) = α + β·pdf_WC(φ; c) of the profile with 2πα + β = `e_per_r` (E/r ≥ 0) and lobe β
+/// (0 ≤ β ≤ E/r), for φ in [−π, π], without building it: (E/r + β(L − 1))/2π with
+/// L = 2π·pdf_WC(φ; c) and c clamped as in [`Gwc::from_table`]. Equal to
+/// `Gwc::from_table(E, β, c, r).eval(φ)` up to rounding, with fewer dependent divisions after E
+/// is known (an evaluation's E comes last, out of a logarithm).
 #[inline]
-pub(crate) fn table_value(e: f64, beta: f64, c: f64, inv_r: f64, phi: f64) -> f64 {
+pub(crate) fn table_value(e_per_r: f64, beta: f64, c: f64, phi: f64) -> f64 {
     let (s, co) = half_angle(phi);
     let c = clamp_c(c);
     let lobe = (1.0 - c) * (1.0 + c) / wc_denominator(s, co, c);
-    let beta = if beta.is_finite() { beta.max(0.0) } else { 0.0 };
-    let e_per_r = (e * inv_r).max(0.0);
-    (e_per_r + beta.min(e_per_r) * (lobe - 1.0)) * (1.0 / TAU)
+    (e_per_r + beta * (lobe - 1.0)) * (1.0 / TAU)
 }
 
 /// cdf_WC for φ inside (−π, π), from (sin h, cos h) and a clamped c.

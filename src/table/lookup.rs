@@ -417,16 +417,17 @@ impl<'a> TableRef<'a> {
         if !phi.is_finite() {
             return Some(0.0);
         }
-        Some(cell.map_or(0.0, |([e, beta, c], r_eval)| {
-            table_value(e, beta, c, 1.0 / r_eval, wrap_phi(phi))
+        Some(cell.map_or(0.0, |[e_per_r, beta, c]| {
+            table_value(e_per_r, beta, c, wrap_phi(phi))
         }))
     }
 
-    /// The arguments (E, β, c) of [`Gwc::from_table`] for the profile at (ρ′, θ, r), with the
-    /// radius to evaluate at, without building a slice (evaluation needs nothing else of it):
-    /// `None` if (ρ′, θ) is outside the axes, `Some(None)` where [`TableRef::radius`] is `None`.
+    /// The profile at (ρ′, θ, r) as (E/r ≥ 0, β ∈ [0, E/r], c), the same profile as
+    /// [`Gwc::from_table`] builds from [`TableRef::cell_from`], without building a slice
+    /// (evaluation needs nothing else of it): `None` if (ρ′, θ) is outside the axes, `Some(None)`
+    /// where [`TableRef::radius`] is `None`.
     #[inline(always)]
-    fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<([f64; 3], f64)>> {
+    fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
         // The three weight searches first: they are independent and overlap in the pipeline.
         let rho_weights = self.axes.rho().weights(rho)?;
         let theta_weights = self.axes.theta().weights(theta)?;
@@ -436,20 +437,19 @@ impl<'a> TableRef<'a> {
         let first = self.radial_window(&w);
         let acc = self.window_at(&rho_weights, &theta_weights, first);
         let (e, lobe, c) = self.cell_from::<true>(acc, first, r_eval, &w, rho, theta);
+        let e_per_r = (e / r_eval).max(0.0);
         let beta = match lobe {
-            Lobe::Share(share) => share * e / r_eval,
-            Lobe::Beta(beta) => beta,
+            Lobe::Share(share) => share * e_per_r,
+            Lobe::Beta(beta) => beta.min(e_per_r),
         };
-        Some(Some(([e, beta, c], r_eval)))
+        Some(Some([e_per_r, beta, c]))
     }
 
     /// The perpendicular-incidence model: the θ = 0 slice at every θ, uniform in φ (pbrt's
     /// assumption), S = E(ρ′, 0, r)/(2πr).
     pub fn eval_perpendicular(&self, rho: f64, r: f64) -> Option<f64> {
         let cell = self.cell_at_point(rho, 0.0, r)?;
-        Some(cell.map_or(0.0, |([e, beta, c], r_eval)| {
-            Gwc::from_table(e, beta, c, r_eval).integral() / TAU
-        }))
+        Some(cell.map_or(0.0, |[e_per_r, ..]| e_per_r / TAU))
     }
 
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
