@@ -379,6 +379,48 @@ fn stable_at_the_extremes() {
 }
 
 #[test]
+fn short_radius_axes_from_zero_stay_finite() {
+    // The first two radius intervals use nodes 1 and 2; an axis of 2 or 3 nodes has fewer
+    // (the format allows any number of radii from 2 up)
+    for r_axis in [
+        vec![0.0, 0.01],
+        vec![0.0, 0.01, 0.02],
+        vec![0.0, 0.01, 0.02, 0.05],
+    ] {
+        let grid = Grid {
+            rho: vec![0.3, 0.9],
+            theta: vec![0.0, 1.2],
+            r: r_axis.clone(),
+        };
+        let (table, _) = bake(1.33, Moments::Exact, &grid, true).unwrap();
+        let view = table.view();
+        let r_max = *r_axis.last().unwrap();
+        // (The axes are stored as f32: 0.3 and 0.9 round outwards, so look inside them.)
+        for rho in [0.31, 0.5, 0.89] {
+            for theta in [0.0, 0.7, 1.19] {
+                for r in [0.0, 1e-9, 0.003, 0.01, 0.015, r_max] {
+                    for phi in [0.0, 2.0, PI] {
+                        let v = view.eval(rho, theta, r, phi).unwrap();
+                        let p = view.pdf(rho, theta, r, phi);
+                        assert!(
+                            v.is_finite() && v >= 0.0,
+                            "{r_axis:?} {rho} {theta} {r}: {v}"
+                        );
+                        assert!(
+                            p.is_finite() && p >= 0.0,
+                            "{r_axis:?} {rho} {theta} {r}: {p}"
+                        );
+                    }
+                }
+                if let Some(s) = view.sample(rho, theta, 0.4, 0.6) {
+                    assert!(s.r > 0.0 && s.r <= r_max && s.pdf_area.is_finite(), "{s:?}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn perpendicular_model_is_the_normal_incidence_slice_with_uniform_phi() {
     let view = default_table().view();
     for (rho, r) in [(0.5, 0.3), (0.99, 4.0)] {

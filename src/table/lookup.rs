@@ -333,17 +333,33 @@ impl<'a> TableRef<'a> {
             None => [0.0, wa[0], wa[1], wa[2]],
         };
         let r_nodes = self.axes.r().as_slice();
-        if segment == 0 && r_nodes[0] == 0.0 {
-            // First interval from r₀ = 0: PBD grows like slope·ln(1/r), isotropically, while the
-            // rest of the profile stays close to its value at r₁. So S(r, φ) = S(r₁, φ) +
-            // slope·ln(r₁/r): the node's lobe with the log added to the floor α (measured within
-            // 0.4 % of PBD down to r = 1e-6; the plain spline is 44 % low at r = 1e-4).
-            let r1 = r_nodes[1];
-            let [e1, e_beta1, c1] = params[1 - first];
-            let beta1 = (e_beta1 / r1).clamp(0.0, e1.max(0.0) / r1);
-            let e_per_r =
-                (e1 / r1).max(0.0) + TAU * self.log_slope(rho, theta) * (r1 / r_eval).ln();
-            return (e_per_r * r_eval, Lobe::Beta(beta1), c1);
+        if segment <= 1 && r_nodes[0] == 0.0 {
+            // The first two intervals, from r₀ = 0 to r₂: PBD grows like slope·ln(1/r),
+            // isotropically, and what is left, P(r, φ) = S(r, φ) − slope·ln(r₁/r), is smooth
+            // and nearly linear in r there (its curvature moves it by 0.2 % of itself over
+            // [0, r₁] at grazing incidence). So the cell is the log plus the straight line
+            // through the profiles P of nodes 1 and 2: (E/r − 2π·slope·ln(r₁/r), β, c) linear
+            // in r, extended down to r = 0. The spline through node 0 (E = 0, where PBD is
+            // infinite) bends them instead: 0.5 % off at θ = 0 mid-interval, where the nodes
+            // are exact, and its constant P(r₁) beyond r₁ left 1.9 % of drift at φ = π (README,
+            // "Accuracy").
+            // (An axis of two nodes has no node 2: P is then constant, P(r₁).)
+            let two_pi_slope = TAU * self.log_slope(rho, theta);
+            let node = |k: usize, r: f64| {
+                let [e, e_beta, c] = params[k - first];
+                let e_per_r = (e / r).max(0.0);
+                // P's isotropic part at node k: E/r less the log's value there
+                let p = e_per_r - two_pi_slope * (r_nodes[1] / r).ln();
+                [p, (e_beta / r).clamp(0.0, e_per_r), c]
+            };
+            let a = node(1, r_nodes[1]);
+            let (b, t) = match r_nodes.get(2) {
+                Some(&r2) => (node(2, r2), (r_eval - r_nodes[1]) / (r2 - r_nodes[1])),
+                None => (a, 0.0),
+            };
+            let [p, beta, c] = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
+            let e_per_r = p + two_pi_slope * (r_nodes[1] / r_eval).ln();
+            return (e_per_r * r_eval, Lobe::Beta(beta.max(0.0)), c);
         }
         // (The energies' logarithms come straight from the window: reading them from `params`
         // instead makes the compiler scalarise the blend's loads.)
