@@ -1,7 +1,8 @@
 //! The sampling triad of [`Nodes`]: [`Nodes::sample`], [`Nodes::pdf`] and [`Nodes::cdf`] of a
 //! density shaped like a spline, as described in the module docs of [`super`].
 
-use super::{positive_finite, Nodes, Positive, Sample};
+use super::segment::Positive;
+use super::{positive_finite, Nodes, Sample};
 
 /// One segment together with the CDF that a caller supplied for it.
 #[derive(Debug, Clone, Copy)]
