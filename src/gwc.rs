@@ -12,7 +12,7 @@
 //!
 //! | symbol | meaning                                 | unit                 | range           |
 //! |--------|-----------------------------------------|----------------------|-----------------|
-//! | α      | isotropic floor                         | unit of f            | [0, ∞)          |
+//! | α      | isotropic floor (signed, see below)     | unit of f            | [−β·min pdf_WC, ∞) |
 //! | β      | mass of the lobe, ∫ β·pdf_WC dφ         | unit of f × rad      | [0, ∞)          |
 //! | c      | lobe concentration (mean resultant)     | 1                    | (−1, 1)         |
 //! | E      | radial energy r·∫f dφ = (2πα + β)·r      | unit of f × rad × r  | [0, ∞)          |
@@ -27,6 +27,16 @@
 //! Tables store (E, β, c) per radius (§3.1, Eq. 1) and evaluation recovers α = (E/r − β)/2π
 //! (§4.1, [`Gwc::from_table`]). The normalised density is the mixture
 //! λ/2π + (1 − λ)·pdf_WC with λ = 2πα/(2πα + β), the λ of the report's §7.3 rewriting.
+//!
+//! **Signed floors.** The report keeps α ≥ 0. We also allow α < 0 down to
+//! [`floor_bound`] = −β·min pdf_WC = −β(1 − |c|)/(2π(1 + |c|)), where the profile touches 0
+//! opposite its lobe: a lobe less a constant, still ≥ 0 at every φ (λ < 0, and the mixture is
+//! still a density). Profiles flatter than lobe plus floor, such as photon beam diffusion far out
+//! in r and at low albedo, need it: at (ρ′, θ, r) = (0.5, 89°, 13) the best GWC over 181
+//! azimuths is 1.33 % off with α ≥ 0 and 0.34 % with a signed floor; at (0.078, 70°, 0.7),
+//! 2.0 % and 0.30 %. Equivalently β ≤ [`lobe_cap`]`(E/r, c)` = E/r·(1 + |c|)/(2|c|). The
+//! three-anchor fit below keeps the report's α ≥ 0; the minimax refinement reaches signed
+//! floors, and tables store them (format 1.1, required feature `signed-floor`).
 //!
 //! # Wrapped Cauchy density and distribution
 //!
@@ -118,8 +128,9 @@
 //! # Refinement
 //!
 //! [`refine_minimax`] (`gwc/minimax.rs`) moves any admissible fit, the three-anchor one
-//! included, to the admissible GWC of smallest largest relative error over a few more samples,
-//! and keeps the fit unless that lowers the error at the samples. Tables store it where the
+//! included, to the GWC with a floor no lower than [`floor_bound`] (so signed floors included)
+//! of smallest largest relative error over a few more samples, and keeps the fit unless that
+//! lowers the error at the samples. Tables store it where the
 //! three-anchor fit is weak (`table::bake`): their (E, E_β, c) stay GWC parameters, which no
 //! longer pass exactly through the anchors there.
 //!
@@ -135,7 +146,9 @@
 //!   anchor overestimated). Photon beam diffusion at large r is of this kind: on the report's
 //!   grid (η = 1.33, all ρ′, θ, r) the crate's PBD gives 75 % `Exact`, 15 % `AlphaClamped`
 //!   (energy within 7 %, all at large r), 10 % `Uniform` (θ = 0), 1 % `Zero`, and no
-//!   `PeakClamped` or `PeakAndAlphaClamped`.
+//!   `PeakClamped` or `PeakAndAlphaClamped`. The refinement's signed floor represents them
+//!   (e^(cos φ/2): 0.77 % at the seven samples of the bake instead of 25 %); profiles flatter
+//!   still, whose best signed floor touches 0, stay approximate.
 //! - Three anchors say nothing about |φ| < φ1 ≈ 17.6°: a narrow peak there is a guess. Hence
 //!   C_MAX_FIT = 0.99 for the fit: a lobe of half-width ≈ 1 − c ≈ 0.6° is far below what
 //!   anchors at 17.6° resolve, and K is already within 0.1 % of its c → 1 limit.
@@ -237,7 +250,7 @@ fn wc_denominator(s: f64, co: f64, c: f64) -> f64 {
 }
 
 /// f(φ) = α + β·pdf_WC(φ; c) of the profile with 2πα + β = `e_per_r` (E/r ≥ 0) and lobe β
-/// (0 ≤ β ≤ E/r), for φ in [−π, π], without building it: (E/r + β(L − 1))/2π with
+/// (0 ≤ β ≤ [`lobe_cap`]`(E/r, c)`), for φ in [−π, π], without building it: (E/r + β(L − 1))/2π with
 /// L = 2π·pdf_WC(φ; c) and c clamped as in [`Gwc::from_table`]. Equal to
 /// `Gwc::from_table(E, β, c, r).eval(φ)` up to rounding, with fewer dependent divisions after E
 /// is known (an evaluation's E comes last, out of a logarithm).
@@ -246,7 +259,28 @@ pub(crate) fn table_value(e_per_r: f64, beta: f64, c: f64, phi: f64) -> f64 {
     let (s, co) = half_angle(phi);
     let c = clamp_c(c);
     let lobe = (1.0 - c) * (1.0 + c) / wc_denominator(s, co, c);
-    (e_per_r + beta * (lobe - 1.0)) * (1.0 / TAU)
+    ((e_per_r + beta * (lobe - 1.0)) * (1.0 / TAU)).max(0.0)
+}
+
+/// The lowest floor α that keeps α + β·pdf_WC(φ; c) ≥ 0 at every φ: −β·min pdf_WC
+/// = −β(1 − |c|)/(2π(1 + |c|)) (the minimum is opposite the lobe), ≤ 0. c is clamped as in
+/// [`pdf_wc`].
+pub fn floor_bound(beta: f64, c: f64) -> f64 {
+    let c = clamp_c(c).abs();
+    -beta * (1.0 - c) / (TAU * (1.0 + c))
+}
+
+/// The largest lobe β of a profile with 2πα + β = `e_per_r` (E/r ≥ 0) that stays ≥ 0:
+/// 2πα = E/r − β ≥ −β(1 − |c|)/(1 + |c|) gives β ≤ E/r·(1 + |c|)/(2|c|), at least E/r (α = 0
+/// is always admissible). At c = 0 it is E/r: the lobe is uniform and any split is the same
+/// profile, the one with α ≥ 0 is kept. c is clamped as in [`pdf_wc`].
+pub fn lobe_cap(e_per_r: f64, c: f64) -> f64 {
+    let c = clamp_c(c).abs();
+    if c == 0.0 {
+        e_per_r
+    } else {
+        e_per_r * (1.0 + c) / (2.0 * c)
+    }
 }
 
 /// cdf_WC for φ inside (−π, π), from (sin h, cos h) and a clamped c.
@@ -302,7 +336,9 @@ fn inv_cdf_wc_with_pdf(u: f64, c: f64) -> (f64, f64) {
 
 /// A General Wrapped Cauchy profile f(φ) = α + β·pdf_WC(φ; c) (see the module docs).
 ///
-/// Invariants: α, β finite and ≥ 0, 2πα + β finite, |c| < 1.
+/// Invariants: β finite and ≥ 0, |c| < 1, α finite and at least [`floor_bound`]`(β, c)`
+/// (the profile is ≥ 0 at every φ; α < 0 is a *signed floor*, a lobe less a constant), and
+/// 2πα + β finite.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gwc {
     alpha: f64,
@@ -316,13 +352,16 @@ impl Gwc {
     /// Builds a profile from α (unit of f), β (unit of f × rad) and c (dimensionless).
     ///
     /// Errors ([`Error::NotFinite`], [`Error::Negative`], [`Error::OutOfRange`]) if α or β is
-    /// not finite or negative, if c is NaN or outside [−[`C_LIMIT`], `C_LIMIT`] (the floats in
-    /// (−1, 1)), or if 2πα + β overflows. α = β = 0 is allowed (the zero profile).
+    /// not finite, if β is negative, if c is NaN or outside [−[`C_LIMIT`], `C_LIMIT`] (the
+    /// floats in (−1, 1)), if α is below [`floor_bound`]`(β, c)` (the profile would dip below 0
+    /// opposite the lobe), or if 2πα + β overflows. α = β = 0 is allowed (the zero profile).
     pub fn new(alpha: f64, beta: f64, c: f64) -> Result<Self> {
-        for (name, value) in [("alpha", alpha), ("beta", beta)] {
-            non_negative(name, value)?;
-        }
+        finite("alpha", alpha)?;
+        non_negative("beta", beta)?;
         in_range("c", c, -C_LIMIT, C_LIMIT)?;
+        if alpha < 0.0 {
+            in_range("alpha", alpha, floor_bound(beta, c), 0.0)?;
+        }
         finite("2*pi*alpha + beta", TAU * alpha + beta)?;
         Ok(Self::from_parts(alpha, beta, c))
     }
@@ -332,11 +371,12 @@ impl Gwc {
     fn from_parts(alpha: f64, beta: f64, c: f64) -> Self {
         let iso = TAU * alpha;
         let lambda = if iso + beta > 0.0 {
-            // 1/(1 + β/2πα) keeps λ in [0, 1] even if 2πα + β overflows
             if alpha > 0.0 {
+                // 1/(1 + β/2πα) keeps λ in [0, 1] even if 2πα + β overflows
                 1.0 / (1.0 + beta / iso)
             } else {
-                0.0
+                // A signed floor: |2πα| < β, so 2πα + β > 0 cannot overflow; λ < 0
+                iso / (iso + beta)
             }
         } else {
             1.0
@@ -355,8 +395,9 @@ impl Gwc {
     /// Interpolated cells may be slightly inconsistent; this never fails and clamps as follows:
     /// - c: NaN → 0, then into [−[`C_LIMIT`], `C_LIMIT`];
     /// - β: NaN or ±∞ → 0, negative → 0;
-    /// - E/r: negative → 0; then β is clamped to at most E/r, so α ≥ 0 and the stored energy E
-    ///   is kept exactly (2πα + β = E/r) while the lobe shape c is kept;
+    /// - E/r: negative → 0; then β is clamped to at most [`lobe_cap`]`(E/r, c)` (β > E/r is a
+    ///   signed floor α < 0; beyond the cap the profile would dip below 0), so the stored energy
+    ///   E is kept exactly (2πα + β = E/r) while the lobe shape c is kept;
     /// - E/r not finite (r = 0 row, r ≤ 0, E non-finite): the energy carries no information,
     ///   α = 0 and the profile is β·pdf_WC alone.
     pub fn from_table(e: f64, beta: f64, c: f64, r: f64) -> Self {
@@ -365,7 +406,7 @@ impl Gwc {
         let e_per_r = e / r;
         if r > 0.0 && e_per_r.is_finite() {
             let e_per_r = e_per_r.max(0.0);
-            let beta = beta.min(e_per_r);
+            let beta = beta.min(lobe_cap(e_per_r, c));
             // × 1/2π: a division less on the path of every lookup (α moves by an ulp at most)
             Self::from_parts((e_per_r - beta) * (1.0 / TAU), beta, c)
         } else {
@@ -373,20 +414,22 @@ impl Gwc {
         }
     }
 
-    /// The profile of unit integral (2πα + β = 1) whose lobe carries `share` ∈ [0, 1] of it
-    /// (NaN → 0), with c clamped as in [`Gwc::from_table`]: what a sampler needs of a table
-    /// cell, since the normalised density depends on the share and c only. λ = 1 − share
-    /// directly, without the divisions of [`Gwc::from_table`].
+    /// The profile of unit integral (2πα + β = 1) whose lobe carries `share` of it, clamped
+    /// into [0, [`lobe_cap`]`(1, c)`] (NaN → 0; a share above 1 is a signed floor), with c
+    /// clamped as in [`Gwc::from_table`]: what a sampler needs of a table cell, since the
+    /// normalised density depends on the share and c only. λ = 1 − share directly, without
+    /// the divisions of [`Gwc::from_table`].
     pub(crate) fn normalised(share: f64, c: f64) -> Self {
+        let c = clamp_c(c);
         let share = if share.is_nan() {
             0.0
         } else {
-            share.clamp(0.0, 1.0)
+            share.max(0.0).min(lobe_cap(1.0, c))
         };
         Self {
             alpha: (1.0 - share) * (1.0 / TAU),
             beta: share,
-            c: clamp_c(c),
+            c,
             lambda: 1.0 - share,
         }
     }
@@ -423,7 +466,8 @@ impl Gwc {
         if !in_domain(phi) {
             return 0.0;
         }
-        self.alpha + self.beta * pdf_wc(phi, self.c)
+        // ≥ 0 exactly: a signed floor at its bound cancels to rounding opposite the lobe
+        (self.alpha + self.beta * pdf_wc(phi, self.c)).max(0.0)
     }
 
     /// Normalised density f(φ)/∫f in rad⁻¹; 0 outside [−π, π] or for NaN.
@@ -436,9 +480,10 @@ impl Gwc {
         self.mix_pdf(pdf_wc(phi, self.c))
     }
 
-    /// λ/2π + (1 − λ)·`lobe`, the density from the lobe's.
+    /// λ/2π + (1 − λ)·`lobe`, the density from the lobe's (≥ 0: with λ < 0, a signed floor at
+    /// its bound, it cancels to rounding opposite the lobe).
     fn mix_pdf(&self, lobe: f64) -> f64 {
-        self.lambda / TAU + (1.0 - self.lambda) * lobe
+        (self.lambda / TAU + (1.0 - self.lambda) * lobe).max(0.0)
     }
 
     /// λ(φ + π)/2π + (1 − λ)·`lobe`, clamped into [0, 1]: the distribution from the lobe's.

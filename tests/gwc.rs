@@ -5,7 +5,7 @@ mod gwc_common;
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use bssrdf_zoo::gwc::{cdf_wc, inv_cdf_wc, pdf_wc, Gwc, C_LIMIT};
+use bssrdf_zoo::gwc::{cdf_wc, floor_bound, inv_cdf_wc, lobe_cap, pdf_wc, Gwc, C_LIMIT};
 use bssrdf_zoo::Error;
 use gwc_common::{chi2_critical_1e6, integrate, SplitMix64, UniformRange};
 
@@ -19,8 +19,9 @@ const ROUND_TRIP_TOL: f64 = 1e-10;
 const CS: [f64; 9] = [0.0, 0.3, -0.3, 0.7, -0.7, 0.95, 0.999, -0.999, 1e-6];
 
 /// (α, β, c) sets for the profile tests: typical, α = 0, uniform (β = 0), very peaked,
-/// backward, large α/β, tiny values.
-const PARAMS: [(f64, f64, f64); 9] = [
+/// backward, large α/β, tiny values, signed floors (α < 0) forward, backward and within 4e-6
+/// of the bound −β(1 − |c|)/(2π(1 + |c|)) = −0.0856983 at c = 0.3, where f(π) is nearly 0.
+const PARAMS: [(f64, f64, f64); 12] = [
     (0.1, 1.0, 0.5),
     (0.0, 1.0, 0.8),
     (1.0, 0.0, 0.0),
@@ -30,6 +31,9 @@ const PARAMS: [(f64, f64, f64); 9] = [
     (1e6, 1e-3, 0.9),
     (1e-3, 1e6, 0.3),
     (1e-300, 3e-300, 0.6),
+    (-0.05, 1.0, 0.5),
+    (-0.01, 1.0, -0.8),
+    (-0.085698, 1.0, 0.3),
 ];
 
 fn profiles() -> Vec<Gwc> {
@@ -198,6 +202,22 @@ fn new_rejects_invalid_parameters() {
         Gwc::new(1.0, 1.0, f64::NAN),
         Err(Error::NotFinite { name: "c", .. })
     ));
+    // A floor below −β(1 − |c|)/(2π(1 + |c|)) would make the profile negative opposite the lobe
+    // (−0.0531 for β = 1, c = ±0.5; 0 without a lobe)
+    for (alpha, beta, c) in [(-0.054, 1.0, 0.5), (-0.054, 1.0, -0.5), (-1e-3, 0.0, 0.0)] {
+        assert!(
+            matches!(
+                Gwc::new(alpha, beta, c),
+                Err(Error::OutOfRange { name: "alpha", .. })
+            ),
+            "{alpha} {beta} {c}"
+        );
+    }
+    let bound = floor_bound(1.0, 0.5);
+    assert!((bound + 0.5 / (TAU * 1.5)).abs() < 1e-16);
+    let at_bound = Gwc::new(bound, 1.0, 0.5).unwrap();
+    assert!(at_bound.eval(PI) >= 0.0 && at_bound.eval(PI) < 1e-16);
+    assert!(at_bound.pdf(PI) >= 0.0 && at_bound.pdf(PI) < 1e-16);
     assert!(matches!(
         Gwc::new(1e308, 1.0, 0.0),
         Err(Error::NotFinite {
@@ -219,12 +239,17 @@ fn from_table_recovers_consistent_cells_and_clamps_inconsistent_ones() {
     let back = Gwc::from_table(e, beta, c, r);
     assert!((back.alpha() - 0.2).abs() < 1e-15 && back.beta() == 1.5 && back.c() == 0.6);
 
-    // β > E/r (α would be negative): α = 0, β = E/r, energy kept
-    let over = Gwc::from_table(1.0, 3.0, 0.5, 0.5);
-    assert_eq!(
-        (over.alpha(), over.beta(), over.integral()),
-        (0.0, 2.0, 2.0)
-    );
+    // β > E/r: a signed floor α = (E/r − β)/2π < 0, kept while the profile stays ≥ 0, that is
+    // up to β = E/r·(1 + |c|)/(2|c|) = 3 here; beyond, β = 3 and f(π) = 0; energy kept
+    let signed = Gwc::from_table(1.0, 2.5, 0.5, 0.5);
+    assert_eq!((signed.beta(), signed.integral()), (2.5, 2.0));
+    assert!((signed.alpha() + 0.5 / TAU).abs() < 1e-16);
+    let over = Gwc::from_table(1.0, 4.0, 0.5, 0.5);
+    assert_eq!((over.beta(), over.integral()), (3.0, 2.0));
+    assert!(over.eval(PI) < 1e-16);
+    assert_eq!(lobe_cap(2.0, 0.5), 3.0);
+    // At c = 0 the split is immaterial (a uniform lobe): α ≥ 0 is kept
+    assert_eq!(Gwc::from_table(1.0, 4.0, 0.0, 0.5).beta(), 2.0);
     // β < 0: β = 0, all energy in α
     let under = Gwc::from_table(1.0, -0.1, 0.5, 0.5);
     assert_eq!((under.beta(), under.integral()), (0.0, 2.0));
@@ -323,6 +348,7 @@ fn sample_round_trips_through_cdf() {
         (1e-6, 1.0, 1.0 - 1e-9),
         (0.3, 1.0, -0.9999),
         (1e-12, 1.0, 0.5),
+        (-0.000_799_7, 1.0, 0.99),
     ];
     let gs = profiles()
         .into_iter()
@@ -402,7 +428,8 @@ fn chi_square(g: &Gwc, draw: &mut dyn FnMut() -> f64) -> (f64, usize) {
 #[test]
 fn sample_matches_pdf_chi_square() {
     // Fixed seed. Threshold: Wilson–Hilferty χ² critical value at p = 1e-6, so each case would
-    // fail by chance with probability 1e-6 (7 cases: < 1e-5 overall).
+    // fail by chance with probability 1e-6 (10 cases: 1e-5 overall). The last three have signed
+    // floors (λ < 0), the last one touching 0 opposite its lobe.
     let cases = [
         (0.1, 1.0, 0.5),
         (0.0, 1.0, 0.999),
@@ -411,6 +438,9 @@ fn sample_matches_pdf_chi_square() {
         (0.0, 1.0, 0.0),
         (0.02, 1.0, -0.8),
         (0.05, 1.0, 0.9),
+        (-0.05, 1.0, 0.5),
+        (-0.015, 1.0, -0.8),
+        (-0.085698, 1.0, 0.3),
     ];
     let mut rng = SplitMix64::new(0x5eed);
     for (a, b, c) in cases {

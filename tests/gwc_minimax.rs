@@ -8,8 +8,8 @@ use std::f64::consts::PI;
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::{
-    fit_three_anchors, refine_minimax, FitBranch, Gwc, MinimaxFit, ANCHOR_COS, C_MAX_FIT,
-    MINIMAX_MAX_SAMPLES,
+    fit_three_anchors, floor_bound, refine_minimax, FitBranch, Gwc, MinimaxFit, ANCHOR_COS,
+    C_MAX_FIT, MINIMAX_MAX_SAMPLES,
 };
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
@@ -43,14 +43,16 @@ fn dense_max_error(g: &Gwc, f: impl Fn(f64) -> f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The result's invariants: admissible, finite, the reported error recomputed, never worse
-/// than the start and strictly better when refined.
+/// The result's invariants: admissible (a floor no lower than −β·min pdf_WC, so ≥ 0 at every
+/// φ), finite, the reported error recomputed, never worse than the start and strictly better
+/// when refined.
 fn assert_sound(m: &MinimaxFit, start: &Gwc, phi: &[f64], f: &[f64]) {
     let g = m.gwc;
     assert!(
-        g.alpha() >= 0.0 && g.beta() >= 0.0 && g.c().abs() <= C_MAX_FIT,
+        g.alpha() >= floor_bound(g.beta(), g.c()) && g.beta() >= 0.0 && g.c().abs() <= C_MAX_FIT,
         "{m:?}"
     );
+    assert!(g.eval(0.0) >= 0.0 && g.eval(PI) >= 0.0, "{m:?}");
     assert!(g.alpha().is_finite() && g.beta().is_finite() && g.integral().is_finite());
     assert!(!m.max_rel_error.is_nan() && !m.start_max_rel_error.is_nan());
     assert!(m.max_rel_error <= m.start_max_rel_error, "{m:?}");
@@ -184,10 +186,10 @@ fn never_worse_than_the_start_at_its_samples() {
 }
 
 #[test]
-fn profiles_flatter_than_a_lobe_end_on_the_alpha_edge() {
+fn profiles_flatter_than_a_lobe_refine_to_a_signed_floor() {
     // von Mises e^(cos φ/2) needs α < 0: the three-anchor fit clamps α = 0 through anchors 1
-    // and 2 (25 % off at φ = π); the refinement stays at α = 0 (to the precision of its search
-    // in c) and levels the error on at least three samples
+    // and 2 (25 % off at φ = π); the refinement takes a signed floor (a lobe less a constant,
+    // still ≥ 0), 0.77 % off at the samples, and levels the error on at least three of them
     let f = |p: f64| (0.5 * p.cos()).exp();
     let s = ANCHOR_COS.map(|x| f(x.acos()));
     let fit = fit_three_anchors(s[0], s[1], s[2]).unwrap();
@@ -196,8 +198,10 @@ fn profiles_flatter_than_a_lobe_end_on_the_alpha_edge() {
     let samples = phi.map(f);
     let m = refine_minimax(&fit.gwc, &phi, &samples).unwrap();
     assert_sound(&m, &fit.gwc, &phi, &samples);
-    assert!(m.refined && m.gwc.alpha() <= 1e-8 * m.gwc.beta(), "{m:?}");
-    assert!(m.max_rel_error < 0.5 * m.start_max_rel_error, "{m:?}");
+    assert!(m.refined && m.gwc.alpha() < 0.0, "{m:?}");
+    assert!(m.max_rel_error < 0.01, "{m:?}");
+    let dense = dense_max_error(&m.gwc, f);
+    assert!(dense < 0.012, "{dense}");
     let at_level = rel_errors(&m.gwc, &phi, &samples)
         .iter()
         .filter(|e| (e.abs() - m.max_rel_error).abs() < 1e-6 * m.max_rel_error)

@@ -119,17 +119,26 @@ impl Gwc {
         if c > C_MAX_FIT {
             // No table stores so narrow a lobe; near its peak φ resolves it poorly, and the
             // solve follows the distribution and density as evaluated, from φ
-            if lambda <= 0.0 {
+            if lambda == 0.0 {
                 return (at.phi, self.pdf(at.phi));
             }
             return self.sample_in_phi(u, at.phi);
         }
-        if lambda <= 0.0 {
+        if lambda == 0.0 {
             return (at.phi, at.pdf);
         }
-        // In w while H′ = λ/(2π p) + 1 − λ varies by at most a factor 2 over the lobe
-        // (2π·min p = (1 − |c|)/(1 + |c|)); otherwise cdf itself, in φ, is the tamer function
-        if lambda > (1.0 - lambda) * (1.0 - c) / (1.0 + c) {
+        // In w while H′ = λ/(2π p) + 1 − λ varies by at most a factor 2 over the lobe, where
+        // 2π·p runs from q = (1 − |c|)/(1 + |c|) to 1/q; otherwise cdf itself, in φ, is the
+        // tamer function. H′ ≥ 0 is the profile's density: for a signed floor (λ < 0) it is
+        // smallest opposite the lobe, where it may reach 0.
+        let q = (1.0 - c) / (1.0 + c);
+        let in_w = if lambda > 0.0 {
+            lambda <= (1.0 - lambda) * q
+        } else {
+            let (smallest, largest) = (1.0 - lambda + lambda / q, 1.0 - lambda + lambda * q);
+            largest <= 2.0 * smallest
+        };
+        if !in_w {
             return self.sample_in_phi(u, at.phi);
         }
         let residual = |w: f64, phi: f64| lambda * (phi + PI) * INV_TAU + (1.0 - lambda) * w - u;
@@ -262,6 +271,13 @@ mod tests {
         for _ in 0..200_000 {
             let c = (2.0 * uniform() - 1.0) * 0.999;
             let (alpha, beta) = (10f64.powf(2.0 - 14.0 * uniform()), uniform());
+            check(Gwc::new(alpha, beta, c).unwrap(), uniform());
+        }
+        // Signed floors (λ < 0) anywhere down to the bound, where f(π) = 0
+        for _ in 0..100_000 {
+            let c = (2.0 * uniform() - 1.0) * 0.999;
+            let beta = uniform();
+            let alpha = super::super::floor_bound(beta, c) * uniform();
             check(Gwc::new(alpha, beta, c).unwrap(), uniform());
         }
         // A grid through peaked lobes with floors of every size, every u

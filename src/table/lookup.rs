@@ -3,7 +3,7 @@
 
 use super::{TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
-use crate::gwc::{table_value, Gwc};
+use crate::gwc::{lobe_cap, table_value, Gwc};
 use std::f64::consts::{PI, TAU};
 
 /// One draw of (r, φ) for a given (ρ′, θ).
@@ -305,12 +305,14 @@ impl<'a> TableRef<'a> {
     /// segment hold positive energy (`LOG_ENERGY`): E(r) is close to the exponential of a
     /// smooth function, and on the 1.2-ratio grid this removes most of the spline's error in the
     /// exponential tail (see the README for the measured effect). Elsewhere (the first interval,
-    /// where E(0) = 0, and underflowed tails) E is the plain spline. The lobe's share E_β/E and
-    /// c come from the plain spline, so the profile's normalised density in φ (the floor's
-    /// weight λ = 1 − E_β/E and c) does not depend on how E is interpolated, except in the first
-    /// interval: the samplers skip the logarithms (`LOG_ENERGY = false`). Sampling keeps the
-    /// plain spline of E along r, so sample and pdf stay an exact pair (S/pdf and ρ_eff then
-    /// differ by a median 8e-5, see the module docs).
+    /// where E(0) = 0, and underflowed tails) E is the plain spline. With `LOG_ENERGY` the
+    /// lobe's share is the spline of the nodes' shares E_β/E (where all four hold energy);
+    /// without, the ratio of the plain splines of E_β and E, which agrees with it except in
+    /// steep tails. c comes from its plain spline. The profile's normalised density in φ (the
+    /// floor's weight λ = 1 − share, and c) does not depend on how E is interpolated, except in
+    /// the first two intervals: the samplers skip the logarithms (`LOG_ENERGY = false`).
+    /// Sampling keeps the plain spline of E along r, so sample and pdf stay an exact pair (S/pdf
+    /// and ρ_eff then differ by a median 8e-5, see the module docs).
     #[inline(always)]
     fn cell_from<const LOG_ENERGY: bool>(
         &self,
@@ -350,7 +352,7 @@ impl<'a> TableRef<'a> {
                 let e_per_r = (e / r).max(0.0);
                 // P's isotropic part at node k: E/r less the log's value there
                 let p = e_per_r - two_pi_slope * (r_nodes[1] / r).ln();
-                [p, (e_beta / r).clamp(0.0, e_per_r), c]
+                [p, (e_beta / r).max(0.0).min(lobe_cap(e_per_r, c)), c]
             };
             let a = node(1, r_nodes[1]);
             let (b, t) = match r_nodes.get(2) {
@@ -369,6 +371,7 @@ impl<'a> TableRef<'a> {
             [0.0; 4]
         };
         let (mut e_lin, mut e_beta, mut c, mut ln_e) = (0.0, 0.0, 0.0, 0.0);
+        let mut node_share = 0.0;
         let mut positive = true;
         for ((&wk, [e, eb, ck]), ln) in weights.iter().zip(params).zip(ln) {
             if wk == 0.0 {
@@ -379,6 +382,9 @@ impl<'a> TableRef<'a> {
             c += wk * ck;
             if e > 0.0 {
                 ln_e += wk * f64::from(ln);
+                if LOG_ENERGY {
+                    node_share += wk * (eb / e);
+                }
             } else {
                 positive = false;
             }
@@ -390,11 +396,24 @@ impl<'a> TableRef<'a> {
         } else {
             e_lin
         };
-        let share = if e_lin > 0.0 {
-            (e_beta / e_lin).clamp(0.0, 1.0)
+        // The lobe's share, at most (1 + |c|)/(2|c|) (`gwc::lobe_cap`; above 1 the floor is
+        // signed, beyond the cap the profile would dip below 0 opposite the lobe; +∞ at c = 0)
+        // Where all four nodes hold energy, evaluation takes the spline of the nodes' shares
+        // E_β/E, smooth in r (from 0.99 to 1.04 between r = 4 and 40 at (0.5, 89°)); the ratio
+        // of the splines of E_β and E, which undershoot differently in a steep tail (E falls
+        // 30-fold per interval at r ≈ 15 there), moves it by several per cent, and a signed
+        // floor turns that into errors of 100 % and more opposite the lobe. The samplers keep
+        // the ratio (four divisions less per draw): sample and pdf stay an exact pair, and only
+        // draws in such tails, a few in 10⁶ on the protocol's cases, follow a rougher φ law.
+        let share = if LOG_ENERGY && positive {
+            node_share
+        } else if e_lin > 0.0 {
+            e_beta / e_lin
         } else {
             0.0
         };
+        let a = c.abs().min(1.0);
+        let share = share.max(0.0).min((1.0 + a) / (2.0 * a));
         (e, Lobe::Share(share), c)
     }
 
@@ -438,7 +457,7 @@ impl<'a> TableRef<'a> {
         }))
     }
 
-    /// The profile at (ρ′, θ, r) as (E/r ≥ 0, β ∈ [0, E/r], c), the same profile as
+    /// The profile at (ρ′, θ, r) as (E/r ≥ 0, β ∈ [0, lobe_cap(E/r, c)], c), the same profile as
     /// [`Gwc::from_table`] builds from [`TableRef::cell_from`], without building a slice
     /// (evaluation needs nothing else of it): `None` if (ρ′, θ) is outside the axes, `Some(None)`
     /// where [`TableRef::radius`] is `None`.
@@ -456,7 +475,7 @@ impl<'a> TableRef<'a> {
         let e_per_r = (e / r_eval).max(0.0);
         let beta = match lobe {
             Lobe::Share(share) => share * e_per_r,
-            Lobe::Beta(beta) => beta.min(e_per_r),
+            Lobe::Beta(beta) => beta.min(lobe_cap(e_per_r, c)),
         };
         Some(Some([e_per_r, beta, c]))
     }
