@@ -205,18 +205,22 @@ fn node_profile_max_error(rho: f64, theta_deg: f64, n: usize, seed: u64) -> f64 
 
 // Ferrier's figure 9: at η = 1.33 and g = 0, for ρ′ = 0.5 and 0.99, every one of 100 000
 // points drawn with the table's sampler is within 1 % of the reference, "even for grazing
-// angles". The table holds it at 0° and 60° with the protocol's seed 7 (with other seeds a
-// point or two in 10⁵ next to r₁ can exceed 1 %: the lookup's first two radius intervals).
-// At 89° the profiles it stores hold it (for ρ′ = 0.99 and 0.9; for 0.5 up to r ≈ 11, beyond
-// which no GWC with α ≥ 0 does), and since the θ spline ends with slope 0 at 90° so does the
-// table, but for a few points in 10⁵ per case: beyond r ≈ 10.6 at ρ′ = 0.5, or in the first
-// two radius intervals. With the chord slope at 90°, 2.4–2.6 % of the points at 89° ended
-// between 1 % and 1.16 % (README, "Accuracy"). 0.99 at 89° reaches 0.9995 % with seed 7, too
-// close to 1 % to count as a figure 9 case here.
+// angles". The table holds it in every case of the protocol (ρ′ = 0.9 too) but one: at
+// (0.99, 89°) one or two points in 10⁵ reach 1.0000–1.0002 % (seeds 7, 1, 2024), near r = 1.4
+// at φ = 0, where the best GWC profile itself is 0.998 % off PBD at four azimuths (dense
+// minimax, `gwc_minimax::levels_the_error_of_pbd_at_grazing_incidence`), and interpolating
+// between the nodes adds 0.002 %. That case is held to the family's limit plus 0.001 %.
+// (Before the first two radius intervals took their own model and the refinement its signed
+// floors, up to 4 points in 10⁵ exceeded 1 %, up to 1.44 %, README "Accuracy".)
 
-/// Whether a case of the protocol is one of figure 9's that the table holds.
-fn figure_9_case(row: &bssrdf_zoo::table::ValidationRow) -> bool {
-    [0.5, 0.99].contains(&row.rho) && row.theta_deg < 89.0
+/// The largest error allowed in a case of the protocol: figure 9's 1 %, or at (0.99, 89°) the
+/// GWC family's own limit there (0.998 %) plus 0.002 % of interpolation.
+fn figure_9_bound(row: &bssrdf_zoo::table::ValidationRow) -> f64 {
+    if row.rho == 0.99 && row.theta_deg == 89.0 {
+        0.010_005
+    } else {
+        0.01
+    }
 }
 
 #[test]
@@ -227,13 +231,7 @@ fn accuracy_protocol_fast_form() {
     for row in protocol(2_000) {
         let report = row.report_mean_rel_error.unwrap();
         assert!(row.mean_rel_error < 1.15 * report, "{row:?}");
-        assert!(!figure_9_case(&row) || row.max_rel_error < 0.01, "{row:?}");
-        // At 89°, with slope 0 at 90°: none of the 2 000 points above 1 % (with the chord
-        // slope there, 2.6 % of them at ρ′ = 0.9 and 0.99)
-        assert!(
-            row.theta_deg < 89.0 || row.fraction_above_1pct == 0.0,
-            "{row:?}"
-        );
+        assert!(row.max_rel_error < figure_9_bound(&row), "{row:?}");
     }
     // Figure 9 at 89°, for the profiles the bake stores (no θ interpolation)
     let worst = node_profile_max_error(0.99, 89.0, 3_000, 7);
@@ -249,15 +247,9 @@ fn accuracy_protocol_full() {
             row.mean_rel_error <= row.report_mean_rel_error.unwrap(),
             "{row:?}"
         );
-        assert!(!figure_9_case(&row) || row.max_rel_error < 0.01, "{row:?}");
-        // The table at 89°, the documented limit: at most a few points in 10⁵ above 1 %
-        // (seed 7: 1, 1 and 0, up to 1.06 %; 2.6 % of them with the chord slope at 90°)
-        if row.theta_deg == 89.0 {
-            assert!(
-                row.fraction_above_1pct <= 5e-5 && row.max_rel_error < 0.0125,
-                "{row:?}"
-            );
-        }
+        assert!(row.max_rel_error < figure_9_bound(&row), "{row:?}");
+        // (0.99, 89°), at the family's limit: seed 7 has one point in [1 %, 1.0001 %]
+        assert!(row.fraction_above_1pct <= 2e-5, "{row:?}");
     }
     for rho in [0.9, 0.99] {
         let worst = node_profile_max_error(rho, 89.0, 100_000, 7);
