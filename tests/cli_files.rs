@@ -65,7 +65,9 @@ fn inspect_reports_tables_materials_and_provenance() {
         &["inspect", "white-grapefruit-juice.bssrdf", "--json"],
     )))
     .unwrap();
-    assert_eq!(json["version"], serde_json::json!([1, 0]));
+    assert_eq!(json["version"], serde_json::json!([1, 1]));
+    // The bake keeps 0 ≤ E_β ≤ E: no negative floor, no required feature.
+    assert_eq!(json["required_features"], 0);
     assert_eq!(json["tables"][0]["dims"], serde_json::json!([50, 7, 40]));
     assert_eq!(json["tables"][0]["eta"], 1.33);
     assert_eq!(json["materials"][0]["name"], "white-grapefruit-juice");
