@@ -66,9 +66,21 @@ fn inspect_reports_tables_materials_and_provenance() {
     )))
     .unwrap();
     assert_eq!(json["version"], serde_json::json!([1, 1]));
-    // The bake keeps 0 ≤ E_β ≤ E: no negative floor, no required feature.
-    assert_eq!(json["required_features"], 0);
-    assert_eq!(json["required_feature_names"], serde_json::json!([]));
+    // The writer sets `signed-floor` exactly when some node has a negative floor (E_β > E).
+    let library = bssrdf_zoo::format::Library::read(
+        dir.path().join("white-grapefruit-juice.bssrdf"),
+        bssrdf_zoo::format::Verify::Full,
+    )
+    .unwrap();
+    let table = library.table(0).unwrap();
+    let signed_floor = table.gwc_params().chunks_exact(3).any(|n| n[1] > n[0]);
+    let (bits, names) = if signed_floor {
+        (2, serde_json::json!(["signed-floor"]))
+    } else {
+        (0, serde_json::json!([]))
+    };
+    assert_eq!(json["required_features"], bits);
+    assert_eq!(json["required_feature_names"], names);
     assert_eq!(json["tables"][0]["dims"], serde_json::json!([50, 7, 40]));
     assert_eq!(json["tables"][0]["eta"], 1.33);
     assert_eq!(json["materials"][0]["name"], "white-grapefruit-juice");
