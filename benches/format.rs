@@ -27,13 +27,25 @@ fn default_table() -> TableData {
         model: ModelKind::PbdAngular,
         eta: 1.33,
         fresnel: FresnelMoments::Exact,
-        gwc: (0..n * 3).map(|i| (i as f32 * 1e-3).sin()).collect(),
+        gwc: (0..n).flat_map(gwc_node).collect(),
         cdf: (0..n).map(|i| (i % 64) as f32 / 63.0).collect(),
         theta_cdf: Some(rho.iter().flat_map(|&p| [p; 10]).collect()),
         rho,
         theta,
         r,
     }
+}
+
+/// Node `n`'s (E, E_β, c): smooth made-up values that the format accepts (a profile ≥ 0),
+/// some with a negative floor (E_β up to 1.2 E, with |c| ≤ 0.4), as format 1.1 allows.
+fn gwc_node(n: usize) -> [f32; 3] {
+    let x = n as f32;
+    let e = 0.5 + 0.4 * (x * 1e-3).sin();
+    [
+        e,
+        e * (0.7 + 0.5 * (x * 7e-4).sin()),
+        0.4 * (x * 3e-4).sin(),
+    ]
 }
 
 /// Pseudo-random element indices of the GWC table (fixed LCG: the same every run).

@@ -65,7 +65,22 @@ fn inspect_reports_tables_materials_and_provenance() {
         &["inspect", "white-grapefruit-juice.bssrdf", "--json"],
     )))
     .unwrap();
-    assert_eq!(json["version"], serde_json::json!([1, 0]));
+    assert_eq!(json["version"], serde_json::json!([1, 1]));
+    // The writer sets `signed-floor` exactly when some node has a negative floor (E_β > E).
+    let library = bssrdf_zoo::format::Library::read(
+        dir.path().join("white-grapefruit-juice.bssrdf"),
+        bssrdf_zoo::format::Verify::Full,
+    )
+    .unwrap();
+    let table = library.table(0).unwrap();
+    let signed_floor = table.gwc_params().chunks_exact(3).any(|n| n[1] > n[0]);
+    let (bits, names) = if signed_floor {
+        (2, serde_json::json!(["signed-floor"]))
+    } else {
+        (0, serde_json::json!([]))
+    };
+    assert_eq!(json["required_features"], bits);
+    assert_eq!(json["required_feature_names"], names);
     assert_eq!(json["tables"][0]["dims"], serde_json::json!([50, 7, 40]));
     assert_eq!(json["tables"][0]["eta"], 1.33);
     assert_eq!(json["materials"][0]["name"], "white-grapefruit-juice");
@@ -90,6 +105,37 @@ fn inspect_reports_tables_materials_and_provenance() {
         &["inspect", "white-grapefruit-juice.bssrdf"],
     ));
     assert!(human.contains("every CRC-32 verified"));
+    assert!(human.contains("format 1.1,"), "{human}");
+}
+
+#[test]
+fn inspect_names_the_required_features() {
+    // The spec's example has negative floors (E_β > E), so it sets required feature bit 1.
+    let dir = tempfile::tempdir().unwrap();
+    let example = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/valid/spec-example.bssrdf");
+    std::fs::copy(example, dir.path().join("example.bssrdf")).unwrap();
+    let human = ok(&bssrdf(dir.path(), &["inspect", "example.bssrdf"]));
+    assert!(
+        human.contains("features required 0x2 (signed-floor) optional 0x0"),
+        "{human}"
+    );
+    let json: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        dir.path(),
+        &["inspect", "example.bssrdf", "--json"],
+    )))
+    .unwrap();
+    assert_eq!(json["required_features"], 2);
+    assert_eq!(
+        json["required_feature_names"],
+        serde_json::json!(["signed-floor"])
+    );
+    ok(&bssrdf(dir.path(), &["pack", "example.bssrdf"]));
+    let human = ok(&bssrdf(dir.path(), &["inspect", "example.bssrdf"]));
+    assert!(
+        human.contains("features required 0x3 (zstd-sections, signed-floor)"),
+        "{human}"
+    );
 }
 
 #[test]

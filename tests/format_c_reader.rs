@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use bssrdf_zoo::format::{Compression, Library, LibraryBuilder, SectionKind, Verify};
-use common::{material, synthetic_table};
+use common::{material, signed_floor_table, synthetic_table};
 
 /// Compiles the C reader into `dir`, or `None` (with a message) if no compiler works.
 fn compile(dir: &Path) -> Option<PathBuf> {
@@ -65,13 +65,15 @@ fn c_reader_reads_the_same_values_as_the_rust_reader() {
     builder
         .add_table(synthetic_table(1.33, 4, 3, 64, true))
         .unwrap();
+    // Negative floors: the file sets required feature bit 1, which the C reader implements.
     builder
-        .add_table(synthetic_table(1.5, 2, 5, 7, false))
+        .add_table(signed_floor_table(1.5, 2, 5, 7, false))
         .unwrap();
     builder.add_material(material("jade", 1)).unwrap();
     let path = dir.path().join("lib.bssrdf");
     builder.write_atomic(&path, Compression::None).unwrap();
     let library = Library::open_mmap(&path, Verify::Full).unwrap();
+    assert_eq!(library.required_features(), 1 << 1);
     let mut checked = 0;
     for table in library.tables() {
         for kind in SectionKind::ALL.into_iter().filter(|k| k.per_table()) {
@@ -104,11 +106,14 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
     };
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let gwc = SectionKind::GwcParams.code();
+    // Format 1.1 with required feature bit 1 (signed-floor): E_β = 2 > E = 0.5 at node 1.
     let (code, stdout) = run(&exe, &data.join("valid/spec-example.bssrdf"), 0, gwc, 4);
     assert_eq!((code, stdout.as_str()), (0, "40000000 2\n"));
-    // A newer minor with extensions is read too.
-    let (code, _) = run(&exe, &data.join("valid/newer-minor.bssrdf"), 0, gwc, 0);
-    assert_eq!(code, 0);
+    // A newer minor with extensions is read too, and so is an older one.
+    for file in ["valid/newer-minor", "valid/older-minor"] {
+        let (code, _) = run(&exe, &data.join(format!("{file}.bssrdf")), 0, gwc, 0);
+        assert_eq!(code, 0, "{file}");
+    }
     for (file, why) in [
         ("invalid/bad-magic", "magic"),
         ("invalid/unsupported-major", "version"),
@@ -117,6 +122,7 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
         ("invalid/header-crc", "header crc"),
         ("invalid/section-crc", "section crc"),
         ("valid/tiny-packed", "compressed"),
+        ("invalid/unsupported-features", "unknown required bit 7"),
     ] {
         let (code, _) = run(&exe, &data.join(format!("{file}.bssrdf")), 0, gwc, 0);
         assert_eq!(code, 3, "{file} should be rejected ({why})");

@@ -43,6 +43,10 @@ fn last_entry(raw: &Raw) -> usize {
     raw.entry(raw.section_count() - 1)
 }
 
+/// Byte offset within `gwc-params` of the node the node vectors change: node 5 of the tiny
+/// table's 2×2×4, (i, j, k) = (0, 1, 1).
+const NODE: usize = 5 * 12;
+
 /// A change that makes the tiny library invalid.
 type Mutation = Box<dyn Fn(&mut Raw)>;
 
@@ -242,6 +246,42 @@ fn invalid_vectors() -> Vec<(&'static str, Raw)> {
             }),
         ),
         (
+            "negative-lobe",
+            Box::new(|r| {
+                let d = r.data(kind::GWC, 0);
+                r.set_f32(d + NODE + 4, -0.25);
+            }),
+        ),
+        (
+            "concentration-out-of-range",
+            Box::new(|r| {
+                let d = r.data(kind::GWC, 0);
+                r.set_f32(d + NODE + 8, 1.0);
+            }),
+        ),
+        (
+            "negative-profile",
+            Box::new(|r| {
+                // E_β·2|c| = 0.5 > E·(1 + |c|) = 0.15, with the signed-floor bit set so that only
+                // the profile rule fails.
+                let d = r.data(kind::GWC, 0);
+                r.set_f32(d + NODE, 0.1);
+                r.set_f32(d + NODE + 4, 0.5);
+                r.set_f32(d + NODE + 8, 0.5);
+                r.set_u64(32, 1 << 1);
+            }),
+        ),
+        (
+            "signed-floor-not-declared",
+            Box::new(|r| {
+                // E_β = 1.25 E: a negative floor under a profile that stays ≥ 0 (|c| ≤ 0.25),
+                // without required feature bit 1.
+                let d = r.data(kind::GWC, 0);
+                let e = f32::from_bits(r.u32(d + NODE));
+                r.set_f32(d + NODE + 4, 1.25 * e);
+            }),
+        ),
+        (
             "axis-not-increasing",
             Box::new(|r| {
                 let d = r.data(kind::AXIS_R, 0);
@@ -394,10 +434,15 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
         data: [7.0f32, 8.0].iter().flat_map(|v| v.to_le_bytes()).collect(),
         raw_len: None,
     });
-    let mut raw = Raw::build(1, 0, 1 << 9, 256, &secs);
+    let mut raw = Raw::build(2, 0, 1 << 9, 256, &secs);
     raw.bytes[100] = 0x42;
     raw.fix_crcs();
     out.push(("newer-minor", raw.bytes));
+    // An older minor: the tiny library as format 1.0 wrote it (no negative floor), read strictly.
+    out.push((
+        "older-minor",
+        Raw::build(0, 0, 0, 256, &tiny().sections()).bytes,
+    ));
     // Page alignment, one albedo row, no materials, no provenance, no θ CDF.
     let mut b = LibraryBuilder::new();
     b.set_alignment(4096).unwrap();
@@ -431,7 +476,7 @@ fn sync(dir: &Path, name: &str, bytes: &[u8]) {
 #[test]
 fn raw_editor_rebuilds_the_writer_output_exactly() {
     let raw = tiny();
-    let rebuilt = Raw::build(0, 0, 0, 256, &raw.sections());
+    let rebuilt = Raw::build(1, 0, 0, 256, &raw.sections());
     assert!(rebuilt.bytes == raw.bytes);
 }
 
@@ -521,7 +566,7 @@ fn every_valid_vector_is_accepted() {
 fn newer_minor_is_read_and_its_extensions_skipped_but_not_rewritten() {
     let path = data_dir("valid").join("newer-minor.bssrdf");
     let library = Library::open_mmap(&path, Verify::Full).unwrap();
-    assert_eq!(library.version(), (1, 1));
+    assert_eq!(library.version(), (1, 2));
     assert_eq!(library.optional_features(), 1 << 9);
     let table = library.table(0).unwrap();
     assert_eq!(table.dims(), [2, 2, 4]);
@@ -531,6 +576,32 @@ fn newer_minor_is_read_and_its_extensions_skipped_but_not_rewritten() {
     let out = tempfile::tempdir().unwrap();
     let err = pack(&path, out.path().join("x"), 3).unwrap_err();
     assert_eq!(err.code(), "rewrite-newer-minor", "{err}");
+}
+
+#[test]
+fn older_minor_is_read_strictly_and_under_the_same_node_rules() {
+    let path = data_dir("valid").join("older-minor.bssrdf");
+    let library = Library::open_mmap(&path, Verify::Full).unwrap();
+    assert_eq!(library.version(), (1, 0));
+    assert_eq!(library.required_features(), 0);
+    let tiny = Library::from_bytes(&tiny().bytes, Verify::Full).unwrap();
+    let (old, new) = (library.table(0).unwrap(), tiny.table(0).unwrap());
+    assert_eq!(old.gwc_params(), new.gwc_params());
+    // Strict: a reserved header byte is an error in a file of an older minor.
+    let mut raw = Raw::new(std::fs::read(&path).unwrap());
+    raw.bytes[100] = 0x42;
+    raw.fix_crcs();
+    let err = Library::from_bytes(&raw.bytes, Verify::Full).unwrap_err();
+    assert_eq!(err.code(), "reserved-not-zero", "{err}");
+    // A 1.0 file with E_β > E is ambiguous (the 1.0 reader clamped E_β to E): rejected too.
+    let mut raw = Raw::new(std::fs::read(&path).unwrap());
+    let d = raw.data(kind::GWC, 0);
+    let e = f32::from_bits(raw.u32(d + NODE));
+    raw.set_f32(d + NODE + 4, 1.25 * e);
+    raw.fix_crcs();
+    let err = Library::from_bytes(&raw.bytes, Verify::Full).unwrap_err();
+    assert_eq!(err.code(), "signed-floor-not-declared", "{err}");
+    assert!(err.to_string().contains("(0, 1, 1)"), "{err}");
 }
 
 #[test]
@@ -557,9 +628,16 @@ fn strict_checks_accept_what_they_should() {
 }
 
 #[test]
-fn header_only_skips_section_crcs_and_nan_scans_until_verify() {
+fn header_only_skips_section_crcs_and_value_checks_until_verify() {
     let vectors = invalid_vectors();
-    for code in ["section-crc", "non-finite"] {
+    for code in [
+        "section-crc",
+        "non-finite",
+        "negative-lobe",
+        "concentration-out-of-range",
+        "negative-profile",
+        "signed-floor-not-declared",
+    ] {
         let raw = &vectors.iter().find(|(c, _)| *c == code).unwrap().1;
         let library = Library::from_bytes(&raw.bytes, Verify::HeaderOnly)
             .unwrap_or_else(|e| panic!("{code}: {e}"));

@@ -8,7 +8,7 @@ use bssrdf_zoo::format::{
     pack, unpack, AxisKind, Codec, Compression, Dtype, ExtraSection, Library, LibraryBuilder,
     SectionKind, TableData, Verify,
 };
-use common::{material, synthetic_table, tiny_builder};
+use common::{material, signed_floor_table, synthetic_table, tiny_builder, Raw};
 
 fn bits(values: &[f32]) -> Vec<u32> {
     values.iter().map(|v| v.to_bits()).collect()
@@ -262,6 +262,195 @@ fn builder_rejects_invalid_content_with_the_reader_errors() {
     m.name = "a\u{7}".into();
     assert_eq!(b.add_material(m).unwrap_err().code(), "control-character");
     assert_eq!(b.set_alignment(300).unwrap_err().code(), "bad-alignment");
+}
+
+/// Required feature bit 1 of format 1.1.
+const SIGNED_FLOOR: u64 = 1 << 1;
+
+/// A one-table library of `table`, as bytes.
+fn one_table(table: TableData, compression: Compression) -> Vec<u8> {
+    let mut b = LibraryBuilder::new();
+    b.add_table(table).unwrap();
+    b.add_material(material("wax", 0)).unwrap();
+    b.to_bytes(compression).unwrap()
+}
+
+#[test]
+fn writer_sets_the_signed_floor_bit_exactly_when_a_node_needs_it() {
+    // No node with E_β > E: format 1.1 without feature bits, readable by a 1.0 reader.
+    let plain = Library::from_bytes(
+        &tiny_builder().to_bytes(Compression::None).unwrap(),
+        Verify::Full,
+    )
+    .unwrap();
+    assert_eq!((plain.version(), plain.required_features()), ((1, 1), 0));
+    // E_β = E at every node is not a negative floor either.
+    let mut table = synthetic_table(1.3, 2, 3, 5, false);
+    for node in table.gwc.chunks_exact_mut(3) {
+        node[1] = node[0];
+    }
+    let bytes = one_table(table, Compression::None);
+    assert_eq!(
+        Library::from_bytes(&bytes, Verify::Full)
+            .unwrap()
+            .required_features(),
+        0
+    );
+    // One node with E_β one ulp above E is.
+    let mut table = synthetic_table(1.3, 2, 3, 5, false);
+    table.gwc[3 * 17 + 1] = f32::from_bits(table.gwc[3 * 17].to_bits() + 1);
+    let bytes = one_table(table, Compression::None);
+    let library = Library::from_bytes(&bytes, Verify::Full).unwrap();
+    assert_eq!(library.required_features(), SIGNED_FLOOR);
+    // Compressed: both bits.
+    let bytes = one_table(
+        signed_floor_table(1.3, 2, 3, 5, true),
+        Compression::Zstd { level: 3 },
+    );
+    let library = Library::from_bytes(&bytes, Verify::Full).unwrap();
+    assert_eq!(library.required_features(), SIGNED_FLOOR | 1);
+}
+
+#[test]
+fn negative_floors_round_trip_with_the_bit_through_pack_and_unpack() {
+    let dir = tempfile::tempdir().unwrap();
+    let tables = vec![
+        synthetic_table(1.33, 3, 2, 6, true),
+        signed_floor_table(1.5, 2, 4, 7, false),
+    ];
+    let mut b = LibraryBuilder::new();
+    for t in &tables {
+        b.add_table(t.clone()).unwrap();
+    }
+    let plain = dir.path().join("a.bssrdf");
+    let back = dir.path().join("b.bssrdf");
+    b.write_atomic(&plain, Compression::None).unwrap();
+    for verify in [Verify::Full, Verify::HeaderOnly] {
+        let library = Library::open_mmap(&plain, verify).unwrap();
+        assert_eq!(library.required_features(), SIGNED_FLOOR);
+        assert_tables(&library, &tables);
+        library.verify().unwrap();
+    }
+    pack(&plain, &back, 3).unwrap();
+    let packed = Library::read(&back, Verify::Full).unwrap();
+    assert_eq!(packed.required_features(), SIGNED_FLOOR | 1);
+    assert_tables(&packed, &tables);
+    unpack(&back, &back).unwrap();
+    assert_eq!(
+        std::fs::read(&plain).unwrap(),
+        std::fs::read(&back).unwrap()
+    );
+}
+
+#[test]
+fn negative_floor_without_the_bit_is_rejected_naming_the_node() {
+    let bytes = one_table(signed_floor_table(1.3, 2, 3, 5, false), Compression::None);
+    let mut raw = Raw::new(bytes);
+    raw.set_u64(32, 0);
+    raw.fix_header_crc();
+    let err = Library::from_bytes(&raw.bytes, Verify::Full).unwrap_err();
+    assert_eq!(err.code(), "signed-floor-not-declared", "{err}");
+    let message = err.to_string();
+    assert!(
+        message.contains("table 0") && message.contains("(0, 0, 0)"),
+        "{message}"
+    );
+    assert!(message.contains("signed-floor"), "{message}");
+    // Header-only opening defers the check to `verify`, like the CRCs and NaN scans.
+    let library = Library::from_bytes(&raw.bytes, Verify::HeaderOnly).unwrap();
+    assert_eq!(
+        library.verify().unwrap_err().code(),
+        "signed-floor-not-declared"
+    );
+    // Packed, the same.
+    let bytes = one_table(
+        signed_floor_table(1.3, 2, 3, 5, false),
+        Compression::Zstd { level: 3 },
+    );
+    let mut raw = Raw::new(bytes);
+    raw.set_u64(32, 1);
+    raw.fix_header_crc();
+    let err = Library::from_bytes(&raw.bytes, Verify::Full).unwrap_err();
+    assert_eq!(err.code(), "signed-floor-not-declared", "{err}");
+}
+
+/// Sets node (i, j, k) = (1, 2, 3) of a 2×3×5 table's `gwc-params` in a file and fixes the CRCs.
+fn set_node(raw: &mut Raw, node: [f32; 3]) {
+    let d = raw.data(common::kind::GWC, 0) + ((3 + 2) * 5 + 3) * 12;
+    for (p, v) in node.into_iter().enumerate() {
+        raw.set_f32(d + 4 * p, v);
+    }
+    raw.fix_crcs();
+}
+
+#[test]
+fn negative_profiles_and_lobes_are_rejected_with_or_without_the_bit() {
+    let cases = [
+        // E_β·2|c| = 0.9 > E·(1 + |c|) = 0.6 (c of either sign).
+        ("negative-profile", [0.4, 1.0, 0.45]),
+        ("negative-profile", [0.4, 1.0, -0.45]),
+        // E < 0 is a negative profile even without a lobe.
+        ("negative-profile", [-0.5, 0.0, 0.0]),
+        ("negative-lobe", [0.4, -0.1, 0.2]),
+        ("negative-lobe", [0.4, -1e-30, 0.0]),
+        ("concentration-out-of-range", [0.4, 0.2, 1.0]),
+        ("concentration-out-of-range", [0.4, 0.2, -1.5]),
+    ];
+    for table in [
+        synthetic_table(1.3, 2, 3, 5, false),
+        signed_floor_table(1.3, 2, 3, 5, false),
+    ] {
+        let bytes = one_table(table.clone(), Compression::None);
+        for (code, node) in cases {
+            let mut raw = Raw::new(bytes.clone());
+            set_node(&mut raw, node);
+            for verify in [Verify::Full, Verify::HeaderOnly] {
+                let result = Library::from_bytes(&raw.bytes, verify).and_then(|l| l.verify());
+                let err = result.unwrap_err();
+                assert_eq!(err.code(), code, "{node:?}: {err}");
+                assert!(err.to_string().contains("(1, 2, 3)"), "{err}");
+            }
+            // The builder refuses the same node with the same error.
+            let mut bad = table.clone();
+            bad.gwc[((3 + 2) * 5 + 3) * 3..][..3].copy_from_slice(&node);
+            let err = LibraryBuilder::new().add_table(bad).unwrap_err();
+            assert_eq!(err.code(), code, "{node:?}: {err}");
+        }
+    }
+}
+
+#[test]
+fn profile_rule_allows_f32_rounding_at_the_boundary_and_no_more() {
+    // The deepest negative floor with c = 0.3 puts the profile's minimum at 0: E_β = E(1 + |c|)
+    // / (2|c|), computed in f64, then rounded to f32.
+    let c = 0.3f32;
+    let (e, abs_c) = (0.7f32, f64::from(c));
+    let e_beta = (f64::from(e) * (1.0 + abs_c) / (2.0 * abs_c)) as f32;
+    let bytes = one_table(signed_floor_table(1.3, 2, 3, 5, false), Compression::None);
+    // The node rounded to f32 is 3.7e-8 relative over the boundary; each ulp of E_β adds
+    // 7.9e-8, so the slack of 2^-20 = 9.5e-7 ends between 11 and 12 ulps.
+    for (step, accepted) in [
+        (-1i32, true),
+        (0, true),
+        (1, true),
+        (11, true),
+        (12, false),
+        (40, false),
+    ] {
+        let beta = f32::from_bits((e_beta.to_bits() as i32 + step) as u32);
+        let mut raw = Raw::new(bytes.clone());
+        set_node(&mut raw, [e, beta, c]);
+        let result = Library::from_bytes(&raw.bytes, Verify::Full);
+        match (accepted, result) {
+            (true, Ok(_)) => {}
+            (false, Err(err)) => assert_eq!(err.code(), "negative-profile", "{err}"),
+            (_, result) => panic!("E_beta {step} ulp from the boundary: {:?}", result.err()),
+        }
+    }
+    // Zero energy with any lobe at c = 0 is the zero profile (as at r = 0).
+    let mut raw = Raw::new(bytes);
+    set_node(&mut raw, [0.0, 0.0, 0.9]);
+    Library::from_bytes(&raw.bytes, Verify::Full).unwrap();
 }
 
 #[test]

@@ -11,7 +11,12 @@
  * (e.g. 0x20 for gwc-params), INDEX an element index. Prints the value as
  * "<bits in hex> <value>". Exit status: 0 success, 1 usage, 2 I/O error, 3 invalid or
  * unsupported file. Uncompressed files only: a packed file (required feature bit 0,
- * zstd) is rejected as unsupported, as the spec allows.
+ * zstd) is rejected as unsupported, as the spec allows. Required feature bit 1
+ * (signed-floor, format 1.1: gwc-params nodes with E_beta > E) is implemented: it changes
+ * how the values are interpreted, not how they are stored, and this reader prints the
+ * stored values. It does not check the values themselves (finite, node rules of
+ * section 10). Files of any minor of major 1 are read, as section 4 requires of a reader
+ * that implements every required bit the file sets.
  *
  * POSIX (mmap). Handles big-endian hosts by assembling every field byte by byte.
  */
@@ -34,6 +39,8 @@
 #define DTYPE_F32 2u
 #define CODEC_NONE 0u
 #define NO_TABLE 0xFFFFFFFFu
+/* Required feature bits this reader implements (section 4): bit 1, signed-floor. */
+#define KNOWN_REQUIRED 0x2u
 
 static const unsigned char MAGIC[12] = {0x89, 'B', 'S', 'S', 'R', 'D',
                                         'F',  '\r', '\n', 0x1A, '\n', 0x00};
@@ -115,7 +122,8 @@ int main(int argc, char **argv) {
   if (count > MAX_SECTIONS || dir_end > size) return fail("directory out of bounds");
   uint32_t crc = crc_update(crc_update(0, f, 124), f + HEADER_SIZE, dir_end - HEADER_SIZE);
   if (crc != le32(f + 124)) return fail("header crc mismatch");
-  if (le64(f + 32) != 0) return fail("file needs required features (e.g. zstd) this reader lacks");
+  if ((le64(f + 32) & ~(uint64_t)KNOWN_REQUIRED) != 0)
+    return fail("file needs required features (e.g. zstd, bit 0) this reader lacks");
   uint32_t alignment = le32(f + 48);
   if (alignment < 256u || alignment > 65536u || (alignment & (alignment - 1u)) != 0)
     return fail("bad alignment");

@@ -1,8 +1,10 @@
-//! `bssrdf inspect FILE`: version, sizes, sections with their checksums (verified), materials,
-//! tables with their axes, provenance. Names from the file are printed with control characters
+//! `bssrdf inspect FILE`: version, sizes, required features by name (`zstd-sections`,
+//! `signed-floor`), sections with their checksums (verified), materials, tables with their
+//! axes, provenance. Names from the file are printed with control characters
 //! escaped.
 
 use super::CliError;
+use bssrdf_zoo::format::spec::required_features;
 use bssrdf_zoo::format::{AxisKind, Library, SectionKind, Verify};
 use clap::Args;
 use std::io::Write;
@@ -92,7 +94,9 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
             "file": args.file.display().to_string(), "version": [major, minor],
             "file_size": library.file_size(), "compressed": library.is_compressed(),
             "alignment": library.alignment(),
-            "required_features": library.required_features(), "optional_features": library.optional_features(),
+            "required_features": library.required_features(),
+            "required_feature_names": required_features::names(library.required_features()),
+            "optional_features": library.optional_features(),
             "sections": sections, "tables": tables, "materials": materials, "provenance": provenance,
         });
         writeln!(out, "{json}")?;
@@ -100,13 +104,17 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
         return Ok(ExitCode::SUCCESS);
     }
     writeln!(out, "{}", escape(&args.file.display().to_string()))?;
+    let required = library.required_features();
+    let required_names = match required_features::names(required) {
+        names if names.is_empty() => String::new(),
+        names => format!(" ({})", names.join(", ")),
+    };
     writeln!(
         out,
-        "  format {major}.{minor}, {} bytes, {}, sections aligned to {} bytes, features required {:#x} optional {:#x}",
+        "  format {major}.{minor}, {} bytes, {}, sections aligned to {} bytes, features required {required:#x}{required_names} optional {:#x}",
         library.file_size(),
         if library.is_compressed() { "zstd-compressed (decoded at open)" } else { "uncompressed (mappable)" },
         library.alignment(),
-        library.required_features(),
         library.optional_features()
     )?;
     writeln!(

@@ -269,6 +269,43 @@ pub enum FormatError {
         index: usize,
         value: f32,
     },
+    /// A `gwc-params` node's lobe share E_β is negative (an inverted lobe).
+    #[error(
+        "table {table}: gwc-params node (i, j, k) = {node:?} has E_beta = {e_beta}, must be >= 0"
+    )]
+    NegativeLobe {
+        table: usize,
+        node: (usize, usize, usize),
+        e_beta: f32,
+    },
+    /// A `gwc-params` node's concentration c is not in (−1, 1).
+    #[error("table {table}: gwc-params node (i, j, k) = {node:?} has concentration c = {c}, must be in (-1, 1)")]
+    ConcentrationOutOfRange {
+        table: usize,
+        node: (usize, usize, usize),
+        c: f32,
+    },
+    /// A `gwc-params` node's profile is negative at some azimuth: E_β·2|c| > E·(1 + |c|) beyond
+    /// the f32 rounding slack.
+    #[error("table {table}: gwc-params node (i, j, k) = {node:?} with E = {e}, E_beta = {e_beta}, c = {c} is negative at its minimum: E_beta*2|c| = {lobe} exceeds E*(1+|c|) = {floor}")]
+    NegativeProfile {
+        table: usize,
+        node: (usize, usize, usize),
+        e: f32,
+        e_beta: f32,
+        c: f32,
+        lobe: f64,
+        floor: f64,
+    },
+    /// A `gwc-params` node has a negative floor (E_β > E) but the header does not declare
+    /// required feature bit 1.
+    #[error("table {table}: gwc-params node (i, j, k) = {node:?} has E_beta = {e_beta} > E = {e} (a negative floor), but the header does not set required feature bit 1 (signed-floor)")]
+    SignedFloorNotDeclared {
+        table: usize,
+        node: (usize, usize, usize),
+        e: f32,
+        e_beta: f32,
+    },
     /// An axis is not strictly increasing.
     #[error("table {table}: axis {axis} is not strictly increasing at index {index} ({previous} then {value})")]
     AxisNotIncreasing {
@@ -398,6 +435,10 @@ impl FormatError {
             FormatError::TableDims { .. } => "table-dims",
             FormatError::SectionDims { .. } => "section-dims",
             FormatError::NonFinite { .. } => "non-finite",
+            FormatError::NegativeLobe { .. } => "negative-lobe",
+            FormatError::ConcentrationOutOfRange { .. } => "concentration-out-of-range",
+            FormatError::NegativeProfile { .. } => "negative-profile",
+            FormatError::SignedFloorNotDeclared { .. } => "signed-floor-not-declared",
             FormatError::AxisNotIncreasing { .. } => "axis-not-increasing",
             FormatError::AxisOutOfRange { .. } => "axis-out-of-range",
             FormatError::EmptyName { .. } => "empty-name",

@@ -53,8 +53,10 @@ impl Library {
         Ok(Library { backing, parsed })
     }
 
-    /// Runs the checks [`Verify::Full`] adds: every section CRC and a NaN scan of every table
-    /// section. Useful after opening with [`Verify::HeaderOnly`].
+    /// Runs the checks [`Verify::Full`] adds: every section CRC, a NaN scan of every table
+    /// section and the `gwc-params` node rules (format-spec.md §10, including a negative floor
+    /// E_β > E without the `signed-floor` feature bit). Useful after opening with
+    /// [`Verify::HeaderOnly`].
     pub fn verify(&self) -> FormatResult<()> {
         self.parsed.verify_data(self.backing.bytes())
     }

@@ -10,7 +10,9 @@ use zerocopy::FromBytes;
 use super::error::{FormatError, FormatResult};
 use super::map::AlignedBuf;
 use super::provenance::Provenance;
-use super::records::{check_axis, check_finite, check_reserved, Material, TableHeader};
+use super::records::{
+    check_axis, check_finite, check_gwc_nodes, check_reserved, Material, TableHeader,
+};
 use super::spec::{
     align_up, crc32, required_features, AxisKind, Codec, Dtype, RawEntry, RawHeader, RawMaterial,
     RawTable, SectionKind, BYTE_ORDER_MARK, ENTRY_RESERVED_OFFSET, ENTRY_SIZE, HEADER_CRC_OFFSET,
@@ -22,11 +24,13 @@ use super::spec::{
 /// How much of a file to check when opening it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Verify {
-    /// Everything: structure, header CRC, every section's CRC and every table value finite.
-    /// Reads every byte of the file once.
+    /// Everything: structure, header CRC, every section's CRC, every table value finite and
+    /// every `gwc-params` node valid (format-spec.md §10). Reads every byte of the file for the
+    /// CRCs, and the table sections again for the value checks.
     Full,
     /// Structure and header CRC only (plus the small axis sections and all records, which
-    /// are always validated). Section CRCs and NaN scans of the large sections are skipped;
+    /// are always validated). Section CRCs, NaN scans and the `gwc-params` node checks
+    /// (including E_β > E without the `signed-floor` bit) are skipped;
     /// [`super::Library::verify`] runs them later.
     HeaderOnly,
 }
@@ -93,15 +97,13 @@ impl Parsed {
         section_bytes(bytes, &self.entries, &self.decoded, index)
     }
 
-    /// Section CRCs and NaN scans: what [`Verify::Full`] adds to [`Verify::HeaderOnly`].
+    /// Section CRCs, NaN scans and `gwc-params` node checks: what [`Verify::Full`] adds to
+    /// [`Verify::HeaderOnly`].
     pub fn verify_data(&self, bytes: &[u8]) -> FormatResult<()> {
         check_section_crcs(bytes, &self.entries)?;
+        let data = |i: usize| self.section_bytes(bytes, i);
         for (t, slot) in self.tables.iter().enumerate() {
-            for (&code, &index) in &slot.sections {
-                if let Some(kind) = SectionKind::from_code(code) {
-                    check_finite_bytes(t, kind, self.section_bytes(bytes, index))?;
-                }
-            }
+            check_table_values(t, slot, &data, self.required_features)?;
         }
         Ok(())
     }
@@ -147,6 +149,34 @@ fn f32_values(bytes: &[u8]) -> Vec<f32> {
         .collect()
 }
 
+/// The values of one table's sections, in kind order: every value finite, and for
+/// `gwc-params` every node valid, with negative floors allowed when the file sets required
+/// feature bit 1. One pass over each section; skipped by [`Verify::HeaderOnly`] like the
+/// CRCs, and run by [`super::Library::verify`].
+fn check_table_values<'a>(
+    t: usize,
+    slot: &TableSlot,
+    data: &impl Fn(usize) -> &'a [u8],
+    required: u64,
+) -> FormatResult<()> {
+    let signed_floor = required & required_features::SIGNED_FLOOR != 0;
+    for (&code, &index) in &slot.sections {
+        let bytes = data(index);
+        match SectionKind::from_code(code) {
+            // One pass for finiteness and the node rules.
+            Some(SectionKind::GwcParams) => match <[f32]>::ref_from_bytes(bytes) {
+                Ok(values) => check_gwc_nodes(t, &slot.header, values, signed_floor)?,
+                // Sections are 256-byte aligned in an aligned map or buffer, so the cast above
+                // succeeds; the copy only keeps this correct for any input.
+                Err(_) => check_gwc_nodes(t, &slot.header, &f32_values(bytes), signed_floor)?,
+            },
+            Some(kind) => check_finite_bytes(t, kind, bytes)?,
+            None => {}
+        }
+    }
+    Ok(())
+}
+
 fn check_finite_bytes(table: usize, kind: SectionKind, bytes: &[u8]) -> FormatResult<()> {
     // Exponent all ones means NaN or infinity; test without building a vector.
     let bad = bytes
@@ -160,7 +190,6 @@ fn check_finite_bytes(table: usize, kind: SectionKind, bytes: &[u8]) -> FormatRe
 
 /// True if this reader knows everything a file of `minor` may contain, so reserved bytes
 /// and unknown flag bits must be zero ("strict" reading); later minors may use them.
-#[allow(clippy::absurd_extreme_comparisons)] // VERSION_MINOR is 0 in version 1.0
 pub(crate) fn knows_minor(minor: u16) -> bool {
     minor <= VERSION_MINOR
 }
@@ -298,7 +327,14 @@ pub(crate) fn parse(bytes: &[u8], verify: Verify) -> FormatResult<Parsed> {
         }
     }
     for (t, slot) in tables.iter().enumerate() {
-        check_table(t, slot, &entries, &data, verify)?;
+        check_table(
+            t,
+            slot,
+            &entries,
+            &data,
+            verify,
+            header.required_features.get(),
+        )?;
     }
 
     let materials_index =
@@ -437,18 +473,14 @@ fn parse_header(bytes: &[u8]) -> FormatResult<RawHeader> {
     }
     let unknown = header.required_features.get() & !required_features::KNOWN;
     if unknown != 0 {
-        let names: Vec<String> = (0..64)
-            .filter(|b| unknown & (1u64 << b) != 0)
-            .map(|b| format!("bit {b}"))
-            .collect();
         return Err(FormatError::UnsupportedFeatures {
             bits: unknown,
-            names: names.join(", "),
+            names: required_features::names(unknown).join(", "),
             major: VERSION_MAJOR,
             minor: VERSION_MINOR,
         });
     }
-    // Optional feature bits are ignored by definition (version 1.0 defines none).
+    // Optional feature bits are ignored by definition (versions 1.0 and 1.1 define none).
     if knows_minor(header.minor.get()) {
         check_reserved("header", HEADER_RESERVED_OFFSET, &header.reserved)?;
     }
@@ -715,13 +747,15 @@ fn check_padding(bytes: &[u8], from: usize, to: usize) -> FormatResult<()> {
     }
 }
 
-/// A table's required sections, their dims, its axes and (when verifying fully) its values.
+/// A table's required sections, their dims, its axes and (when verifying fully) its values;
+/// `required` is the file's required feature bits.
 fn check_table<'a>(
     t: usize,
     slot: &TableSlot,
     entries: &[SectionInfo],
     data: &impl Fn(usize) -> &'a [u8],
     verify: Verify,
+    required: u64,
 ) -> FormatResult<()> {
     for &kind in slot.header.required_sections() {
         if !slot.sections.contains_key(&kind.code()) {
@@ -753,11 +787,7 @@ fn check_table<'a>(
         }
     }
     if verify == Verify::Full {
-        for (&code, &index) in &slot.sections {
-            if let Some(kind) = SectionKind::from_code(code) {
-                check_finite_bytes(t, kind, data(index))?;
-            }
-        }
+        check_table_values(t, slot, data, required)?;
     }
     Ok(())
 }

@@ -9,7 +9,7 @@ use super::error::{FormatError, FormatResult};
 use super::spec::{
     AxisKind, FresnelMoments, ModelKind, RawMaterial, RawTable, SectionKind,
     MATERIAL_HAS_ALBEDO_RANGE, MATERIAL_RESERVED_OFFSET, MAX_AXIS_LEN, MAX_NAME_BYTES,
-    MAX_SOURCE_BYTES, TABLE_RESERVED_OFFSET,
+    MAX_SOURCE_BYTES, PROFILE_ABS_SLACK, PROFILE_REL_SLACK, TABLE_RESERVED_OFFSET,
 };
 
 /// Names of the three colour channels, in storage order.
@@ -426,4 +426,259 @@ pub(crate) fn check_axis(table: usize, axis: AxisKind, values: &[f32]) -> Format
         }
     }
     Ok(())
+}
+
+/// Whether a finite `gwc-params` node (E, E_β, c) describes a profile that is ≥ 0 at every
+/// azimuth (format-spec.md §10), exactly as the spec states the rule: E_β ≥ 0, |c| < 1 and
+/// E_β·2|c| ≤ E·(1 + |c|) up to [`PROFILE_REL_SLACK`] and [`PROFILE_ABS_SLACK`], in f64 from
+/// the widened f32 values. The last is α + β·min pdf_WC ≥ 0 with α = (E − E_β)/(2πr),
+/// β = E_β/r and min pdf_WC = (1 − |c|)/(2π(1 + |c|)), multiplied by 2πr(1 + |c|) > 0.
+fn node_is_valid(e: f32, e_beta: f32, c: f32) -> bool {
+    let (e, e_beta, c) = (f64::from(e), f64::from(e_beta), f64::from(c).abs());
+    let (lobe, bound) = profile_sides(e, e_beta, c);
+    (e_beta >= 0.0) & (c < 1.0) & (lobe <= bound)
+}
+
+/// The two sides of the profile rule in the order the spec evaluates them: (2·E_β)·|c|, and
+/// E·(1 + |c|) widened by the slacks. `abs_c` is |c|.
+fn profile_sides(e: f64, e_beta: f64, abs_c: f64) -> (f64, f64) {
+    let floor = e * (1.0 + abs_c);
+    (
+        2.0 * e_beta * abs_c,
+        floor + floor.abs() * PROFILE_REL_SLACK + PROFILE_ABS_SLACK,
+    )
+}
+
+/// Relative slack of the f32 pre-check [`node_passes_fast`], 2⁻²¹.
+const FAST_REL_SLACK: f32 = 1.0 / (1u32 << 21) as f32;
+
+/// A sufficient test of [`node_is_valid`] in f32, which also fails any non-finite value: true
+/// only for finite nodes that `node_is_valid` accepts. Proof: with u = 2⁻²⁴, each f32 product
+/// or sum below errs by at most u relative (0.5·E is exact; underflow adds at most 2⁻¹⁴⁹ per
+/// operation, far below [`PROFILE_ABS_SLACK`]), so passing here means
+/// 2E_β|c| ≤ E(1 + |c|)·(1 + 2⁻²¹)(1 + u)³/(1 − u) < E(1 + |c|)·(1 + 2⁻²⁰). The right side
+/// cannot overflow to a false pass: (0.5·E)(1 + |c|) < E ≤ f32::MAX, and where the last factor
+/// overflows, E(1 + |c|) is within 2⁻²¹ of 2·f32::MAX while 2E_β|c| < 2·f32::MAX. Conversely a
+/// node that lies on the boundary before its values are rounded to f32 is off by at most
+/// 3.5u after rounding and (away from underflow) passes here. NaN fails every comparison; E = +∞ fails the first.
+#[inline(always)]
+fn node_passes_fast(e: f32, e_beta: f32, c: f32) -> bool {
+    let abs_c = c.abs();
+    let bound = 0.5 * e * (1.0 + abs_c) * (1.0 + FAST_REL_SLACK);
+    // `&`, not `&&`: no branches, so the scan over all nodes vectorises.
+    (e <= f32::MAX) & (e_beta >= 0.0) & (abs_c < 1.0) & (e_beta * abs_c <= bound)
+}
+
+/// True if some node of a `gwc-params` array `[..][3]` has E_β > E, a negative floor: the
+/// file must then set the required feature bit `signed-floor`.
+pub(crate) fn has_signed_floor(values: &[f32]) -> bool {
+    values
+        .chunks_exact(3)
+        .fold(false, |any, n| any | (n[1] > n[0]))
+}
+
+/// Checks table `table`'s `gwc-params` (`[nρ][nθ][nr][3]` with the table's `n_theta`, `n_r`):
+/// every value finite, then every node in index order with E_β ≥ 0, |c| < 1, a profile ≥ 0,
+/// and E_β ≤ E unless `signed_floor` (the file's required feature bit 1) allows a negative
+/// floor; the first failing node is reported, its rules checked in that order. One
+/// branch-free f32 pass over the values decides for every valid section (it also covers
+/// finiteness, so the reader runs no separate NaN scan here); only a section it does not pass
+/// is looked at node by node, in f64 where the f32 test is not conclusive.
+pub(crate) fn check_gwc_nodes(
+    table: usize,
+    header: &TableHeader,
+    values: &[f32],
+    signed_floor: bool,
+) -> FormatResult<()> {
+    let (fast, negative_floor) = values
+        .chunks_exact(3)
+        .fold((true, false), |(ok, floor), n| {
+            (
+                ok & node_passes_fast(n[0], n[1], n[2]),
+                floor | (n[1] > n[0]),
+            )
+        });
+    if fast && (signed_floor || !negative_floor) {
+        return Ok(());
+    }
+    check_finite(table, SectionKind::GwcParams, values)?;
+    // Dimensions are validated to be ≥ 1; `max` only keeps this free of panics regardless.
+    let n_r = (header.n_r as usize).max(1);
+    let n_theta = (header.n_theta as usize).max(1);
+    for (flat, n) in values.chunks_exact(3).enumerate() {
+        let (e, e_beta, c) = (n[0], n[1], n[2]);
+        let floor_ok = signed_floor || e_beta <= e;
+        if floor_ok && node_passes_fast(e, e_beta, c) {
+            continue;
+        }
+        let node = (flat / n_r / n_theta, flat / n_r % n_theta, flat % n_r);
+        if e_beta < 0.0 {
+            return Err(FormatError::NegativeLobe {
+                table,
+                node,
+                e_beta,
+            });
+        }
+        if c.abs() >= 1.0 {
+            return Err(FormatError::ConcentrationOutOfRange { table, node, c });
+        }
+        if !node_is_valid(e, e_beta, c) {
+            let (lobe, _) = profile_sides(e.into(), e_beta.into(), f64::from(c).abs());
+            return Err(FormatError::NegativeProfile {
+                table,
+                node,
+                e,
+                e_beta,
+                c,
+                lobe,
+                floor: f64::from(e) * (1.0 + f64::from(c).abs()),
+            });
+        }
+        if !floor_ok {
+            return Err(FormatError::SignedFloorNotDeclared {
+                table,
+                node,
+                e,
+                e_beta,
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header(n_rho: u32, n_theta: u32, n_r: u32) -> TableHeader {
+        TableHeader {
+            model: ModelKind::PbdAngular,
+            eta: 1.3,
+            fresnel: FresnelMoments::Exact,
+            n_rho,
+            n_theta,
+            n_r,
+        }
+    }
+
+    #[test]
+    fn profile_slacks_are_the_spec_values() {
+        assert_eq!(PROFILE_REL_SLACK, 2f64.powi(-20));
+        assert_eq!(PROFILE_REL_SLACK, 8.0 * f64::from(f32::EPSILON));
+        assert_eq!(f64::from(FAST_REL_SLACK), 2f64.powi(-21));
+        assert_eq!(PROFILE_ABS_SLACK, 2f64.powi(-124));
+    }
+
+    #[test]
+    fn node_rule_is_the_minimum_of_the_profile() {
+        // E_β = E(1 + |c|)/(2|c|) puts the minimum at exactly 0: (1, 2.5, ±0.25) is exact.
+        assert!(node_is_valid(1.0, 2.5, 0.25) && node_is_valid(1.0, 2.5, -0.25));
+        assert!(!node_is_valid(1.0, 2.5001, 0.25));
+        // c = 0: any lobe over E ≥ 0 is the flat profile E/(2πr).
+        assert!(node_is_valid(0.5, 1e6, 0.0) && node_is_valid(0.0, 0.0, 0.0));
+        assert!(!node_is_valid(-0.5, 0.0, 0.0));
+        // 0 ≤ E_β ≤ E is always a profile ≥ 0 for |c| < 1.
+        assert!(node_is_valid(1.0, 1.0, 0.99) && node_is_valid(1.0, 0.0, -0.99));
+        assert!(!node_is_valid(1.0, -0.01, 0.0));
+        assert!(!node_is_valid(1.0, 0.5, 1.0) && !node_is_valid(1.0, 0.5, -1.0));
+        // Below the smallest normal f32 a writer may have flushed E to 0: up to 2^-124 passes.
+        assert!(node_is_valid(0.0, 1e-38, 0.5));
+        assert!(!node_is_valid(0.0, 1e-37, 0.5));
+    }
+
+    #[test]
+    fn the_f32_pre_check_is_sufficient_and_passes_rounded_boundary_nodes() {
+        // Nodes around the boundary E_β = E(1 + |c|)/(2|c|), over many decades of E and c
+        // from a fixed LCG: a node on it in f64, with all three values rounded to f32.
+        let mut state = 0x853c_49e6_748f_ea9bu64;
+        let mut uniform = || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut fast, mut exact) = (0, 0);
+        for _ in 0..20_000 {
+            let e64 = 10f64.powf(-30.0 + 60.0 * uniform());
+            let c64 = (1.0 - 10f64.powf(-6.0 * uniform())) * (2.0 * uniform() - 1.0);
+            let boundary = (e64 * (1.0 + c64.abs()) / (2.0 * c64.abs())) as f32;
+            let (e, c) = (e64 as f32, c64 as f32);
+            if c == 0.0 || !boundary.is_finite() {
+                continue;
+            }
+            assert!(node_passes_fast(e, boundary, c), "({e}, {boundary}, {c})");
+            for ulps in -20i32..=20 {
+                let e_beta = f32::from_bits((boundary.to_bits() as i32 + ulps) as u32);
+                let passes = node_passes_fast(e, e_beta, c);
+                assert!(
+                    !passes || node_is_valid(e, e_beta, c),
+                    "({e}, {e_beta}, {c})"
+                );
+                fast += usize::from(passes);
+                exact += usize::from(node_is_valid(e, e_beta, c));
+            }
+        }
+        // The f32 test is not much stricter than the rule: a few ulps of E_β at most.
+        assert!(fast > exact * 3 / 4, "{fast} of {exact}");
+        // Non-finite values never pass.
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            assert!(!node_passes_fast(bad, 0.5, 0.25));
+            assert!(!node_passes_fast(1.0, bad, 0.25));
+            assert!(!node_passes_fast(1.0, 0.5, bad));
+        }
+        // Near f32::MAX the bound may overflow, still only for valid nodes.
+        assert!(node_is_valid(f32::MAX, f32::MAX, 0.999_999_9));
+        assert!(!node_passes_fast(f32::MAX / 4.0, f32::MAX, 0.999_999_9));
+        assert!(!node_is_valid(f32::MAX / 4.0, f32::MAX, 0.999_999_9));
+    }
+
+    #[test]
+    fn node_errors_name_the_node_and_the_values() {
+        let h = header(2, 3, 5);
+        let values = [1.0f32, 0.5, 0.25].repeat(2 * 3 * 5);
+        assert!(check_gwc_nodes(4, &h, &values, false).is_ok());
+        assert!(!has_signed_floor(&values));
+        // Node (1, 2, 3) is flat index (1·3 + 2)·5 + 3 = 28.
+        let at = 28 * 3;
+        let cases: [([f32; 3], &str, &str); 4] = [
+            ([1.0, -0.5, 0.25], "negative-lobe", "E_beta = -0.5"),
+            ([1.0, 0.5, -1.0], "concentration-out-of-range", "c = -1"),
+            (
+                [0.2, 1.0, 0.5],
+                "negative-profile",
+                "E_beta*2|c| = 1 exceeds",
+            ),
+            (
+                [1.0, 1.5, 0.25],
+                "signed-floor-not-declared",
+                "E_beta = 1.5 > E = 1",
+            ),
+        ];
+        for (node, code, needle) in cases {
+            let mut bad = values.clone();
+            bad[at..at + 3].copy_from_slice(&node);
+            let err = check_gwc_nodes(4, &h, &bad, false).unwrap_err();
+            assert_eq!(err.code(), code, "{err}");
+            let message = err.to_string();
+            assert!(message.contains("table 4"), "{message}");
+            assert!(message.contains("(1, 2, 3)"), "{message}");
+            assert!(message.contains(needle), "{message}");
+            // The signed-floor bit only lifts E_β ≤ E.
+            let declared = check_gwc_nodes(4, &h, &bad, true);
+            assert_eq!(declared.is_ok(), code == "signed-floor-not-declared");
+        }
+    }
+
+    #[test]
+    fn the_first_bad_node_in_index_order_is_reported() {
+        let h = header(2, 3, 5);
+        let mut values = [1.0f32, 0.5, 0.25].repeat(2 * 3 * 5);
+        values[3 * 7 + 1] = 2.0; // node 7 = (0, 1, 2): a negative floor
+        values[3 * 9 + 1] = -1.0; // node 9 = (0, 1, 4): a negative lobe
+        assert!(has_signed_floor(&values));
+        let err = check_gwc_nodes(0, &h, &values, false).unwrap_err();
+        assert_eq!(err.code(), "signed-floor-not-declared");
+        assert!(err.to_string().contains("(0, 1, 2)"), "{err}");
+        let err = check_gwc_nodes(0, &h, &values, true).unwrap_err();
+        assert_eq!(err.code(), "negative-lobe");
+        assert!(err.to_string().contains("(0, 1, 4)"), "{err}");
+    }
 }

@@ -12,8 +12,9 @@ use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout};
 pub const MAGIC: [u8; 12] = *b"\x89BSSRDF\r\n\x1a\n\0";
 /// The major version this crate reads and writes. Readers reject any other major.
 pub const VERSION_MAJOR: u16 = 1;
-/// The minor version this crate writes; it reads every minor of its major.
-pub const VERSION_MINOR: u16 = 0;
+/// The minor version this crate writes; it reads every minor of its major. Minor 1 added the
+/// required feature bit 1, [`required_features::SIGNED_FLOOR`].
+pub const VERSION_MINOR: u16 = 1;
 /// Written as a little-endian u32 at byte 16; a byte-swapped file shows `0x0D0C0B0A`.
 pub const BYTE_ORDER_MARK: u32 = 0x0A0B_0C0D;
 
@@ -56,6 +57,16 @@ pub const MAX_JSON_DEPTH: usize = 32;
 /// The `table` field of a directory entry for a section that belongs to no table.
 pub const NO_TABLE: u32 = u32::MAX;
 
+/// Relative slack of the non-negative-profile rule of a `gwc-params` node, 2⁻²⁰ (eight f32
+/// epsilons): E_β·2|c| may exceed E·(1 + |c|) by this fraction of the latter. Rounding E, E_β
+/// and c to f32 moves the two sides of a node on the boundary apart by up to 3.5·2⁻²⁴; the
+/// rest leaves room for a reader's f32 pre-check (see `records::node_passes_fast`).
+pub const PROFILE_REL_SLACK: f64 = 1.0 / (1u64 << 20) as f64;
+/// Absolute slack of the same rule, 2⁻¹²⁴ (four times the smallest normal f32): writers may
+/// flush values below the smallest normal f32 to zero, which moves each side by less than
+/// 2·2⁻¹²⁶.
+pub const PROFILE_ABS_SLACK: f64 = 4.0 * f32::MIN_POSITIVE as f64;
+
 /// Directory entry flag: a reader that does not know this section's kind must reject the file.
 pub const SECTION_REQUIRED: u16 = 1;
 /// Material flag: the record's reduced-albedo range fields are meaningful.
@@ -65,18 +76,33 @@ pub const MATERIAL_HAS_ALBEDO_RANGE: u32 = 1;
 pub mod required_features {
     /// At least one section is zstd-compressed (codec 1).
     pub const ZSTD: u64 = 1 << 0;
+    /// At least one `gwc-params` node has E_β > E: a negative floor α = (E − E_β)/(2πr) under
+    /// its lobe (format 1.1). Readers that clamp E_β to E would misread such a file.
+    pub const SIGNED_FLOOR: u64 = 1 << 1;
     /// Every required feature this reader understands.
-    pub const KNOWN: u64 = ZSTD;
+    pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR;
     /// Name of a required feature bit, for messages.
     pub fn name(bit: u32) -> &'static str {
         match bit {
             0 => "zstd-sections",
+            1 => "signed-floor",
             _ => "unknown",
         }
     }
+
+    /// Names of the bits set in `bits`, lowest first (`"bit N"` for bits without a name).
+    pub fn names(bits: u64) -> Vec<String> {
+        (0..64)
+            .filter(|b| bits & (1u64 << b) != 0)
+            .map(|b| match name(b) {
+                "unknown" => format!("bit {b}"),
+                known => known.to_owned(),
+            })
+            .collect()
+    }
 }
 
-/// Feature bits a reader may ignore (header bytes 40..48). Version 1.0 defines none.
+/// Feature bits a reader may ignore (header bytes 40..48). Versions 1.0 and 1.1 define none.
 pub mod optional_features {
     /// Every optional feature this reader understands.
     pub const KNOWN: u64 = 0;

@@ -14,7 +14,9 @@ use super::error::{FormatError, FormatResult};
 use super::library::Library;
 use super::provenance::Provenance;
 use super::reader::Verify;
-use super::records::{check_axis, check_finite, Material, TableHeader};
+use super::records::{
+    check_axis, check_finite, check_gwc_nodes, has_signed_floor, Material, TableHeader,
+};
 use super::spec::{
     align_up, crc32, required_features, AxisKind, Codec, Dtype, FresnelMoments, ModelKind,
     RawEntry, RawHeader, SectionKind, BYTE_ORDER_MARK, DEFAULT_ALIGNMENT, ENTRY_SIZE,
@@ -54,7 +56,9 @@ pub struct TableData {
     pub theta: Vec<f32>,
     /// Radius axis r, `[nr]`, in reduced mean free paths, strictly increasing, ≥ 0.
     pub r: Vec<f32>,
-    /// GWC parameters (E, β, c) interleaved, `[nρ][nθ][nr][3]`.
+    /// GWC parameters (E, E_β = βr, c) interleaved, `[nρ][nθ][nr][3]`: every node with
+    /// E_β ≥ 0, |c| < 1 and a profile ≥ 0 (E_β·2|c| ≤ E·(1 + |c|), format-spec.md §10). E_β > E
+    /// (a negative floor) is allowed and makes the file need format 1.1's `signed-floor` bit.
     pub gwc: Vec<f32>,
     /// Radial CDF, `[nρ][nθ][nr]`.
     pub cdf: Vec<f32>,
@@ -187,6 +191,8 @@ impl LibraryBuilder {
         put(SectionKind::AxisTheta, &table.theta)?;
         put(SectionKind::AxisR, &table.r)?;
         put(SectionKind::GwcParams, &table.gwc)?;
+        // Negative floors are allowed: `to_bytes` sets the feature bit they need.
+        check_gwc_nodes(index, &header, &table.gwc, true)?;
         put(SectionKind::RadialCdf, &table.cdf)?;
         if let Some(albedo) = &table.theta_cdf {
             put(SectionKind::ThetaCdf, albedo)?;
@@ -364,7 +370,19 @@ impl LibraryBuilder {
         if sections.len() > MAX_SECTIONS as usize {
             return Err(invalid(format!("more than {MAX_SECTIONS} sections")));
         }
-        layout(&sections, self.alignment, compression)
+        // The bit exactly when some node has a negative floor, so that files without one stay
+        // readable by 1.0 readers.
+        let signed_floor = self.tables.iter().any(|(_, table_sections)| {
+            table_sections
+                .get(&SectionKind::GwcParams.code())
+                .is_some_and(|p| has_signed_floor_bytes(&p.bytes))
+        });
+        let required = if signed_floor {
+            required_features::SIGNED_FLOOR
+        } else {
+            0
+        };
+        layout(&sections, self.alignment, compression, required)
     }
 
     /// Writes the file atomically: a temporary file in the target's folder, synced, renamed
@@ -380,11 +398,22 @@ impl LibraryBuilder {
     }
 }
 
+/// [`has_signed_floor`] of little-endian f32 bytes.
+fn has_signed_floor_bytes(bytes: &[u8]) -> bool {
+    let values: Vec<f32> = bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    has_signed_floor(&values)
+}
+
 /// Places the sections one after another at aligned offsets and writes header and directory.
+/// `required` holds the required feature bits of the content; the zstd bit is added here.
 fn layout(
     sections: &[(u32, u32, Pending)],
     alignment: u32,
     compression: Compression,
+    required: u64,
 ) -> FormatResult<Vec<u8>> {
     let mut compressor = match compression {
         Compression::None => None,
@@ -440,9 +469,9 @@ fn layout(
         out.extend_from_slice(&stored);
     }
     let features = if compressor.is_some() {
-        required_features::ZSTD
+        required | required_features::ZSTD
     } else {
-        0
+        required
     };
     let header = RawHeader {
         magic: MAGIC,

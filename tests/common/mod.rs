@@ -7,7 +7,8 @@ use bssrdf_zoo::format::{
 };
 
 /// A table of `n_rho × n_theta × n_r` entries with smooth, deterministic made-up values (not
-/// physics: the format does not care).
+/// physics; the format only asks that every GWC node be a profile ≥ 0 with E_β ≥ 0 and
+/// |c| < 1). Every node has 0 ≤ E_β < E (no negative floor) and |c| ≤ 0.25.
 pub fn synthetic_table(
     eta: f64,
     n_rho: usize,
@@ -29,8 +30,9 @@ pub fn synthetic_table(
     for (a, &p) in rho.iter().enumerate() {
         for (t, &th) in theta.iter().enumerate() {
             for (k, &rr) in r.iter().enumerate() {
-                gwc.push(p * (-rr).exp() + 0.001 * a as f32);
-                gwc.push(1.0 + th.sin() * 0.5 + 0.01 * t as f32);
+                let e = p * (-rr).exp() + 0.001 * a as f32;
+                gwc.push(e);
+                gwc.push(e * (0.5 + 0.25 * th.sin() + (0.01 * t as f32).min(0.2)));
                 gwc.push(0.25 * th.cos() - 0.001 * k as f32);
                 cdf.push((k + 1) as f32 / n_r as f32 * (0.9 + 0.1 * p));
             }
@@ -52,6 +54,23 @@ pub fn synthetic_table(
         cdf,
         theta_cdf,
     }
+}
+
+/// [`synthetic_table`] with a negative floor at every node: E_β = 1.5 E, which keeps the
+/// profile ≥ 0 for |c| ≤ 0.5 (E_β·2|c| ≤ 1.5 E ≤ E·(1 + |c|)). Files with it need the
+/// `signed-floor` feature bit.
+pub fn signed_floor_table(
+    eta: f64,
+    n_rho: usize,
+    n_theta: usize,
+    n_r: usize,
+    albedo: bool,
+) -> TableData {
+    let mut table = synthetic_table(eta, n_rho, n_theta, n_r, albedo);
+    for node in table.gwc.chunks_exact_mut(3) {
+        node[1] = 1.5 * node[0];
+    }
+    table
 }
 
 pub fn material(name: &str, table: u32) -> Material {
