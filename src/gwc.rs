@@ -162,7 +162,7 @@ mod minimax;
 mod sample;
 mod trig;
 
-pub use minimax::{refine_minimax, MinimaxFit, MINIMAX_MAX_SAMPLES};
+pub use minimax::{refine_minimax, refine_minimax_with, Floor, MinimaxFit, MINIMAX_MAX_SAMPLES};
 
 use std::f64::consts::{PI, TAU};
 
@@ -280,6 +280,20 @@ pub fn lobe_cap(e_per_r: f64, c: f64) -> f64 {
         e_per_r
     } else {
         e_per_r * (1.0 + c) / (2.0 * c)
+    }
+}
+
+/// min(β, [`lobe_cap`]`(E/r, c)`) for β ≥ 0 and E/r ≥ 0, dividing only when β exceeds the cap
+/// (rarely: lookups call it on interpolated cells, whose β is within it but near the nodes
+/// that sit on it). NaN β is returned as is.
+#[inline]
+pub(crate) fn cap_lobe(beta: f64, e_per_r: f64, c: f64) -> f64 {
+    let a = clamp_c(c).abs();
+    // At c = 0 the cap is E/r itself (see `lobe_cap`)
+    if beta * (2.0 * a) > e_per_r * (1.0 + a) || (a == 0.0 && beta > e_per_r) {
+        lobe_cap(e_per_r, c)
+    } else {
+        beta
     }
 }
 
@@ -406,7 +420,7 @@ impl Gwc {
         let e_per_r = e / r;
         if r > 0.0 && e_per_r.is_finite() {
             let e_per_r = e_per_r.max(0.0);
-            let beta = beta.min(lobe_cap(e_per_r, c));
+            let beta = cap_lobe(beta, e_per_r, c);
             // × 1/2π: a division less on the path of every lookup (α moves by an ulp at most)
             Self::from_parts((e_per_r - beta) * (1.0 / TAU), beta, c)
         } else {
@@ -424,7 +438,7 @@ impl Gwc {
         let share = if share.is_nan() {
             0.0
         } else {
-            share.max(0.0).min(lobe_cap(1.0, c))
+            cap_lobe(share.max(0.0), 1.0, c)
         };
         Self {
             alpha: (1.0 - share) * (1.0 / TAU),
