@@ -124,25 +124,6 @@ fn max_rel_error(g: &Gwc, phi: &[f64], f: &[f64]) -> f64 {
 /// [`Error::EdgesNotIncreasing`], [`Error::NotFinite`], [`Error::Negative`]) name the first
 /// invalid input. Never returns NaN.
 pub fn refine_minimax(start: &Gwc, phi: &[f64], f: &[f64]) -> Result<MinimaxFit> {
-    refine_minimax_with(start, phi, f, Floor::Signed)
-}
-
-/// Which floors a refinement may reach.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Floor {
-    /// α ≥ 0, the report's family.
-    NonNegative,
-    /// α down to [`super::floor_bound`] (the profile still ≥ 0 at every φ).
-    Signed,
-}
-
-/// [`refine_minimax`] over the floors `floor` allows.
-pub fn refine_minimax_with(
-    start: &Gwc,
-    phi: &[f64],
-    f: &[f64],
-    floor: Floor,
-) -> Result<MinimaxFit> {
     let n = phi.len();
     if !(1..=MINIMAX_MAX_SAMPLES).contains(&n) {
         return Err(Error::CountOutOfRange {
@@ -185,7 +166,6 @@ pub fn refine_minimax_with(
     // Work in units of the largest sample
     let scale = f.iter().fold(0.0, |m: f64, &v| m.max(v));
     let mut problem = Problem {
-        signed: floor == Floor::Signed,
         n,
         x: [0.0; MINIMAX_MAX_SAMPLES],
         g: [0.0; MINIMAX_MAX_SAMPLES],
@@ -258,8 +238,6 @@ pub fn refine_minimax_with(
 /// The samples in units of the largest (g_i, x_i = cos φ_i) and the exchange's current
 /// reference (three sample indices, increasing), kept from one w to the next.
 struct Problem {
-    /// Whether α may go below 0 (down to the profile touching 0).
-    signed: bool,
     n: usize,
     x: [f64; MINIMAX_MAX_SAMPLES],
     g: [f64; MINIMAX_MAX_SAMPLES],
@@ -306,12 +284,7 @@ impl Problem {
         }
         let (u, v, r) = (&u[..n], &v[..n], &r[..n]);
         // The profile's least value, opposite the lobe, is α + D/(1 + |w|)
-        // (With α ≥ 0 only, the same formulas with the factor 0: the edge is α = 0.)
-        let opposite = if self.signed {
-            1.0 / (1.0 + w.abs())
-        } else {
-            0.0
-        };
+        let opposite = 1.0 / (1.0 + w.abs());
         if let Some((a, b, err)) = self.exchange(u, v) {
             // Inside the cone D = B/w ≥ 0, α + D/(1 + |w|) ≥ 0 (at w = 0 only B = 0 is a GWC)
             let d = if w == 0.0 { 0.0 } else { b / w };

@@ -12,7 +12,7 @@
 //!   incidence PBD's relative error against it has four extremes, at φ = 0, near 38°, near 96°
 //!   and at φ = π, the largest up to 1.13 % at (ρ′, θ) = (0.99, 89°) where the best GWC stays
 //!   at 0.998 %, and far out in r, where the fit clamps α = 0, up to 14 % at φ = π. Where the
-//!   fit is weak, the node stores instead its refinement ([`crate::gwc::refine_minimax`]) to the smallest
+//!   fit is weak, the node stores instead its refinement ([`refine_minimax`]) to the smallest
 //!   largest relative error over seven azimuths, the anchors plus 0, 38°, 96° and π: four more
 //!   PBD samples per refined node. The refinement may take a signed floor (α < 0, the profile
 //!   still ≥ 0; `gwc` module docs), which is what PBD needs where the fit clamps α: at
@@ -41,9 +41,7 @@ use super::{AngularTable, Axes, PARAMS_PER_NODE};
 use crate::catmull_rom::Nodes;
 use crate::error::{Error, Result};
 use crate::fresnel::Moments;
-use crate::gwc::{
-    fit_three_anchors, refine_minimax_with, FitBranch, Floor, Gwc, ANCHOR_COS, C_MAX_FIT,
-};
+use crate::gwc::{fit_three_anchors, refine_minimax, FitBranch, Gwc, ANCHOR_COS, C_MAX_FIT};
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
 use rayon::prelude::*;
@@ -288,7 +286,7 @@ const REFINE_THETA_MIN: f64 = REFINE_THETA_MIN_DEG * PI / 180.0 * (1.0 - 1e-6);
 /// A node at θ > 0: the three-anchor fit, refined where it is weak (see [`REFINE_THETA_MIN`])
 /// to the smallest largest relative error over seven azimuths: the three anchors, where it is
 /// exact, and [`REFINE_PHI_DEG`], near the four extremes of its error. Returns the profile to
-/// store, the fit's branch and whether the refinement was kept ([`crate::gwc::refine_minimax`] keeps the
+/// store, the fit's branch and whether the refinement was kept ([`refine_minimax`] keeps the
 /// fit unless it lowers the largest error over the seven samples; so does an invalid sample,
 /// which PBD does not produce at r > 0).
 fn oblique_node(
@@ -316,28 +314,11 @@ fn oblique_node(
         extra_phi[3],
     ];
     let samples = [extra[0], f[0], extra[1], f[1], extra[2], f[2], extra[3]];
-    let refine = |floor| refine_minimax_with(&fit.gwc, &phi, &samples, floor);
-    Ok(match refine(Floor::NonNegative) {
-        Ok(m) if m.max_rel_error > SIGNED_FLOOR_ABOVE => match refine(Floor::Signed) {
-            Ok(signed) if signed.max_rel_error < m.max_rel_error => {
-                (signed.gwc, fit.branch, signed.refined)
-            }
-            _ => (m.gwc, fit.branch, m.refined),
-        },
+    Ok(match refine_minimax(&fit.gwc, &phi, &samples) {
         Ok(m) => (m.gwc, fit.branch, m.refined),
         Err(_) => (fit.gwc, fit.branch, false),
     })
 }
-
-/// Largest relative error over the seven samples of the best profile with α ≥ 0 above which a
-/// node may store a signed floor (α < 0, `gwc` module docs), when that is better still.
-///
-/// A signed floor costs the samplers an iteration (their α = 0 profiles invert in closed form):
-/// allowed everywhere, it slowed `sample` by 8 % (30 ns, the criterion bench's points), since
-/// a third of the signed nodes gain less than 0.2 percentage points. From 0.5 % it leaves a third
-/// of them signed, the nodes that need it: far out in r and at low albedo, where the report's
-/// family misses PBD by 0.5–14 % and a signed floor by 0.1–1 %.
-pub const SIGNED_FLOOR_ABOVE: f64 = 0.005;
 
 /// The c stored at r₀ = 0, from a row's stored cells (node r₀ first, then r₁ and r₂).
 ///
