@@ -89,7 +89,7 @@ impl Grid {
     }
 
     /// Ferrier's node placement for any counts (ρ, θ ≥ 2; r ≥ 4): ρ_i = (1 − e^{−8i/(n−1)})/(1 − e^{−8}),
-    /// θ uniform over [0, 90°], r₀ = 0 and r_i = 0.0025·q^i (q = 1.2 for 64 nodes, see [`R_Q`]).
+    /// θ uniform over [0, 90°], r₀ = 0 and r_i = 0.0025·q^i (q = 1.2 for 64 nodes, see `R_Q`).
     pub fn ferrier(n_rho: usize, n_theta: usize, n_r: usize) -> Self {
         let (n_rho, n_theta, n_r) = (n_rho.max(2), n_theta.max(2), n_r.max(4));
         let rho = (0..n_rho)

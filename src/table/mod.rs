@@ -303,15 +303,15 @@ impl AngularTable {
     pub fn axes(&self) -> &Axes {
         &self.axes
     }
-    /// (E, E_β, c) per node, [nρ][nθ][nr][3].
+    /// (E, E_β, c) per node, `[nρ][nθ][nr][3]`.
     pub fn params(&self) -> &[f32] {
         &self.params
     }
-    /// Radial CDF, [nρ][nθ][nr].
+    /// Radial CDF, `[nρ][nθ][nr]`.
     pub fn radial_cdf(&self) -> &[f32] {
         &self.radial_cdf
     }
-    /// θ-sampling CDF over θ of ρ_eff, [nρ][nθ], if kept.
+    /// θ-sampling CDF over θ of ρ_eff, `[nρ][nθ]`, if kept.
     pub fn theta_cdf(&self) -> Option<&[f32]> {
         self.theta_cdf.as_deref()
     }
