@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use bssrdf_zoo::format::{Compression, Library, LibraryBuilder, SectionKind, Verify};
-use common::{material, signed_floor_table, synthetic_table};
+use common::{material, synthetic_table, with_signed_floor};
 
 /// Compiles the C reader into `dir`, or `None` (with a message) if no compiler works.
 fn compile(dir: &Path) -> Option<PathBuf> {
@@ -67,7 +67,7 @@ fn c_reader_reads_the_same_values_as_the_rust_reader() {
         .unwrap();
     // Negative floors: the file sets required feature bit 1, which the C reader implements.
     builder
-        .add_table(signed_floor_table(1.5, 2, 5, 7, false))
+        .add_table(with_signed_floor(synthetic_table(1.5, 2, 5, 7, false)))
         .unwrap();
     builder.add_material(material("jade", 1)).unwrap();
     let path = dir.path().join("lib.bssrdf");

@@ -8,7 +8,7 @@ use bssrdf_zoo::format::{
     pack, unpack, AxisKind, Codec, Compression, Dtype, ExtraSection, Library, LibraryBuilder,
     SectionKind, TableData, Verify,
 };
-use common::{material, signed_floor_table, synthetic_table, tiny_builder, Raw};
+use common::{material, synthetic_table, tiny_builder, with_signed_floor, Raw};
 
 fn bits(values: &[f32]) -> Vec<u32> {
     values.iter().map(|v| v.to_bits()).collect()
@@ -304,7 +304,7 @@ fn writer_sets_the_signed_floor_bit_exactly_when_a_node_needs_it() {
     assert_eq!(library.required_features(), SIGNED_FLOOR);
     // Compressed: both bits.
     let bytes = one_table(
-        signed_floor_table(1.3, 2, 3, 5, true),
+        with_signed_floor(synthetic_table(1.3, 2, 3, 5, true)),
         Compression::Zstd { level: 3 },
     );
     let library = Library::from_bytes(&bytes, Verify::Full).unwrap();
@@ -316,7 +316,7 @@ fn negative_floors_round_trip_with_the_bit_through_pack_and_unpack() {
     let dir = tempfile::tempdir().unwrap();
     let tables = vec![
         synthetic_table(1.33, 3, 2, 6, true),
-        signed_floor_table(1.5, 2, 4, 7, false),
+        with_signed_floor(synthetic_table(1.5, 2, 4, 7, false)),
     ];
     let mut b = LibraryBuilder::new();
     for t in &tables {
@@ -344,7 +344,10 @@ fn negative_floors_round_trip_with_the_bit_through_pack_and_unpack() {
 
 #[test]
 fn negative_floor_without_the_bit_is_rejected_naming_the_node() {
-    let bytes = one_table(signed_floor_table(1.3, 2, 3, 5, false), Compression::None);
+    let bytes = one_table(
+        with_signed_floor(synthetic_table(1.3, 2, 3, 5, false)),
+        Compression::None,
+    );
     let mut raw = Raw::new(bytes);
     raw.set_u64(32, 0);
     raw.fix_header_crc();
@@ -364,7 +367,7 @@ fn negative_floor_without_the_bit_is_rejected_naming_the_node() {
     );
     // Packed, the same.
     let bytes = one_table(
-        signed_floor_table(1.3, 2, 3, 5, false),
+        with_signed_floor(synthetic_table(1.3, 2, 3, 5, false)),
         Compression::Zstd { level: 3 },
     );
     let mut raw = Raw::new(bytes);
@@ -398,7 +401,7 @@ fn negative_profiles_and_lobes_are_rejected_with_or_without_the_bit() {
     ];
     for table in [
         synthetic_table(1.3, 2, 3, 5, false),
-        signed_floor_table(1.3, 2, 3, 5, false),
+        with_signed_floor(synthetic_table(1.3, 2, 3, 5, false)),
     ] {
         let bytes = one_table(table.clone(), Compression::None);
         for (code, node) in cases {
@@ -426,7 +429,10 @@ fn profile_rule_allows_f32_rounding_at_the_boundary_and_no_more() {
     let c = 0.3f32;
     let (e, abs_c) = (0.7f32, f64::from(c));
     let e_beta = (f64::from(e) * (1.0 + abs_c) / (2.0 * abs_c)) as f32;
-    let bytes = one_table(signed_floor_table(1.3, 2, 3, 5, false), Compression::None);
+    let bytes = one_table(
+        with_signed_floor(synthetic_table(1.3, 2, 3, 5, false)),
+        Compression::None,
+    );
     // The node rounded to f32 is 3.7e-8 relative over the boundary; each ulp of E_β adds
     // 7.9e-8, so the slack of 2^-20 = 9.5e-7 ends between 11 and 12 ulps.
     for (step, accepted) in [

@@ -56,17 +56,10 @@ pub fn synthetic_table(
     }
 }
 
-/// [`synthetic_table`] with a negative floor at every node: E_β = 1.5 E, which keeps the
-/// profile ≥ 0 for |c| ≤ 0.5 (E_β·2|c| ≤ 1.5 E ≤ E·(1 + |c|)). Files with it need the
+/// `table` (a [`synthetic_table`]) with a negative floor at every node: E_β = 1.5 E, which
+/// keeps the profile ≥ 0 for |c| ≤ 0.5 (E_β·2|c| ≤ 1.5 E ≤ E·(1 + |c|)). Files with it need the
 /// `signed-floor` feature bit.
-pub fn signed_floor_table(
-    eta: f64,
-    n_rho: usize,
-    n_theta: usize,
-    n_r: usize,
-    albedo: bool,
-) -> TableData {
-    let mut table = synthetic_table(eta, n_rho, n_theta, n_r, albedo);
+pub fn with_signed_floor(mut table: TableData) -> TableData {
     for node in table.gwc.chunks_exact_mut(3) {
         node[1] = 1.5 * node[0];
     }
