@@ -336,32 +336,7 @@ impl<'a> TableRef<'a> {
         };
         let r_nodes = self.axes.r().as_slice();
         if segment <= 1 && r_nodes[0] == 0.0 {
-            // The first two intervals, from r₀ = 0 to r₂: PBD grows like slope·ln(1/r),
-            // isotropically, and what is left, P(r, φ) = S(r, φ) − slope·ln(r₁/r), is smooth
-            // and nearly linear in r there (its curvature moves it by 0.2 % of itself over
-            // [0, r₁] at grazing incidence). So the cell is the log plus the straight line
-            // through the profiles P of nodes 1 and 2: (E/r − 2π·slope·ln(r₁/r), β, c) linear
-            // in r, extended down to r = 0. The spline through node 0 (E = 0, where PBD is
-            // infinite) bends them instead: 0.5 % off at θ = 0 mid-interval, where the nodes
-            // are exact, and its constant P(r₁) beyond r₁ left 1.9 % of drift at φ = π (README,
-            // "Accuracy").
-            // (An axis of two nodes has no node 2: P is then constant, P(r₁).)
-            let two_pi_slope = TAU * self.log_slope(rho, theta);
-            let node = |k: usize, r: f64| {
-                let [e, e_beta, c] = params[k - first];
-                let e_per_r = (e / r).max(0.0);
-                // P's isotropic part at node k: E/r less the log's value there
-                let p = e_per_r - two_pi_slope * (r_nodes[1] / r).ln();
-                [p, cap_lobe((e_beta / r).max(0.0), e_per_r, c), c]
-            };
-            let a = node(1, r_nodes[1]);
-            let (b, t) = match r_nodes.get(2) {
-                Some(&r2) => (node(2, r2), (r_eval - r_nodes[1]) / (r2 - r_nodes[1])),
-                None => (a, 0.0),
-            };
-            let [p, beta, c] = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
-            let e_per_r = p + two_pi_slope * (r_nodes[1] / r_eval).ln();
-            return (e_per_r * r_eval, Lobe::Beta(beta.max(0.0)), c);
+            return self.first_intervals_cell(params, first, r_eval, rho, theta);
         }
         // (The energies' logarithms come straight from the window: reading them from `params`
         // instead makes the compiler scalarise the blend's loads.)
@@ -415,6 +390,48 @@ impl<'a> TableRef<'a> {
         // At most (1 + |c|)/(2|c|) (`gwc::lobe_cap`): above 1 the floor is signed, beyond the
         // cap the profile would dip below 0 opposite the lobe
         (e, Lobe::Share(cap_lobe(share.max(0.0), 1.0, c)), c)
+    }
+
+    /// [`TableRef::cell_from`] in the first two radius intervals (segment ≤ 1, r₀ = 0), from
+    /// the window's nodes 1 and 2. Out of line and cold: a few draws in 10³ land there, and
+    /// inlined, its code cost the other evaluations time.
+    #[cold]
+    #[inline(never)]
+    fn first_intervals_cell(
+        &self,
+        params: [[f64; 3]; 4],
+        first: usize,
+        r_eval: f64,
+        rho: f64,
+        theta: f64,
+    ) -> (f64, Lobe, f64) {
+        let r_nodes = self.axes.r().as_slice();
+        // The first two intervals, from r₀ = 0 to r₂: PBD grows like slope·ln(1/r),
+        // isotropically, and what is left, P(r, φ) = S(r, φ) − slope·ln(r₁/r), is smooth
+        // and nearly linear in r there (its curvature moves it by 0.2 % of itself over
+        // [0, r₁] at grazing incidence). So the cell is the log plus the straight line
+        // through the profiles P of nodes 1 and 2: (E/r − 2π·slope·ln(r₁/r), β, c) linear
+        // in r, extended down to r = 0. The spline through node 0 (E = 0, where PBD is
+        // infinite) bends them instead: 0.5 % off at θ = 0 mid-interval, where the nodes
+        // are exact, and its constant P(r₁) beyond r₁ left 1.9 % of drift at φ = π (README,
+        // "Accuracy").
+        // (An axis of two nodes has no node 2: P is then constant, P(r₁).)
+        let two_pi_slope = TAU * self.log_slope(rho, theta);
+        let node = |k: usize, r: f64| {
+            let [e, e_beta, c] = params[k - first];
+            let e_per_r = (e / r).max(0.0);
+            // P's isotropic part at node k: E/r less the log's value there
+            let p = e_per_r - two_pi_slope * (r_nodes[1] / r).ln();
+            [p, cap_lobe((e_beta / r).max(0.0), e_per_r, c), c]
+        };
+        let a = node(1, r_nodes[1]);
+        let (b, t) = match r_nodes.get(2) {
+            Some(&r2) => (node(2, r2), (r_eval - r_nodes[1]) / (r2 - r_nodes[1])),
+            None => (a, 0.0),
+        };
+        let [p, beta, c] = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
+        let e_per_r = p + two_pi_slope * (r_nodes[1] / r_eval).ln();
+        (e_per_r * r_eval, Lobe::Beta(beta.max(0.0)), c)
     }
 
     /// The radius at which to evaluate r, with its Catmull-Rom weights; `None` for r outside
