@@ -495,7 +495,7 @@ impl Span {
         interior
             && finite
             && x.get(i + 1)
-                .is_some_and(|&x1| (cells::next_down(x1) - self.x0) * self.inv_width <= 1.0)
+                .is_some_and(|&x1| (crate::float::next_down(x1) - self.x0) * self.inv_width <= 1.0)
     }
 
     /// t = (x − xᵢ)/wᵢ for x in the span, clamped to [0, 1] (only rounding takes it out).

@@ -167,6 +167,7 @@ pub use minimax::{refine_minimax, MinimaxFit, MINIMAX_MAX_SAMPLES};
 use std::f64::consts::{PI, TAU};
 
 use crate::error::{finite, in_range, Error, Result};
+use crate::float::next_towards;
 use trig::sin_quarter;
 
 /// Anchor cosines (cos φ1, cos φ2, cos φ3) of the three-anchor fit (Ferrier 2016, §3.3).
@@ -188,26 +189,6 @@ fn non_negative(name: &'static str, value: f64) -> Result<f64> {
         return Err(Error::Negative { name, value });
     }
     Ok(value)
-}
-
-/// The float next to 0 on the side of `sign`: strict bounds 0 < x or x < 0 as closed ones.
-fn next_after_zero(sign: f64) -> f64 {
-    f64::from_bits(1).copysign(sign)
-}
-
-/// The float next to finite `x` in the direction of `towards` (`x` itself if they are equal),
-/// so that strict bounds become closed ones (`f64::next_up` needs Rust 1.86).
-fn next_towards(x: f64, towards: f64) -> f64 {
-    if x == towards || !x.is_finite() {
-        return x;
-    }
-    if x == 0.0 {
-        return next_after_zero(towards);
-    }
-    // Away from zero increments the bit pattern, towards zero decrements it
-    let bits = x.to_bits();
-    let away = (towards > x) == (x > 0.0);
-    f64::from_bits(if away { bits + 1 } else { bits - 1 })
 }
 
 /// Whether φ lies in [−π, π] (false for NaN).
@@ -588,8 +569,9 @@ pub fn fit_three_anchors(f1: f64, f2: f64, f3: f64) -> Result<GwcFit> {
 /// of `f64::MAX`). Never returns NaN.
 pub fn fit_anchors(cos_phi: [f64; 3], f: [f64; 3]) -> Result<GwcFit> {
     let [x1, x2, x3] = cos_phi;
-    in_range("cos_phi1", x1, next_after_zero(1.0), 1.0)?;
-    in_range("cos_phi3", x3, -1.0, next_after_zero(-1.0))?;
+    // Strict bounds as closed ones: the floats next to 0, and next to the other anchors
+    in_range("cos_phi1", x1, next_towards(0.0, 1.0), 1.0)?;
+    in_range("cos_phi3", x3, -1.0, next_towards(0.0, -1.0))?;
     in_range("cos_phi2", x2, next_towards(x3, x1), next_towards(x1, x3))?;
     for (name, value) in ["f1", "f2", "f3"].into_iter().zip(f) {
         non_negative(name, value)?;

@@ -20,6 +20,7 @@ pub mod capi;
 pub mod catmull_rom;
 pub mod embed;
 pub mod error;
+mod float;
 pub mod format;
 pub mod fresnel;
 pub mod gwc;

@@ -43,6 +43,8 @@
 //! `hot` = L − 1, so that the segment is `hot` + [x ≥ upper] with no other test; every other
 //! cell stores a `hot` that takes the segment out of bounds, sending x to the general path.
 
+use crate::float::next_up;
+
 /// Largest number of cells per node (16 bytes each).
 pub(super) const CELLS_PER_NODE: usize = 8;
 
@@ -232,25 +234,10 @@ fn fill(x: &[f64], keys: &[usize], simple: impl Fn(usize) -> bool) -> Box<[Cell]
         .collect()
 }
 
-/// The float after the finite `x` (+∞ after the largest).
-pub(super) fn next_up(x: f64) -> f64 {
-    if x == 0.0 {
-        f64::from_bits(1)
-    } else if x > 0.0 {
-        f64::from_bits(x.to_bits() + 1)
-    } else {
-        f64::from_bits(x.to_bits() - 1)
-    }
-}
-
-/// The float before the finite `x` (−∞ before the lowest).
-pub(super) fn next_down(x: f64) -> f64 {
-    -next_up(-x)
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{next_down, next_up, Cells, CELLS_PER_NODE, NOT_HOT};
+    use super::{Cells, CELLS_PER_NODE, NOT_HOT};
+    use crate::float::{next_down, next_up};
 
     /// The default table's axes as the bake builds them (f32-rounded).
     fn default_axes() -> [Vec<f64>; 3] {

@@ -3,8 +3,8 @@
 //! the default table's axes and on irregular node sets, with either [`End`], at every node,
 //! the floats next to each, random points, the ends, outside, NaN, ±∞ and ±0.
 
-use super::cells::{next_down, next_up};
 use super::{End, Nodes, Span};
+use crate::float::{next_down, next_up};
 use crate::rng::SplitMix64;
 use crate::table::{Grid, GridPreset};
 
