@@ -56,7 +56,7 @@ struct Slice {
 }
 
 /// The lobe of a cell from [`TableRef::cell_from`]: its share E_β/E of the energy, or (in the
-/// first radius interval, where the floor grows like ln(1/r)) its β outright.
+/// first two radius intervals, where the floor grows like ln(1/r)) its β outright.
 #[derive(Debug, Clone, Copy)]
 enum Lobe {
     Share(f64),
@@ -373,13 +373,14 @@ impl<'a> TableRef<'a> {
         } else {
             e_lin
         };
-        // The lobe's share. Where all four nodes hold energy, evaluation takes the spline of the nodes' shares
-        // E_β/E, smooth in r (from 0.99 to 1.04 between r = 4 and 40 at (0.5, 89°)); the ratio
-        // of the splines of E_β and E, which undershoot differently in a steep tail (E falls
-        // 30-fold per interval at r ≈ 15 there), moves it by several per cent, and a signed
-        // floor turns that into errors of 100 % and more opposite the lobe. The samplers keep
-        // the ratio (four divisions less per draw): sample and pdf stay an exact pair, and only
-        // draws in such tails, a few in 10⁶ on the protocol's cases, follow a rougher φ law.
+        // The lobe's share. Where all four nodes hold energy, evaluation takes the spline of
+        // the nodes' shares E_β/E, smooth in r (from 0.99 to 1.04 between r = 4 and 40 at
+        // (0.5, 89°)); the ratio of the splines of E_β and E, which undershoot differently in a
+        // steep tail (E falls 30-fold per interval at r ≈ 15 there), moves it by several per
+        // cent, and a signed floor turns that into errors of 100 % and more opposite the lobe.
+        // The samplers keep the ratio (four divisions less per draw): sample and pdf stay an
+        // exact pair, and only draws in such tails, a few in 10⁶ on the protocol's cases,
+        // follow a rougher φ law.
         let share = if LOG_ENERGY && positive {
             node_share
         } else if e_lin > 0.0 {
@@ -387,9 +388,15 @@ impl<'a> TableRef<'a> {
         } else {
             0.0
         };
-        // At most (1 + |c|)/(2|c|) (`gwc::lobe_cap`): above 1 the floor is signed, beyond the
-        // cap the profile would dip below 0 opposite the lobe
-        (e, Lobe::Share(cap_lobe(share.max(0.0), 1.0, c)), c)
+        // Evaluation caps it at (1 + |c|)/(2|c|) (`gwc::lobe_cap`): above 1 the floor is
+        // signed, beyond the cap the profile would dip below 0 opposite the lobe. The samplers'
+        // `Gwc::normalised` clamps it into [0, 1] itself.
+        let share = if LOG_ENERGY {
+            cap_lobe(share.max(0.0), 1.0, c)
+        } else {
+            share
+        };
+        (e, Lobe::Share(share), c)
     }
 
     /// [`TableRef::cell_from`] in the first two radius intervals (segment ≤ 1, r₀ = 0), from
