@@ -187,7 +187,7 @@ fn bits(result: Option<(usize, [f64; 4])>) -> Option<(usize, [u64; 4])> {
 fn weights_and_segments_match_the_reference_bit_for_bit() {
     let mut rng = SplitMix64::new(7);
     let sets: Vec<Vec<f64>> = table_axes().into_iter().chain(irregular()).collect();
-    let mut with_cells = 0;
+    let (mut with_cells, mut hot_points) = (0, 0);
     for x in &sets {
         let chord = Nodes::new(x.clone()).expect("increasing finite nodes");
         with_cells += usize::from(!chord.cells.is_empty());
@@ -203,11 +203,18 @@ fn weights_and_segments_match_the_reference_bit_for_bit() {
                     v.to_bits()
                 );
                 assert_eq!(nodes.find_segment(v), want.map(|(i, _)| i), "x = {v:e}");
+                // The hot cells' weights alone, where there are any: the same bits
+                if let Some(hot) = nodes.hot_weights(v) {
+                    hot_points += 1;
+                    let hot = Some((hot.segment(), hot.as_array()));
+                    assert_eq!(bits(hot), bits(want), "hot x = {v:e} on {x:?}, {end:?}");
+                }
             }
         }
     }
     // The table's axes all take the keyed cells; some irregular sets do not
     assert!(with_cells >= table_axes().len() && with_cells < sets.len());
+    assert!(hot_points > 1000, "{hot_points}");
 }
 
 #[test]

@@ -66,8 +66,15 @@ enum Lobe {
 impl<'a> TableRef<'a> {
     #[inline(always)]
     fn slice(&self, rho: f64, theta: f64) -> Option<Slice> {
-        let rho_weights = self.axes.rho().weights(rho)?;
-        let theta_weights = self.axes.theta().weights(theta)?;
+        // Hot cells apart, see `Nodes::hot_weights`
+        let rho_weights = match self.axes.rho().hot_weights(rho) {
+            Some(w) => w,
+            None => self.axes.rho().weights(rho)?,
+        };
+        let theta_weights = match self.axes.theta().hot_weights(theta) {
+            Some(w) => w,
+            None => self.axes.theta().weights(theta)?,
+        };
         Some(self.slice_of(&rho_weights, &theta_weights, rho, theta))
     }
 
@@ -455,7 +462,12 @@ impl<'a> TableRef<'a> {
         } else {
             return None;
         };
-        Some((r_eval, self.axes.r().weights(r_eval)?))
+        // Hot cells apart, see `Nodes::hot_weights`
+        let w = match self.axes.r().hot_weights(r_eval) {
+            Some(w) => w,
+            None => self.axes.r().weights(r_eval)?,
+        };
+        Some((r_eval, w))
     }
 
     /// The GWC profile at (slice, r), `None` where [`TableRef::radius`] is.
@@ -487,9 +499,16 @@ impl<'a> TableRef<'a> {
     /// where [`TableRef::radius`] is `None`.
     #[inline(always)]
     fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
-        // The three weight searches first: they are independent and overlap in the pipeline.
-        let rho_weights = self.axes.rho().weights(rho)?;
-        let theta_weights = self.axes.theta().weights(theta)?;
+        // The three weight searches first: they are independent and overlap in the pipeline. Hot
+        // cells apart, see `Nodes::hot_weights`.
+        let rho_weights = match self.axes.rho().hot_weights(rho) {
+            Some(w) => w,
+            None => self.axes.rho().weights(rho)?,
+        };
+        let theta_weights = match self.axes.theta().hot_weights(theta) {
+            Some(w) => w,
+            None => self.axes.theta().weights(theta)?,
+        };
         let Some((r_eval, w)) = self.radius(r) else {
             return Some(None);
         };
