@@ -70,7 +70,7 @@ mod segment;
 mod tests;
 
 use crate::error::{finite, in_range, Error, Result};
-use cells::{Cell, Cells};
+use cells::Cells;
 use guide::Guide;
 use segment::{newton_bisection, Segment};
 
@@ -251,17 +251,10 @@ impl Nodes {
         // The common case: a hot cell gives a simple segment (`cells.rs`). Everything else
         // (end segments, x outside or NaN, node sets without cells) takes the general path,
         // which returns the whole result so that this one needs no saved registers.
-        let Some(cell) = self.cells.get(x) else {
-            return self.searched_weights(x);
-        };
-        let i = cell.hot_segment(x);
-        let Some(span) = self.spans.get(i) else {
-            return self.cell_weights(x, cell);
-        };
-        Some(Weights {
-            segment: i,
-            w: span.simple_weights(x),
-        })
+        match self.hot_weights(x) {
+            Some(w) => Some(w),
+            None => self.other_weights(x),
+        }
     }
 
     /// [`Nodes::weights`] where that is quickest: x in a hot cell (an interior segment that
@@ -283,18 +276,15 @@ impl Nodes {
         })
     }
 
-    /// [`Nodes::weights`] for x in a cell that is not hot or not for x (x outside).
+    /// [`Nodes::weights`] where [`Nodes::hot_weights`] has none: x in a cell that is not hot
+    /// for it, or missed by the cells (no cells, x NaN or outside).
     #[cold]
     #[inline(never)]
-    fn cell_weights(&self, x: f64, cell: &Cell) -> Option<Weights> {
-        self.general_weights(x, cell.segment(x))
-    }
-
-    /// [`Nodes::weights`] where the cells miss x: no cells, or x is NaN or outside.
-    #[cold]
-    #[inline(never)]
-    fn searched_weights(&self, x: f64) -> Option<Weights> {
-        self.general_weights(x, self.search(x)?)
+    fn other_weights(&self, x: f64) -> Option<Weights> {
+        match self.cells.get(x) {
+            Some(cell) => self.general_weights(x, cell.segment(x)),
+            None => self.general_weights(x, self.search(x)?),
+        }
     }
 
     /// [`Nodes::weights`] on segment i, any segment; `None` if there is no segment i.
