@@ -471,6 +471,13 @@ impl Weights {
         self.segment
     }
 
+    /// Weights `w` of nodes `segment` − 1 … `segment` + 2 derived from a spline's, for a
+    /// caller that reweights the nodes (the table's energies along ρ′, `table::albedo`). The
+    /// entries of nodes outside the array must be 0, as in the weights it derives them from.
+    pub(crate) fn from_parts(segment: usize, w: [f64; 4]) -> Self {
+        Self { segment, w }
+    }
+
     /// The four weights of nodes i−1 … i+2, 0 for nodes outside the array.
     pub fn as_array(&self) -> [f64; 4] {
         self.w

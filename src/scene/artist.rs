@@ -8,14 +8,16 @@
 //! | mfp | mm | > 0, finite, per channel | the unreduced mean free path 1/σt (pbrt's convention) |
 //! | g | – | (−1, 1) | Henyey–Greenstein asymmetry (default 0) |
 //!
-//! 1. ρ′ from the reflectance: invert ρ ↦ ρ_eff(ρ, θ = 0) of the table with
-//!    [`Nodes::invert`] (pbrt's `InvertCatmullRom`), where ρ_eff(ρ′_i, 0) is the last radial-CDF
-//!    node of row (i, θ = 0): the table's own total multiply scattered power at normal
-//!    incidence. It is **multiple scattering only** (PBD has no single-scattering term): at
-//!    ρ′ = 1 and η = 1.33 it is 0.9503 on the default grid (0.9513 coarse, 0.9496 fine; PBD's
-//!    exact value is 0.9613, of which the table misses the tail beyond its last radius, 243 mean
-//!    free paths, where a non-absorbing profile decays only slowly), while pbrt's ρ_eff, which
-//!    adds single scattering, exceeds 1. A reflectance above the table's largest ρ_eff cannot be
+//! 1. ρ′ from the reflectance: invert ρ ↦ ρ_eff(ρ, θ = 0) of the table (as pbrt's
+//!    `InvertCatmullRom` inverts its spline), where ρ_eff(ρ′_i, 0) is the last radial-CDF node of
+//!    row (i, θ = 0): the table's own total multiply scattered power at normal incidence,
+//!    interpolated along ρ′ as the table interpolates it (ρ′² times the spline of ρ_eff/ρ′²,
+//!    `table::albedo`), so that the table's ρ_eff at the ρ′ found is the reflectance. It is
+//!    **multiple scattering only** (PBD has no single-scattering term): at ρ′ = 1 and η = 1.33
+//!    it is 0.9503 on the default grid (0.9513 coarse, 0.9496 fine; PBD's exact value is
+//!    0.9613, of which the table misses the tail beyond its last radius, 243 mean free paths,
+//!    where a non-absorbing profile decays only slowly), while pbrt's ρ_eff, which adds single
+//!    scattering, exceeds 1. A reflectance above the table's largest ρ_eff cannot be
 //!    reached: it is clamped to ρ′ = 1 and reported ([`Inverted::clamped`]) so that the caller
 //!    warns (pbrt clamps silently); a reflectance outside [0, 1] is an error.
 //! 2. σt = 1/mfp, and σs solves σs(1 − g)/(σs(1 − g) + σa) = ρ′ with σs + σa = σt:
@@ -26,12 +28,12 @@
 
 use crate::catmull_rom::Nodes;
 use crate::fresnel::Moments;
-use crate::table::{bake_rows, AngularTable, Grid, SubsetError};
+use crate::table::{bake_rows, AlbedoAxis, AngularTable, Grid, SubsetError};
 
 /// ρ_eff(ρ′, θ = 0) of a table over its albedo nodes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EffectiveAlbedo {
-    rho: Nodes,
+    rho: AlbedoAxis,
     rho_eff: Vec<f64>,
 }
 
@@ -79,10 +81,13 @@ const CHANNELS: [&str; 3] = ["r", "g", "b"];
 
 impl EffectiveAlbedo {
     /// A curve from its nodes ρ′ᵢ (strictly increasing, at least 2) and the values
-    /// ρ_eff(ρ′ᵢ, θ = 0), which must not decrease (pbrt's `rhoEff` of its table, for example).
+    /// ρ_eff(ρ′ᵢ, θ = 0), which must not decrease. Between the nodes it is ρ′² times the spline
+    /// of ρ_eff/ρ′², as a table's (see the module docs): for values that vanish like ρ′² (multiple
+    /// scattering only; pbrt's `rhoEff`, which adds single scattering, does not).
     pub fn new(rho: Vec<f64>, rho_eff: Vec<f64>) -> Result<Self, ArtistError> {
         let rho = Nodes::new(rho).map_err(|_| ArtistError::Curve("its nodes do not increase"))?;
-        if rho_eff.len() != rho.as_slice().len() {
+        let rho = AlbedoAxis::new(rho);
+        if rho_eff.len() != rho.nodes().as_slice().len() {
             return Err(ArtistError::Curve("it has not one value per node"));
         }
         if rho_eff.iter().any(|v| !v.is_finite()) {
@@ -124,9 +129,9 @@ impl EffectiveAlbedo {
         self.rho_eff.last().copied().unwrap_or(0.0)
     }
 
-    /// ρ_eff at reduced albedo `rho` (the spline through the nodes), `None` outside the axis.
+    /// ρ_eff at reduced albedo `rho` (interpolated as the table's), `None` outside the axis.
     pub fn at(&self, rho: f64) -> Option<f64> {
-        self.rho.evaluate(|i| self.rho_eff[i], rho)
+        Some(self.rho.weights(rho)?.apply(|i| self.rho_eff[i]))
     }
 
     /// ρ′ whose ρ_eff is `reflectance` ∈ [0, 1]; above the largest ρ_eff, the last node, clamped.
@@ -138,17 +143,43 @@ impl EffectiveAlbedo {
                 value: reflectance,
             });
         }
-        let rho_prime =
-            self.rho
-                .invert(|i| self.rho_eff[i], reflectance)
-                .ok_or(ArtistError::Reflectance {
-                    channel: name,
-                    value: reflectance,
-                })?;
+        let rho_prime = self.solve(reflectance);
         Ok(Inverted {
             rho_prime: rho_prime.clamp(0.0, 1.0),
             clamped: reflectance > self.max(),
         })
+    }
+
+    /// ρ′ with ρ_eff(ρ′) = y (not NaN): the first node at or below the curve's first value, the
+    /// last at or above its last, else bisected on the segment whose nodes bracket y, to the
+    /// last bit (ρ_eff is continuous and its nodes do not decrease).
+    fn solve(&self, y: f64) -> f64 {
+        let (x, v) = (self.rho.nodes().as_slice(), &self.rho_eff);
+        let n = x.len();
+        if y <= v[0] {
+            return x[0];
+        }
+        if y >= v[n - 1] {
+            return x[n - 1];
+        }
+        // Segment i: v[i] ≤ y < v[i + 1]
+        let i = v.partition_point(|&vi| vi <= y) - 1;
+        let (mut lo, mut hi) = (x[i], x[i + 1]);
+        loop {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                return if y - self.at(lo).unwrap_or(y) <= self.at(hi).unwrap_or(y) - y {
+                    lo
+                } else {
+                    hi
+                };
+            }
+            if self.at(mid).is_some_and(|v| v <= y) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
     }
 
     /// σs and σa per channel from reflectance, mfp (mm) and g (see the module docs).

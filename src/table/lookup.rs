@@ -1,6 +1,17 @@
 //! Lookups in an angular table: evaluate (algorithm 1), sample and pdf (algorithm 2), the
 //! path-tracing triple (algorithm 3), the perpendicular model, and world units.
+//!
+//! Every lookup blends the table's (ρ′, θ) rows with products of weights of the two axes, then
+//! interpolates along r ([`TableRef::cell_from`]). The crate's evaluation refines the spline
+//! along ρ′ as it does along r: PBD's energies carry the factor ρ′², so the rows are weighted
+//! ωᵢ = wᵢ (ρ′/ρ′ᵢ)², the Catmull-Rom weights of E/ρ′² times ρ′², with a node at ρ′ = 0 (E = 0
+//! there) folded into its neighbours (`table::albedo`). Every energy-like value (E, E_β, the
+//! radial CDF, ρ_eff and the θ CDF) blends with the ωᵢ; the concentration c is their weighted
+//! mean, Σ ωᵢcᵢ / Σ ωᵢ. Samplers and densities use the same weights, so `sample` and `pdf`, and
+//! `sample_path` and `pdf_theta`, stay exact pairs; at a node the weights are 1 and 0 and every
+//! stored value comes back exactly.
 
+use super::albedo::AlbedoWeights;
 use super::{TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
 use crate::gwc::{cap_lobe, table_value, Gwc};
@@ -34,9 +45,10 @@ pub struct PathSample {
     pub pdf: f64,
 }
 
-/// The (ρ′, θ) neighbourhood of a lookup: the nonzero products of the Catmull-Rom weights of
-/// the two axes (at most 4 × 4) with the offsets (i·nθ + j)·nr of their rows in the radial
-/// arrays, and (ρ′, θ) for the coefficient of the ln(1/r) growth of S.
+/// The (ρ′, θ) neighbourhood of a lookup: the nonzero products of the weights of the two axes
+/// (at most 4 × 4: the energy weights ωᵢ along ρ′, `table::albedo`, and the Catmull-Rom weights
+/// along θ) with the offsets (i·nθ + j)·nr of their rows in the radial arrays, and the
+/// [`Blend`].
 ///
 /// Rows of zero weight are left out, loads included (at a node of an axis, θ = 0 in the
 /// perpendicular model, 12 of the 16 are). The rows in use are padded with weight-0 copies of
@@ -51,6 +63,15 @@ struct Slice {
     /// f32: the table's values are f32 and are blended in f32 (see `window_params`); the blends
     /// in f64 widen them (exactly).
     weights: [f32; 16],
+    blend: Blend,
+}
+
+/// What the interpolation along r ([`TableRef::cell_from`]) needs of a (ρ′, θ) blend besides
+/// its values: the scale that turns the blended c into the ωᵢ-weighted mean of the rows' c
+/// ([`AlbedoWeights::c_scale`]), and (ρ′, θ) for the coefficient of the ln(1/r) growth of S.
+#[derive(Debug, Clone, Copy)]
+struct Blend {
+    c_scale: f64,
     rho: f64,
     theta: f64,
 }
@@ -64,29 +85,42 @@ enum Lobe {
 }
 
 impl<'a> TableRef<'a> {
+    /// `f` of the slice at (ρ′, θ), `None` outside the axes. The quick ρ′ weights
+    /// (`AlbedoAxis::hot_weights`) build it inline, the other points out of line, and `f` runs
+    /// on each path's own slice: merged into one, the slice was copied (a `memmove` per lookup).
     #[inline(always)]
-    fn slice(&self, rho: f64, theta: f64) -> Option<Slice> {
+    fn with_slice<T>(&self, rho: f64, theta: f64, f: impl Fn(&Slice) -> T) -> Option<T> {
+        match self.axes.rho.hot_weights(rho) {
+            Some(rho_weights) => Some(f(&self.slice_with(&rho_weights, rho, theta)?)),
+            None => Some(f(&self.slice_cold(rho, theta)?)),
+        }
+    }
+
+    #[inline(never)]
+    fn slice_cold(&self, rho: f64, theta: f64) -> Option<Slice> {
+        self.slice_with(&self.axes.rho.weights(rho)?, rho, theta)
+    }
+
+    #[inline(always)]
+    fn slice_with(&self, rho_weights: &AlbedoWeights, rho: f64, theta: f64) -> Option<Slice> {
         // Hot cells apart, see `Nodes::hot_weights`
-        let rho_weights = match self.axes.rho().hot_weights(rho) {
-            Some(w) => w,
-            None => self.axes.rho().weights(rho)?,
-        };
         let theta_weights = match self.axes.theta().hot_weights(theta) {
             Some(w) => w,
             None => self.axes.theta().weights(theta)?,
         };
-        Some(self.slice_of(&rho_weights, &theta_weights, rho, theta))
+        Some(self.slice_of(rho_weights, &theta_weights, rho, theta))
     }
 
     #[inline(always)]
     fn slice_of(
         &self,
-        rho_weights: &Weights,
+        albedo: &AlbedoWeights,
         theta_weights: &Weights,
         rho: f64,
         theta: f64,
     ) -> Slice {
         let (n_rho, n_theta, n_r) = self.axes.dims();
+        let rho_weights = &albedo.energy;
         // Nodes segment − 1 … segment + 2 of each axis. Those outside the array have weight 0
         // and are left out below; clamped, their indices stay in bounds anyway. Offsets fit
         // u32: the format caps a table far below 2³² values.
@@ -123,8 +157,11 @@ impl<'a> TableRef<'a> {
             len,
             offsets,
             weights,
-            rho,
-            theta,
+            blend: Blend {
+                c_scale: albedo.c_scale,
+                rho,
+                theta,
+            },
         }
     }
 
@@ -218,9 +255,10 @@ impl<'a> TableRef<'a> {
         acc
     }
 
-    /// [`TableRef::window_params`] over the slice of (`rho_weights`, `theta_weights`) without
-    /// building it: the same rows, in the same order, skipping the same zero weights, so the
-    /// same sums. For a lookup that needs nothing else of the slice (evaluation).
+    /// [`TableRef::window_params`] over the slice of (`rho_weights`, the energy weights along ρ′,
+    /// `theta_weights`) without building it: the same rows, in the same order, skipping the
+    /// same zero weights, so the same sums. For a lookup that needs nothing else of the slice
+    /// (evaluation).
     #[inline(always)]
     fn window_at(&self, rho_weights: &Weights, theta_weights: &Weights, first: usize) -> [f32; 12] {
         const WINDOW: usize = 4 * PARAMS_PER_NODE;
@@ -290,7 +328,7 @@ impl<'a> TableRef<'a> {
         // Through `black_box`: seen through, the interleaved reads of (E, E_β, c) below make the
         // compiler split the blend into half-empty vectors (measured 2× slower)
         let acc = std::hint::black_box(self.window_params(s, first));
-        match self.cell_from::<false>(acc, first, r_eval, w, s.rho, s.theta) {
+        match self.cell_from::<false>(acc, first, r_eval, w, s.blend) {
             (_, Lobe::Share(share), c) => Gwc::normalised(share, c),
             (e, Lobe::Beta(beta), c) => Gwc::from_table(e, beta, c, r_eval),
         }
@@ -305,8 +343,8 @@ impl<'a> TableRef<'a> {
 
     /// The cell (E, lobe, c) of the profile at `r_eval` (E, β = share·E/r or the lobe's β, and
     /// c are the arguments of [`Gwc::from_table`]), from (E, E_β, c) blended at the radius nodes
-    /// `first..first + 4` (as [`TableRef::window_params`] gives them), the radius weights `w` at
-    /// `r_eval` and (ρ′, θ).
+    /// `first..first + 4` (as [`TableRef::window_params`] gives them, with the energy weights
+    /// along ρ′), the radius weights `w` at `r_eval` and the [`Blend`].
     ///
     /// Along r, E is interpolated as exp(Catmull-Rom of ln E) wherever the four nodes of the
     /// segment hold positive energy (`LOG_ENERGY`): E(r) is close to the exponential of a
@@ -315,7 +353,7 @@ impl<'a> TableRef<'a> {
     /// where E(0) = 0, and underflowed tails) E is the plain spline. With `LOG_ENERGY` the
     /// lobe's share is the spline of the nodes' shares E_β/E (where all four hold energy);
     /// without, the ratio of the plain splines of E_β and E, which agrees with it except in
-    /// steep tails. c comes from its plain spline. The profile's normalised density in φ (the
+    /// steep tails. c is the plain spline along r of the rows' ωᵢ-weighted mean c. The profile's normalised density in φ (the
     /// floor's weight λ = 1 − share, and c) does not depend on how E is interpolated, except in
     /// the first two intervals: the samplers skip the logarithms (`LOG_ENERGY = false`).
     /// Sampling keeps the plain spline of E along r, so sample and pdf stay an exact pair (S/pdf
@@ -327,9 +365,9 @@ impl<'a> TableRef<'a> {
         first: usize,
         r_eval: f64,
         w: &Weights,
-        rho: f64,
-        theta: f64,
+        blend: Blend,
     ) -> (f64, Lobe, f64) {
+        let c_scale = blend.c_scale;
         let segment = w.segment();
         let params: [[f64; 3]; 4] =
             std::array::from_fn(|k| std::array::from_fn(|j| f64::from(acc[3 * k + j])));
@@ -343,7 +381,7 @@ impl<'a> TableRef<'a> {
         };
         let r_nodes = self.axes.r().as_slice();
         if segment <= 1 && r_nodes[0] == 0.0 {
-            return self.first_intervals_cell(params, first, r_eval, rho, theta);
+            return self.first_intervals_cell(params, first, r_eval, blend);
         }
         // (The energies' logarithms come straight from the window: reading them from `params`
         // instead makes the compiler scalarise the blend's loads.)
@@ -361,7 +399,8 @@ impl<'a> TableRef<'a> {
             }
             e_lin += wk * e;
             e_beta += wk * eb;
-            c += wk * ck;
+            // c_scale in the weight, which is ready long before the blended c
+            c += (wk * c_scale) * ck;
             if e > 0.0 {
                 ln_e += wk * f64::from(ln);
                 // (Four scalar divisions: one vector division in `ln_energies` measured 10 ns
@@ -416,9 +455,13 @@ impl<'a> TableRef<'a> {
         params: [[f64; 3]; 4],
         first: usize,
         r_eval: f64,
-        rho: f64,
-        theta: f64,
+        blend: Blend,
     ) -> (f64, Lobe, f64) {
+        let Blend {
+            c_scale,
+            rho,
+            theta,
+        } = blend;
         let r_nodes = self.axes.r().as_slice();
         // The first two intervals, from r₀ = 0 to r₂: PBD grows like slope·ln(1/r),
         // isotropically, and what is left, P(r, φ) = S(r, φ) − slope·ln(r₁/r), is smooth
@@ -433,6 +476,8 @@ impl<'a> TableRef<'a> {
         let two_pi_slope = TAU * self.log_slope(rho, theta);
         let node = |k: usize, r: f64| {
             let [e, e_beta, c] = params[k - first];
+            // the blended c is Σ ωᵢcᵢ; its weighted mean is that times c_scale
+            let c = c * c_scale;
             let e_per_r = (e / r).max(0.0);
             // P's isotropic part at node k: E/r less the log's value there
             let p = e_per_r - two_pi_slope * (r_nodes[1] / r).ln();
@@ -499,12 +544,28 @@ impl<'a> TableRef<'a> {
     /// where [`TableRef::radius`] is `None`.
     #[inline(always)]
     fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
-        // The three weight searches first: they are independent and overlap in the pipeline. Hot
-        // cells apart, see `Nodes::hot_weights`.
-        let rho_weights = match self.axes.rho().hot_weights(rho) {
-            Some(w) => w,
-            None => self.axes.rho().weights(rho)?,
+        // Points off the quick ρ′ weights out of line (`AlbedoAxis::hot_weights`)
+        let Some(albedo) = self.axes.rho.hot_weights(rho) else {
+            return self.cell_at_point_cold(rho, theta, r);
         };
+        self.cell_at_point_with(albedo, rho, theta, r)
+    }
+
+    #[inline(never)]
+    fn cell_at_point_cold(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
+        self.cell_at_point_with(self.axes.rho.weights(rho)?, rho, theta, r)
+    }
+
+    #[inline(always)]
+    fn cell_at_point_with(
+        &self,
+        albedo: AlbedoWeights,
+        rho: f64,
+        theta: f64,
+        r: f64,
+    ) -> Option<Option<[f64; 3]>> {
+        // The weight searches first: they are independent and overlap in the pipeline. Hot
+        // cells apart, see `Nodes::hot_weights`.
         let theta_weights = match self.axes.theta().hot_weights(theta) {
             Some(w) => w,
             None => self.axes.theta().weights(theta)?,
@@ -513,8 +574,13 @@ impl<'a> TableRef<'a> {
             return Some(None);
         };
         let first = self.radial_window(&w);
-        let acc = self.window_at(&rho_weights, &theta_weights, first);
-        let (e, lobe, c) = self.cell_from::<true>(acc, first, r_eval, &w, rho, theta);
+        let acc = self.window_at(&albedo.energy, &theta_weights, first);
+        let blend = Blend {
+            c_scale: albedo.c_scale,
+            rho,
+            theta,
+        };
+        let (e, lobe, c) = self.cell_from::<true>(acc, first, r_eval, &w, blend);
         let e_per_r = (e / r_eval).max(0.0);
         let beta = match lobe {
             Lobe::Share(share) => share * e_per_r,
@@ -533,8 +599,7 @@ impl<'a> TableRef<'a> {
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
     /// entering, as the table represents it.
     pub fn effective_albedo(&self, rho: f64, theta: f64) -> Option<f64> {
-        let s = self.slice(rho, theta)?;
-        Some(self.total(&s))
+        self.with_slice(rho, theta, |s| self.total(s))
     }
 
     fn total(&self, s: &Slice) -> f64 {
@@ -545,8 +610,7 @@ impl<'a> TableRef<'a> {
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
     /// energy there (ρ′ = 0, light beyond the critical angle) or (ρ′, θ) is outside the axes.
     pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let s = self.slice(rho, theta)?;
-        self.sample_slice(&s, u_r, u_phi)
+        self.with_slice(rho, theta, |s| self.sample_slice(s, u_r, u_phi))?
     }
 
     fn sample_slice(&self, s: &Slice, u_r: f64, u_phi: f64) -> Option<Sample> {
@@ -595,10 +659,8 @@ impl<'a> TableRef<'a> {
 
     /// Density per unit area of [`TableRef::sample`] at (r, φ), reduced mfp⁻².
     pub fn pdf(&self, rho: f64, theta: f64, r: f64, phi: f64) -> f64 {
-        let Some(s) = self.slice(rho, theta) else {
-            return 0.0;
-        };
-        self.pdf_slice(&s, r, phi)
+        self.with_slice(rho, theta, |s| self.pdf_slice(s, r, phi))
+            .unwrap_or(0.0)
     }
 
     fn pdf_slice(&self, s: &Slice, r: f64, phi: f64) -> f64 {
@@ -616,8 +678,7 @@ impl<'a> TableRef<'a> {
 
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let s = self.slice(rho, 0.0)?;
-        let radial = self.sample_radius(&s, u_r)?;
+        let radial = self.with_slice(rho, 0.0, |s| self.sample_radius(s, u_r))??;
         let phi = (TAU * u_phi - PI).clamp(-PI, PI);
         Some(Sample {
             r: radial.x,
@@ -630,12 +691,12 @@ impl<'a> TableRef<'a> {
     /// `None` without the θ-sampling table or where no energy is stored.
     pub fn sample_path(&self, rho: f64, u: [f64; 4]) -> Option<PathSample> {
         let theta_cdf = self.theta_cdf?;
-        let w_rho = self.axes.rho().weights(rho)?;
+        let w_rho = self.axes.rho.weights(rho)?;
         let (_, n_theta, n_r) = self.axes.dims();
         let rho_eff = |j: usize| {
-            w_rho.apply(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
+            w_rho.apply_rows(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
         };
-        let cdf = |j: usize| w_rho.apply(|i| f64::from(theta_cdf[i * n_theta + j]));
+        let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
         let t = self.axes.theta().sample(rho_eff, cdf, u[0])?;
         let w_theta = self.axes.theta().weights(t.x)?;
         let s = self.slice_of(&w_rho, &w_theta, rho, t.x);
@@ -653,26 +714,27 @@ impl<'a> TableRef<'a> {
 
     /// Density of θ in [`TableRef::sample_path`], per radian.
     pub fn pdf_theta(&self, rho: f64, theta: f64) -> f64 {
-        let (Some(theta_cdf), Some(w_rho)) = (self.theta_cdf, self.axes.rho().weights(rho)) else {
+        let (Some(theta_cdf), Some(w_rho)) = (self.theta_cdf, self.axes.rho.weights(rho)) else {
             return 0.0;
         };
         let (_, n_theta, n_r) = self.axes.dims();
         let rho_eff = |j: usize| {
-            w_rho.apply(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
+            w_rho.apply_rows(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
         };
-        let cdf = |j: usize| w_rho.apply(|i| f64::from(theta_cdf[i * n_theta + j]));
+        let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
         self.axes.theta().pdf(rho_eff, cdf, theta)
     }
     /// The inverse of [`TableRef::sample`]: the uniforms (u_r, u_φ) that `sample` maps to
     /// (r, φ), from the radial CDF of the interpolated spline and the GWC profile's analytic CDF.
     /// `None` outside the axes or where the table holds no energy.
     pub fn invert(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<(f64, f64)> {
-        let s = self.slice(rho, theta)?;
-        let e = |k: usize| Self::blend(&s, self.params, k, PARAMS_PER_NODE);
-        let cdf = |k: usize| Self::blend(&s, self.radial_cdf, k, 1);
-        let u_r = self.axes.r().cdf(e, cdf, r)?;
-        let g = self.profile_at(&s, r)?;
-        Some((u_r, g.cdf(wrap_phi(phi))))
+        self.with_slice(rho, theta, |s| {
+            let e = |k: usize| Self::blend(s, self.params, k, PARAMS_PER_NODE);
+            let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+            let u_r = self.axes.r().cdf(e, cdf, r)?;
+            let g = self.profile_at(s, r)?;
+            Some((u_r, g.cdf(wrap_phi(phi))))
+        })?
     }
 }
 

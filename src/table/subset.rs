@@ -14,6 +14,10 @@
 //! full axis with the same four nodes, the same x values, hence the same weights bit for bit;
 //! each row's values (E, E_β, c, the radial CDF and the θ CDF) depend only on its own ρ′, so
 //! evaluation, sampling and the pdfs inside the interval are bit-identical to the full table's.
+//! The factors (ρ′/ρ′ᵢ)² that scale the weights (`table::albedo`) depend on those nodes alone
+//! too, except next to a node ρ′₀ = 0: in segments 0 and 1 node 0's weight moves to nodes 1–4,
+//! by coefficients from those four positions, so there the subset keeps nodes 0 … 4 (node 0
+//! tells it to move the weight).
 //! (A point exactly at node x_{b+1} belongs to segment b + 1, whose nodes b … b + 3 the subset
 //! may lack: the interval's `hi` is handled by its own segment, so only points of [lo, hi] are
 //! covered, and the tests check the ends themselves.)
@@ -117,7 +121,8 @@ pub enum SubsetError {
 }
 
 /// The rows `a − 1 … b + 2` (clamped) that keep lookups inside `interval` bit-identical, where
-/// a and b are the full axis's segments of its ends (see the module docs).
+/// a and b are the full axis's segments of its ends, and at least rows 0 … 4 if a ≤ 1 and
+/// ρ′₀ = 0 (see the module docs).
 pub fn rows_for(axis: &Nodes, interval: RhoInterval) -> Result<Range<usize>, SubsetError> {
     let nodes = axis.as_slice();
     let n = nodes.len();
@@ -131,7 +136,12 @@ pub fn rows_for(axis: &Nodes, interval: RhoInterval) -> Result<Range<usize>, Sub
             })
     };
     let (a, b) = (segment(interval.lo)?, segment(interval.hi)?);
-    Ok(a.saturating_sub(1)..(b + 3).min(n))
+    let end = if a <= 1 && nodes.first() == Some(&0.0) {
+        (b + 3).max(5)
+    } else {
+        b + 3
+    };
+    Ok(a.saturating_sub(1)..end.min(n))
 }
 
 /// Sorts row ranges and merges those that overlap or touch into runs of consecutive rows.
@@ -357,8 +367,9 @@ mod tests {
         let r = |lo, hi| rows_for(&a, RhoInterval::new(lo, hi).unwrap()).unwrap();
         // 0.5 lies in segment 4 ([4/9, 5/9]): nodes 3 … 6.
         assert_eq!(r(0.5, 0.5), 3..7);
-        // At the first node: segment 0, no node before it.
-        assert_eq!(r(0.0, 0.0), 0..3);
+        // At the first node, ρ′ = 0: segment 0, whose node 0 moves its weight to nodes 1–4
+        // (`table::albedo`).
+        assert_eq!(r(0.0, 0.0), 0..5);
         // At the last node: last segment 8, nodes 7 … 9.
         assert_eq!(r(1.0, 1.0), 7..10);
         // Exactly at an interior node (4/9): its segment is 4, so nodes 3 … 6.
