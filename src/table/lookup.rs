@@ -353,11 +353,12 @@ impl<'a> TableRef<'a> {
     /// where E(0) = 0, and underflowed tails) E is the plain spline. With `LOG_ENERGY` the
     /// lobe's share is the spline of the nodes' shares E_β/E (where all four hold energy);
     /// without, the ratio of the plain splines of E_β and E, which agrees with it except in
-    /// steep tails. c is the plain spline along r of the rows' ωᵢ-weighted mean c. The profile's normalised density in φ (the
-    /// floor's weight λ = 1 − share, and c) does not depend on how E is interpolated, except in
-    /// the first two intervals: the samplers skip the logarithms (`LOG_ENERGY = false`).
-    /// Sampling keeps the plain spline of E along r, so sample and pdf stay an exact pair (S/pdf
-    /// and ρ_eff then differ by a median 8e-5, see the module docs).
+    /// steep tails. c is the plain spline along r of the rows' ωᵢ-weighted mean c. The
+    /// profile's normalised density in φ (the floor's weight λ = 1 − share, and c) does not
+    /// depend on how E is interpolated, except in the first two intervals: the samplers skip
+    /// the logarithms (`LOG_ENERGY = false`). Sampling keeps the plain spline of E along r, so
+    /// sample and pdf stay an exact pair (S/pdf and ρ_eff then differ by a median 8e-5, see the
+    /// module docs).
     #[inline(always)]
     fn cell_from<const LOG_ENERGY: bool>(
         &self,
@@ -386,7 +387,7 @@ impl<'a> TableRef<'a> {
         // (The energies' logarithms come straight from the window: reading them from `params`
         // instead makes the compiler scalarise the blend's loads.)
         let ln = if LOG_ENERGY {
-            ln_energies(acc, weights)
+            ln_energies(acc)
         } else {
             [0.0; 4]
         };
@@ -747,14 +748,17 @@ fn axpy12(acc: &mut [f32; 12], w: f32, x: &[f32; 12]) {
     }
 }
 
-/// ln E of the four nodes of a (E, E_β, c) window that carry weight and energy (0 for the
-/// others). The nodes are f32 values: their logarithms in f32 lose nothing. Out of line, so
-/// that the four library calls do not force the caller's sums to and from the stack.
+/// ln E of the four nodes of a (E, E_β, c) window where E > 0 (0 for the others; the caller
+/// reads only the nodes with weight). The nodes are f32 values: their logarithms in f32 lose
+/// nothing. Out of line, so that the four library calls do not force the caller's sums to and
+/// from the stack. It takes no weights: passing them stored four scalars that it read back as
+/// pairs, a store-forwarding stall (about 1 ns of an evaluation). An inlined logarithm of our
+/// own (packed, no calls) measured slower: the blend's loads were scalarised again.
 #[inline(never)]
-fn ln_energies(window: [f32; 12], weights: [f64; 4]) -> [f32; 4] {
+fn ln_energies(window: [f32; 12]) -> [f32; 4] {
     std::array::from_fn(|k| {
         let e = window[PARAMS_PER_NODE * k];
-        if weights[k] != 0.0 && e > 0.0 {
+        if e > 0.0 {
             e.ln()
         } else {
             0.0
