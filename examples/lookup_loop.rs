@@ -1,0 +1,64 @@
+//! A tight loop of table lookups, for A/B timing of lookup code (criterion in `benches/table.rs`
+//! gives the figures the README reports; this loop is quicker to run many times in alternation,
+//! and its binary can be copied aside and run against another build's).
+//!
+//! Run: `N=4000000 cargo run --release --example lookup_loop -- eval|sample`. Bakes the default
+//! table at η = 1.33, draws 4,096 points (ρ′ ∈ [0.05, 1), θ ∈ [0, 1.5) rad, (r, φ) from the
+//! table's own sampler) and times N calls of `eval` or `sample` over them; prints ns per call
+//! and a checksum. To compare two builds, copy `target/release/examples/lookup_loop` aside
+//! after each build and run the copies in alternation, keeping each one's minimum.
+
+use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::table::{bake, Grid, GridPreset};
+use std::hint::black_box;
+
+fn main() {
+    let what = std::env::args().nth(1).unwrap_or("sample".into());
+    let (table, _) = bake(
+        1.33,
+        Moments::Exact,
+        &Grid::preset(GridPreset::Default),
+        true,
+    )
+    .expect("the default grid bakes");
+    let view = table.view();
+    let mut rng = SplitMix64::new(1);
+    let points: Vec<[f64; 4]> = (0..4096)
+        .map(|_| loop {
+            let (rho, theta) = (0.05 + 0.95 * rng.next_f64(), 1.5 * rng.next_f64());
+            if let Some(s) = view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
+                break [rho, theta, s.r, s.phi];
+            }
+        })
+        .collect();
+    let us: Vec<[f64; 2]> = (0..4096)
+        .map(|_| [rng.next_f64(), rng.next_f64()])
+        .collect();
+    let n: usize = std::env::var("N")
+        .map(|v| v.parse().expect("N, a number of calls"))
+        .unwrap_or(20_000_000);
+    let t = std::time::Instant::now();
+    let mut acc = 0.0;
+    for i in 0..n {
+        let [rho, theta, r, phi] = points[i % 4096];
+        let u = us[(i * 7) % 4096];
+        acc += match what.as_str() {
+            "eval" => view
+                .eval(
+                    black_box(rho),
+                    black_box(theta),
+                    black_box(r),
+                    black_box(phi),
+                )
+                .unwrap_or(0.0),
+            _ => view
+                .sample(black_box(rho), black_box(theta), u[0], u[1])
+                .map_or(0.0, |s| s.r),
+        };
+    }
+    println!(
+        "{what}: {:.1} ns/call ({acc})",
+        t.elapsed().as_nanos() as f64 / n as f64
+    );
+}
