@@ -42,8 +42,6 @@ pub(crate) const EXTRAPOLATE_BELOW: f64 = 0.5;
 #[derive(Debug, Clone)]
 pub(crate) struct AlbedoAxis {
     nodes: Nodes,
-    /// Per segment i, 1/ρ′ⱼ² of its nodes j = i − 1 … i + 2 (0 outside the axis and at ρ′ⱼ = 0).
-    inv_squares: Box<[[f64; 4]]>,
     /// Per segment, how [`AlbedoAxis::hot_weights`] turns its Catmull-Rom weights into ω.
     hot: Box<[HotSegment]>,
     /// The segment whose weights [`AlbedoAxis::hot_weights`] moves one node up, to nodes 1–4
@@ -61,7 +59,10 @@ struct HotSegment {
     /// Added to the weights times node 0's weight: a₁ … a₄ on nodes 1–4 (shifted), or −1, a₁,
     /// a₂, a₃ on nodes 0–3 (not shifted, an axis of 4 nodes).
     fold: [f64; 4],
-    /// 1/ρ′ⱼ² of the four nodes the weights come out on.
+    /// 1/ρ′ⱼ² of the four nodes the weights come out on (0 outside the axis and at ρ′ⱼ = 0):
+    /// segment i's own nodes i − 1 … i + 2, except on the shifted segment (nodes 1–4). The
+    /// general path ([`AlbedoAxis::weights`]) reads them too; it folds segments 0 and 1 itself
+    /// and never lands on the shifted segment.
     inv_squares: [f64; 4],
 }
 
@@ -95,7 +96,7 @@ impl AlbedoAxis {
                 .and_then(|j| x.get(j))
                 .map_or(0.0, |&xj| if xj == 0.0 { 0.0 } else { 1.0 / (xj * xj) })
         };
-        let inv_squares = (0..x.len() - 1)
+        let inv_squares: Vec<[f64; 4]> = (0..x.len() - 1)
             .map(|i| std::array::from_fn(|k| inv_square(i as isize + k as isize - 1)))
             .collect();
         // Lagrange coefficients at 0 of the nodes 1 … m: at most 4, those at or below
@@ -119,31 +120,27 @@ impl AlbedoAxis {
                     .product()
             })
         });
-        let inv_squares: Box<[[f64; 4]]> = inv_squares;
-        let hot = (0..inv_squares.len())
-            .map(|i| match zero_node {
-                Some(a) if i == 1 && x.len() >= 5 => HotSegment {
-                    fold: a,
-                    inv_squares: inv_squares[2],
-                },
-                Some(a) if i == 1 => HotSegment {
-                    fold: [-1.0, a[0], a[1], a[2]],
-                    inv_squares: inv_squares[1],
-                },
-                _ => HotSegment {
-                    fold: [0.0; 4],
-                    inv_squares: inv_squares[i],
-                },
-            })
-            .collect();
         let shifted_segment = if zero_node.is_some() && x.len() >= 5 {
             1
         } else {
             usize::MAX
         };
+        let hot = (0..inv_squares.len())
+            .map(|i| {
+                // The fold, and the segment whose nodes the weights come out on
+                let (fold, out) = match zero_node {
+                    Some(a) if i == shifted_segment => (a, i + 1),
+                    Some(a) if i == 1 => ([-1.0, a[0], a[1], a[2]], i),
+                    _ => ([0.0; 4], i),
+                };
+                HotSegment {
+                    fold,
+                    inv_squares: inv_squares[out],
+                }
+            })
+            .collect();
         Self {
             nodes,
-            inv_squares,
             hot,
             shifted_segment,
             zero_node,
@@ -185,7 +182,7 @@ impl AlbedoAxis {
         } else {
             (w.segment(), w.as_array())
         };
-        let inv_squares = self.inv_squares.get(segment).copied().unwrap_or_default();
+        let inv_squares = self.hot.get(segment).map_or([0.0; 4], |h| h.inv_squares);
         Some(Self::energy_weights(rho, segment, w, inv_squares))
     }
 

@@ -76,6 +76,16 @@ struct Blend {
     theta: f64,
 }
 
+impl Blend {
+    fn new(albedo: &AlbedoWeights, rho: f64, theta: f64) -> Self {
+        Self {
+            c_scale: albedo.c_scale,
+            rho,
+            theta,
+        }
+    }
+}
+
 /// The lobe of a cell from [`TableRef::cell_from`]: its share E_β/E of the energy, or (in the
 /// first two radius intervals, where the floor grows like ln(1/r)) its β outright.
 #[derive(Debug, Clone, Copy)]
@@ -157,11 +167,7 @@ impl<'a> TableRef<'a> {
             len,
             offsets,
             weights,
-            blend: Blend {
-                c_scale: albedo.c_scale,
-                rho,
-                theta,
-            },
+            blend: Blend::new(albedo, rho, theta),
         }
     }
 
@@ -576,11 +582,7 @@ impl<'a> TableRef<'a> {
         };
         let first = self.radial_window(&w);
         let acc = self.window_at(&albedo.energy, &theta_weights, first);
-        let blend = Blend {
-            c_scale: albedo.c_scale,
-            rho,
-            theta,
-        };
+        let blend = Blend::new(&albedo, rho, theta);
         let (e, lobe, c) = self.cell_from::<true>(acc, first, r_eval, &w, blend);
         let e_per_r = (e / r_eval).max(0.0);
         let beta = match lobe {
