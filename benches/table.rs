@@ -9,6 +9,10 @@ use bssrdf_zoo::rng::SplitMix64;
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 
+#[path = "support/lookup_points.rs"]
+mod lookup_points;
+use lookup_points::lookup_points;
+
 fn bench(c: &mut Criterion) {
     let grid = Grid::preset(GridPreset::Default);
     let mut group = c.benchmark_group("bake");
@@ -21,15 +25,7 @@ fn bench(c: &mut Criterion) {
     let (table, _) = bake(1.33, Moments::Exact, &grid, true).unwrap();
     let view = table.view();
     let mut rng = SplitMix64::new(1);
-    // Random lookups over the whole domain, so caches and branches see realistic traffic.
-    let points: Vec<[f64; 4]> = (0..4096)
-        .map(|_| loop {
-            let (rho, theta) = (0.05 + 0.95 * rng.next_f64(), 1.5 * rng.next_f64());
-            if let Some(s) = view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
-                break [rho, theta, s.r, s.phi];
-            }
-        })
-        .collect();
+    let points = lookup_points(&view, &mut rng);
     let uniforms: Vec<[f64; 4]> = (0..4096)
         .map(|_| {
             [

@@ -13,6 +13,10 @@ use bssrdf_zoo::rng::SplitMix64;
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
 use std::hint::black_box;
 
+#[path = "../benches/support/lookup_points.rs"]
+mod lookup_points;
+use lookup_points::lookup_points;
+
 fn main() {
     let what = std::env::args().nth(1).unwrap_or("sample".into());
     let (table, _) = bake(
@@ -24,14 +28,7 @@ fn main() {
     .expect("the default grid bakes");
     let view = table.view();
     let mut rng = SplitMix64::new(1);
-    let points: Vec<[f64; 4]> = (0..4096)
-        .map(|_| loop {
-            let (rho, theta) = (0.05 + 0.95 * rng.next_f64(), 1.5 * rng.next_f64());
-            if let Some(s) = view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
-                break [rho, theta, s.r, s.phi];
-            }
-        })
-        .collect();
+    let points = lookup_points(&view, &mut rng);
     let us: Vec<[f64; 2]> = (0..4096)
         .map(|_| [rng.next_f64(), rng.next_f64()])
         .collect();
