@@ -12,8 +12,8 @@
 //! The sines sit on the dependency chain of a draw (the sampler's inverse of the lobe's CDF
 //! waits for the sines of its iterate), so the sum is grouped for latency: the two largest
 //! terms by Horner's rule, the rest by Estrin's scheme (Estrin's all through rounds to 3 ulp
-//! near π/2). Against Horner's rule all through, a draw takes 20 ns less and an evaluation
-//! 3 ns (`examples/lookup_loop.rs`, min of 7–9 alternating runs: 401 → 381 ns, 92 → 89 ns).
+//! near π/2). Against Horner's rule all through, a draw takes 23 ns less and an evaluation
+//! 3 ns (`examples/lookup_loop.rs`, min of 7 alternating runs: 401 → 378 ns, 92 → 89.5 ns).
 
 /// 1/(2k + 1)! with alternating signs, k = 0 … 10.
 const TAYLOR: [f64; 11] = [
