@@ -37,6 +37,11 @@ use crate::catmull_rom::{Nodes, Weights};
 /// spline at ρ′ = 0.1 hundreds of times off PBD (and negative), the constant g(0) = g₁ 7–220 %.
 pub(crate) const EXTRAPOLATE_BELOW: f64 = 0.5;
 
+/// The last node that node 0's weight may move to (nodes 1 … this one, see the module docs):
+/// a Catmull-Rom window's worth, so that the folded weights are again four. A scene bake that
+/// keeps rows near ρ′ = 0 keeps nodes 0 … this one (`table::subset`).
+pub(crate) const FOLD_NODES: usize = 4;
+
 /// The ρ′ axis of a table: its spline nodes and, derived from them once, what
 /// [`AlbedoAxis::weights`] needs to weight energies without a division.
 #[derive(Debug, Clone)]
@@ -48,7 +53,7 @@ pub(crate) struct AlbedoAxis {
     /// (segment 1 with a node ρ′₀ = 0 and at least 5 nodes), or `usize::MAX`.
     shifted_segment: usize,
     /// With a node ρ′₀ = 0: the coefficients aₖ of nodes 1 … 4 in its extrapolated g.
-    zero_node: Option<[f64; 4]>,
+    zero_node: Option<[f64; FOLD_NODES]>,
 }
 
 /// The fold of node 0 (module docs) on one segment, as data, so that the weights need no
@@ -104,7 +109,7 @@ impl AlbedoAxis {
         let zero_node = (x[0] == 0.0).then(|| {
             let m = x
                 .iter()
-                .take(5)
+                .take(FOLD_NODES + 1)
                 .skip(2)
                 .take_while(|&&xj| xj <= EXTRAPOLATE_BELOW)
                 .count()
@@ -120,7 +125,7 @@ impl AlbedoAxis {
                     .product()
             })
         });
-        let shifted_segment = if zero_node.is_some() && x.len() >= 5 {
+        let shifted_segment = if zero_node.is_some() && x.len() > FOLD_NODES {
             1
         } else {
             usize::MAX
@@ -214,7 +219,7 @@ impl AlbedoAxis {
     fn fold_zero_node(&self, w: &Weights) -> (usize, [f64; 4]) {
         let a = self.zero_node.unwrap_or_default();
         // Weights of nodes 0 … 4
-        let mut by_node = [0.0; 5];
+        let mut by_node = [0.0; FOLD_NODES + 1];
         for (k, wk) in w.as_array().into_iter().enumerate() {
             if let Some(slot) = (w.segment() + k)
                 .checked_sub(1)

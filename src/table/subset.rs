@@ -35,6 +35,7 @@
 //! the result equals the same rows of a full bake bit for bit (tested), at the cost of the rows
 //! kept, and the blocks give a progress callback.
 
+use super::albedo::FOLD_NODES;
 use super::{bake, AngularTable, Axes, BakeReport, Grid, TableError, PARAMS_PER_NODE};
 use crate::catmull_rom::Nodes;
 use crate::fresnel::Moments;
@@ -137,7 +138,7 @@ pub fn rows_for(axis: &Nodes, interval: RhoInterval) -> Result<Range<usize>, Sub
     };
     let (a, b) = (segment(interval.lo)?, segment(interval.hi)?);
     let end = if a <= 1 && nodes.first() == Some(&0.0) {
-        (b + 3).max(5)
+        (b + 3).max(FOLD_NODES + 1)
     } else {
         b + 3
     };
