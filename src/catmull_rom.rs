@@ -18,7 +18,8 @@
 //! where d₀, d₁ are the slopes at the two ends in t-units (per unit t, not per unit x):
 //! - d₀ = (f_{i+1} − f_{i−1})·wᵢ/(x_{i+1} − x_{i−1}), or f_{i+1} − fᵢ on the first segment;
 //! - d₁ = (f_{i+2} − fᵢ)·wᵢ/(x_{i+2} − xᵢ), or on the last segment as its [`End`] says:
-//!   f_{i+1} − fᵢ ([`End::Chord`], the default) or 0 ([`End::Even`]).
+//!   f_{i+1} − fᵢ ([`End::Chord`], the default) or 0 ([`End::Even`], which also sets the slope
+//!   at x_{n−2}, below).
 //!
 //! Both segments meeting at an interior node use the same slope dy/dx there, so the spline is
 //! C¹; it interpolates the node values and, with chord ends, reproduces linear data exactly.
@@ -26,21 +27,35 @@
 //! profile on a geometric grid).
 //!
 //! # The even end
-//! A function even about the last node, f(x_{n−1} + δ) = f(x_{n−1} − δ), has slope 0 there,
-//! which the chord slope misses by about f″·w/2. [`End::Even`] builds the spline of the node set
-//! mirrored about x_{n−1}: one node more, x_n = 2x_{n−1} − x_{n−2} with f_n = f_{n−2}, makes the
-//! last segment interior, and its central difference is
+//! A function even about the last node a = x_{n−1}, f(a + δ) = f(a − δ), is a function of
+//! v = (a − x)² alone: f = F(v). Its slope at a is 0, which the chord slope misses by about
+//! f″·w/2. [`End::Even`] uses that slope, and with at least three nodes it also takes the
+//! slope at x_{n−2} from the evenness: the slope there of the polynomial even about a through
+//! the last three nodes, P(x) = f_{n−1} + A·v + B·v² (a quadratic in v). The central
+//! difference at x_{n−2} is exact for quadratics in x; this slope is exact for every even
+//! quartic, one order more for even data, at the same three nodes. With δ₁ = a − x_{n−2},
+//! δ₂ = a − x_{n−3} and their ratio ρ = δ₁/δ₂ ∈ (0, 1), solving for A and B and taking
+//! dP/dx = −2δ₁·(A + 2Bδ₁²) gives, per unit t of the segment that uses it,
 //!
-//! d₁ = (f_n − f_{n−2})·w_{n−2}/(x_n − x_{n−2}) = 0.
+//! - last segment [x_{n−2}, a] (width δ₁), slope at its start:
+//!   d₀ = k₃f_{n−3} + k₂f_{n−2} + k₁f_{n−1} with k₃ = −2ρ⁴/(1 − ρ²),
+//!   k₂ = −2(1 − 2ρ²)/(1 − ρ²), k₁ = −(k₂ + k₃);
+//! - segment [x_{n−3}, x_{n−2}] (width δ₂ − δ₁), slope at its end: the same slope,
+//!   d₁ = k₃′f_{n−3} + k₂′f_{n−2} + k₁′f_{n−1} with k₃′ = −2ρ³/(1 + ρ),
+//!   k₂′ = −2(1 − 2ρ²)/(ρ(1 + ρ)), k₁′ = −(k₂′ + k₃′).
 //!
-//! Nothing else changes: the slope at x_{n−2} still comes from x_{n−3} and x_{n−1}. So only the
-//! last segment differs from the chord rule: the h₁₁ term drops out, its weights are
-//! (−s₀h₁₀, h₀₀, h₀₁ + s₀h₁₀, 0) (never reaching the mirrored node) and its integral is
-//! w·((f_{n−2} + f_{n−1})/2 + d₀/12). The spline is still C¹, interpolates the nodes and has
-//! weights summing to 1. The last segment never takes the fast path of [`Nodes::weights`]
-//! (`catmull_rom/cells.rs`: only interior segments do), so both ends share it. The table's θ
-//! axis uses the even end when it ends at π/2 ([`crate::table::Axes::new`]), where the model
-//! depends on θ through sin θ only.
+//! This applies while ρ ∈ [`EVEN_SLOPE_RATIOS`] (the last two widths within a factor 3 of each
+//! other); otherwise x_{n−2} keeps the central difference, which stays bounded on any widths.
+//! On equal widths (ρ = ½) both are (9f_{n−1} − 8f_{n−2} − f_{n−3})/6, against the central
+//! difference's (f_{n−1} − f_{n−3})/2; the two agree on data quadratic in x − a. Both segments
+//! keep the Hermite form, each still reads nodes i − 1 … i + 2 only, and the spline stays C¹,
+//! interpolates the nodes and has weights summing to 1; only the last two segments differ from
+//! the chord rule, and neither takes the fast path of [`Nodes::weights`]
+//! (`catmull_rom/cells.rs`). With two nodes there is no x_{n−3}, and only the slope 0 at a
+//! applies. The table's θ axis uses the even end when it ends at π/2
+//! ([`crate::table::Axes::new`]), where the model depends on θ through sin θ only; there the
+//! slope at x_{n−2} closed the last 0.0002 percentage points between the table and Ferrier's
+//! "under 1 %" at (ρ′, θ) = (0.99, 89°) (README, "Accuracy").
 //!
 //! # Sampling
 //! [`Nodes::sample`], [`Nodes::pdf`] and [`Nodes::cdf`] form a triad for a density shaped like
@@ -81,6 +96,13 @@ use segment::{newton_bisection, Segment};
 /// where the residual reaches rounding level first.
 pub const T_TOLERANCE: f64 = 1e-12;
 
+/// The ratios ρ = δ₁/δ₂ of the last three nodes for which an even end takes its slope at
+/// x_{n−2} from the even quartic (module docs): the last two widths, δ₁ and δ₂ − δ₁, within a
+/// factor 3 of each other. There the slope's weights stay below 6 in size; as ρ → 0 or 1 they
+/// grow like 1/ρ or 1/(1 − ρ) (a difference over a short width, scaled to a long one), so
+/// outside it x_{n−2} keeps the central difference. The table's θ axes have ρ = ½.
+pub const EVEN_SLOPE_RATIOS: std::ops::RangeInclusive<f64> = 0.25..=0.75;
+
 /// Iteration cap of the Newton–bisection solves. Each iteration is either a Newton step that at
 /// least halves the step before last, or a bisection, so the cap is a guard rather than a
 /// limit: the tests' samplers average 3–4.5 iterations, at most 13.
@@ -96,8 +118,8 @@ pub enum End {
     /// The slope of the last segment's chord, (f_{n−1} − f_{n−2})/w_{n−2}: pbrt's rule.
     #[default]
     Chord,
-    /// Slope 0: the spline of the nodes and values mirrored about x_{n−1}, for data even about
-    /// the last node.
+    /// Slope 0, and at x_{n−2} the slope of the even quartic through the last three nodes
+    /// (module docs): for data even about the last node.
     Even,
 }
 
@@ -106,8 +128,14 @@ pub enum End {
 #[derive(Debug, Clone)]
 pub struct Nodes {
     x: Box<[f64]>,
-    /// The slope at x_{n−1}; only the last segment depends on it.
+    /// The slope at x_{n−1}; only the last segment depends on it (and, for [`End::Even`], the
+    /// one before).
     end: End,
+    /// For [`End::Even`] with at least three nodes and ρ in [`EVEN_SLOPE_RATIOS`], the slope at
+    /// x_{n−2} in t-units of the two
+    /// segments that meet there, as weights of f_{n−3}, f_{n−2}, f_{n−1}: `[before, last]`,
+    /// for segments n − 3 and n − 2 (module docs).
+    even: Option<[[f64; 3]; 2]>,
     /// Per segment, what [`Nodes::weights`] needs of it, derived from `x` once so that it does
     /// no division.
     spans: Box<[Span]>,
@@ -182,6 +210,13 @@ impl Nodes {
                 }
             }
         }
+        Ok(Self::build(x, End::Chord))
+    }
+
+    /// The node set of validated nodes `x` (at least two, finite, increasing) with the slope
+    /// `end` at the last one: spans, the slope at x_{n−2} of an even end, and cells whose hot
+    /// segments are the simple spans among those with central differences at both ends.
+    fn build(x: Box<[f64]>, end: End) -> Self {
         let spans: Box<[Span]> = (0..x.len() - 1)
             .map(|i| {
                 let width = x[i + 1] - x[i];
@@ -199,28 +234,39 @@ impl Nodes {
                 }
             })
             .collect();
+        let even = match (end, &*x) {
+            (End::Even, [.., before, penultimate, last]) => {
+                let rho = (last - penultimate) / (last - before);
+                EVEN_SLOPE_RATIOS.contains(&rho).then(|| even_slopes(rho))
+            }
+            _ => None,
+        };
+        // Segment n − 3 of an even end takes its slope at x_{n−2} from three nodes
+        let central = x.len() - usize::from(even.is_some());
         let cells = Cells::new(&x, |i| {
-            spans.get(i).is_some_and(|span| span.is_simple(i, &x))
+            i + 3 <= central && spans.get(i).is_some_and(|span| span.is_simple(i, &x))
         });
         let guide = if cells.is_empty() {
             Guide::new(&x)
         } else {
             None
         };
-        Ok(Self {
+        Self {
             x,
-            end: End::Chord,
+            end,
+            even,
             spans,
             cells,
             guide,
-        })
+        }
     }
 
     /// The same nodes with the slope `end` at the last node. Weights, integrals, sampling and
-    /// inversion all follow it; it changes the last segment only.
+    /// inversion all follow it; it changes the last segment only, or with [`End::Even`] the
+    /// last two.
     #[must_use]
     pub fn with_end(self, end: End) -> Self {
-        Self { end, ..self }
+        Self::build(self.x, end)
     }
 
     /// The slope at the last node.
@@ -244,8 +290,9 @@ impl Nodes {
     ///
     /// on the first segment h₁₀ moves from nodes (i−1, i+1) to (i, i+1) with s₀ = 1, and on the
     /// last segment h₁₁ moves from nodes (i, i+2) to (i, i+1) with s₁ = 1 ([`End::Chord`]) or
-    /// drops out ([`End::Even`]). They sum to 1. At a node, its weight is exactly 1 and the
-    /// others exactly 0.
+    /// drops out ([`End::Even`]). An even end also gives h₁₀ of the last segment and h₁₁ of the
+    /// one before the weights of its slope at x_{n−2} (module docs). They sum to 1. At a node,
+    /// its weight is exactly 1 and the others exactly 0.
     #[inline]
     pub fn weights(&self, x: f64) -> Option<Weights> {
         // The common case: a hot cell gives a simple segment (`cells.rs`). Everything else
@@ -291,17 +338,29 @@ impl Nodes {
     #[inline(always)]
     fn general_weights(&self, x: f64, i: usize) -> Option<Weights> {
         let span = self.spans.get(i)?;
+        let (near, far) = self.slopes(i);
         Some(Weights {
             segment: i,
-            w: span.weights(span.t(x), i == 0, self.end_of(i)),
+            w: span.weights(span.t(x), near, far),
         })
     }
 
-    /// The end condition that sets the slope at x_{i+1} of segment i: `None` where node i + 2
-    /// exists (central difference), the nodes' [`End`] on the last segment.
+    /// The slopes of segment i at xᵢ and at x_{i+1} (module docs).
     #[inline(always)]
-    fn end_of(&self, i: usize) -> Option<End> {
-        (i + 2 >= self.x.len()).then_some(self.end)
+    fn slopes(&self, i: usize) -> (Slope, Slope) {
+        let n = self.x.len();
+        let near = match self.even {
+            Some([_, last]) if i + 2 == n => Slope::Even(last),
+            _ if i == 0 => Slope::Chord,
+            _ => Slope::Central,
+        };
+        let far = match (self.even, self.end) {
+            (Some([before, _]), _) if i + 3 == n => Slope::Even(before),
+            _ if i + 2 < n => Slope::Central,
+            (_, End::Chord) => Slope::Chord,
+            (_, End::Even) => Slope::Zero,
+        };
+        (near, far)
     }
 
     /// The spline through `values` at `x`: Σₖ wₖ·f_{node k}, or `None` if `x` is NaN or outside
@@ -444,15 +503,18 @@ impl Nodes {
         let (x0, x1) = (*self.x.get(i)?, *self.x.get(i + 1)?);
         // Slopes by the span's factors w/(x_{i+1} − x_{i−1}) and w/(x_{i+2} − xᵢ): no division
         let span = self.spans.get(i)?;
-        let d0 = if i > 0 {
-            (f1 - f_before) * span.s0
-        } else {
-            f1 - f0
+        let (near, far) = self.slopes(i);
+        let d0 = match near {
+            Slope::Central => (f1 - f_before) * span.s0,
+            Slope::Chord => f1 - f0,
+            Slope::Zero => 0.0,
+            Slope::Even([k3, k2, k1]) => k3 * f_before + k2 * f0 + k1 * f1,
         };
-        let d1 = match (i + 2 < self.x.len(), self.end) {
-            (true, _) => (f_after - f0) * span.s1,
-            (false, End::Chord) => f1 - f0,
-            (false, End::Even) => 0.0,
+        let d1 = match far {
+            Slope::Central => (f_after - f0) * span.s1,
+            Slope::Chord => f1 - f0,
+            Slope::Zero => 0.0,
+            Slope::Even([k3, k2, k1]) => k3 * f0 + k2 * f1 + k1 * f_after,
         };
         Some(Segment {
             x0,
@@ -544,35 +606,78 @@ impl Span {
         [0.0 - p, (d + 1.0) - q, p - d, 0.0 + q]
     }
 
-    /// The weights at t ∈ [0, 1] (or −0) on segment i, with `first` = (i = 0) and `last` the
-    /// end condition if i = n − 2 (see [`Nodes::end_of`]), from the formula of
-    /// [`Nodes::weights`].
-    fn weights(&self, t: f64, first: bool, last: Option<End>) -> [f64; 4] {
+    /// The weights at t ∈ [0, 1] (or −0) on this segment with the slopes `near` at xᵢ and
+    /// `far` at x_{i+1} (see [`Nodes::slopes`]), from the formula of [`Nodes::weights`].
+    fn weights(&self, t: f64, near: Slope, far: Slope) -> [f64; 4] {
         let (t2, t3) = (t * t, t * t * t);
         let mut w = [0.0, 2.0 * t3 - 3.0 * t2 + 1.0, -2.0 * t3 + 3.0 * t2, 0.0];
         let (h10, h11) = (t3 - 2.0 * t2 + t, t3 - t2);
-        // Slope at xᵢ: central difference, or one-sided on the first segment
-        if first {
-            w[1] -= h10;
-            w[2] += h10;
-        } else {
-            w[0] -= h10 * self.s0;
-            w[2] += h10 * self.s0;
+        // Slope at xᵢ, over nodes i − 1 … i + 1
+        match near {
+            Slope::Central => {
+                w[0] -= h10 * self.s0;
+                w[2] += h10 * self.s0;
+            }
+            Slope::Chord => {
+                w[1] -= h10;
+                w[2] += h10;
+            }
+            Slope::Zero => {}
+            Slope::Even([k3, k2, k1]) => {
+                w[0] += h10 * k3;
+                w[1] += h10 * k2;
+                w[2] += h10 * k1;
+            }
         }
-        // Slope at x_{i+1}: central difference, or on the last segment one-sided or zero
-        match last {
-            None => {
+        // Slope at x_{i+1}, over nodes i … i + 2
+        match far {
+            Slope::Central => {
                 w[1] -= h11 * self.s1;
                 w[3] += h11 * self.s1;
             }
-            Some(End::Chord) => {
+            Slope::Chord => {
                 w[1] -= h11;
                 w[2] += h11;
             }
-            Some(End::Even) => {}
+            Slope::Zero => {}
+            Slope::Even([k3, k2, k1]) => {
+                w[1] += h11 * k3;
+                w[2] += h11 * k2;
+                w[3] += h11 * k1;
+            }
         }
         w
     }
+}
+
+/// The slope of a segment at one of its ends, in t-units (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Slope {
+    /// The central difference, by the span's factor s₀ (at xᵢ) or s₁ (at x_{i+1}).
+    Central,
+    /// The segment's chord f_{i+1} − fᵢ (at x₀, and at x_{n−1} with [`End::Chord`]).
+    Chord,
+    /// 0 (at x_{n−1} with [`End::Even`]).
+    Zero,
+    /// The even end's slope at x_{n−2}: weights of f_{n−3}, f_{n−2}, f_{n−1}.
+    Even([f64; 3]),
+}
+
+/// The slope at x_{n−2} of the polynomial even about x_{n−1} through the last three nodes,
+/// for the even end (module docs), from ρ = δ₁/δ₂ ∈ (0, 1): `[before, last]`, in t-units of
+/// segments n − 3 and n − 2, as weights of f_{n−3}, f_{n−2}, f_{n−1}.
+fn even_slopes(rho: f64) -> [[f64; 3]; 2] {
+    let rho2 = rho * rho;
+    let weights = |k3: f64, k2: f64| [k3, k2, -(k2 + k3)];
+    let before = weights(
+        -2.0 * rho2 * rho / (1.0 + rho),
+        -2.0 * (1.0 - 2.0 * rho2) / (rho * (1.0 + rho)),
+    );
+    let last = weights(
+        -2.0 * rho2 * rho2 / (1.0 - rho2),
+        -2.0 * (1.0 - 2.0 * rho2) / (1.0 - rho2),
+    );
+    [before, last]
 }
 
 /// x > 0 and finite (false for NaN).

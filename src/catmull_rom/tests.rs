@@ -3,13 +3,14 @@
 //! the default table's axes and on irregular node sets, with either [`End`], at every node,
 //! the floats next to each, random points, the ends, outside, NaN, ±∞ and ±0.
 
-use super::{End, Nodes, Span};
+use super::{even_slopes, End, Nodes, Slope, Span, EVEN_SLOPE_RATIOS};
 use crate::float::{next_down, next_up};
 use crate::rng::SplitMix64;
 use crate::table::{Grid, GridPreset};
 
 /// Segment and weights by the reference: segment i = the number of nodes x₁ … x_{n−2} that are
-/// ≤ v, then the formula with its end branches, all factors computed on the spot.
+/// ≤ v, then the formula with its end branches, all factors computed on the spot (the even
+/// end's slope at x_{n−2} by [`even_slopes`], which `even_slopes_are_the_even_quartics` checks).
 fn reference(x: &[f64], end: End, v: f64) -> Option<(usize, [f64; 4])> {
     let n = x.len();
     if v.is_nan() || v < x[0] || v > x[n - 1] {
@@ -21,7 +22,15 @@ fn reference(x: &[f64], end: End, v: f64) -> Option<(usize, [f64; 4])> {
     let (t2, t3) = (t * t, t * t * t);
     let mut w = [0.0, 2.0 * t3 - 3.0 * t2 + 1.0, -2.0 * t3 + 3.0 * t2, 0.0];
     let (h10, h11) = (t3 - 2.0 * t2 + t, t3 - t2);
-    if i > 0 {
+    let rho = (n >= 3).then(|| (x[n - 1] - x[n - 2]) / (x[n - 1] - x[n - 3]));
+    let even = rho
+        .filter(|rho| end == End::Even && EVEN_SLOPE_RATIOS.contains(rho))
+        .map(even_slopes);
+    if let (Some([_, k]), true) = (even, i + 2 == n) {
+        for (w, k) in w[..3].iter_mut().zip(k) {
+            *w += h10 * k;
+        }
+    } else if i > 0 {
         let s0 = width / (x[i + 1] - x[i - 1]);
         w[0] -= h10 * s0;
         w[2] += h10 * s0;
@@ -29,7 +38,11 @@ fn reference(x: &[f64], end: End, v: f64) -> Option<(usize, [f64; 4])> {
         w[1] -= h10;
         w[2] += h10;
     }
-    if i + 2 < n {
+    if let (Some([k, _]), true) = (even, i + 3 == n) {
+        for (w, k) in w[1..].iter_mut().zip(k) {
+            *w += h11 * k;
+        }
+    } else if i + 2 < n {
         let s1 = width / (x[i + 2] - x[i]);
         w[1] -= h11 * s1;
         w[3] += h11 * s1;
@@ -38,6 +51,36 @@ fn reference(x: &[f64], end: End, v: f64) -> Option<(usize, [f64; 4])> {
         w[2] += h11;
     }
     Some((i, w))
+}
+
+#[test]
+fn even_slopes_are_the_even_quartics() {
+    // Nodes 0 < δ₁ < δ₂ before a = 0 (x = −δ): the slope at x_{n−2} = −δ₁ of the quadratic in
+    // v = x² through (0, f₁), (δ₁², f₂), (δ₂², f₃), solved as a 2×2 system, per unit x, against
+    // the weights times the values, divided by each segment's width
+    let mut rng = SplitMix64::new(3);
+    for _ in 0..10_000 {
+        let d1 = 0.01 + rng.next_f64();
+        let d2 = d1 / (0.25 + 0.5 * rng.next_f64());
+        let f = [rng.next_f64(), rng.next_f64(), rng.next_f64()]; // f_{n−3}, f_{n−2}, f_{n−1}
+        let (v1, v2) = (d1 * d1, d2 * d2);
+        let (r1, r2) = (f[1] - f[2], f[0] - f[2]);
+        let det = v1 * v2 * v2 - v2 * v1 * v1;
+        let a = (r1 * v2 * v2 - r2 * v1 * v1) / det;
+        let b = (v1 * r2 - v2 * r1) / det;
+        // dP/dx = dP/dv · dv/dx, v = x², at x = −δ₁
+        let want = (a + 2.0 * b * v1) * (-2.0 * d1);
+        let [before, last] = even_slopes(d1 / d2);
+        let dot = |k: [f64; 3]| k[0] * f[0] + k[1] * f[1] + k[2] * f[2];
+        let scale = f.iter().map(|f| f.abs()).sum::<f64>() / d1 * (d2 / (d2 - d1)).powi(2);
+        for (got, width) in [(dot(before), d2 - d1), (dot(last), d1)] {
+            assert!(
+                (got / width - want).abs() < 1e-11 * scale,
+                "δ = ({d1}, {d2}): {} vs {want}",
+                got / width
+            );
+        }
+    }
 }
 
 /// The default grid's axes (and the coarse and fine ones), f32-rounded as the bake stores them.
@@ -178,9 +221,11 @@ fn points(x: &[f64], rng: &mut SplitMix64) -> Vec<f64> {
     p
 }
 
-/// Bit patterns of a result, so that −0 differs from +0 and NaNs compare.
+/// Bit patterns of a result, so that −0 differs from +0 and NaNs compare (as one NaN: Rust
+/// leaves the sign and payload of an operation's NaN unspecified).
 fn bits(result: Option<(usize, [f64; 4])>) -> Option<(usize, [u64; 4])> {
-    result.map(|(i, w)| (i, w.map(f64::to_bits)))
+    let canonical = |w: f64| if w.is_nan() { f64::NAN } else { w }.to_bits();
+    result.map(|(i, w)| (i, w.map(canonical)))
 }
 
 #[test]
@@ -260,7 +305,10 @@ fn interior_weights_match_the_general_formula_bit_for_bit() {
                 s0,
                 s1,
             };
-            let (got, want) = (span.interior_weights(t), span.weights(t, false, None));
+            let (got, want) = (
+                span.interior_weights(t),
+                span.weights(t, Slope::Central, Slope::Central),
+            );
             assert_eq!(
                 got.map(f64::to_bits),
                 want.map(f64::to_bits),

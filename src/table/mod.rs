@@ -19,7 +19,8 @@
 //! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ).
 //!
 //! Evaluation (algorithm 1) interpolates (E, E_β, c) with tensor-product Catmull-Rom weights in
-//! (ρ′, θ, r), with slope 0 at θ = 90° where PBD's is (see [`Axes::new`]), forms
+//! (ρ′, θ, r), with slope 0 at θ = 90° where PBD's is and at 80° the slope of the quartic even
+//! about 90° through 70°, 80° and 90° (see [`Axes::new`]), forms
 //! α = (E − E_β)/(2πr), β = E_β/r and returns α + β pdf_WC(φ; c). The crate's evaluation refines
 //! the spline along ρ′ as it does along r, each refinement measured against PBD (README):
 //! - along ρ′, PBD's explicit factor ρ′² is taken out: the energies (E, E_β, the radial CDF, ρ_eff,
@@ -89,9 +90,10 @@ impl Axes {
     ///
     /// This is where every table (baked, read from a file, or a subset) gets its splines, so
     /// all of them interpolate alike: chord slopes at the ends of the ρ′ and r axes and at
-    /// θ's first node, and slope 0 at θ's last node when it is π/2 (within
+    /// θ's first node, and an even end along θ when its last node is π/2 (within
     /// [`THETA_GRAZING_TOLERANCE`]): PBD depends on θ only through sin θ = η sin θ′, which is
-    /// even about π/2 ([`End::Even`]).
+    /// even about π/2, so the slope there is 0 and the one at the node before is the even
+    /// quartic's through the last three nodes ([`End::Even`], format-spec.md §10).
     pub fn new(rho: Vec<f64>, theta: Vec<f64>, r: Vec<f64>) -> crate::Result<Self> {
         let end = match theta.last() {
             Some(&last) if (last - FRAC_PI_2).abs() <= THETA_GRAZING_TOLERANCE => End::Even,
