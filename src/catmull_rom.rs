@@ -50,8 +50,9 @@
 //! difference's (f_{n−1} − f_{n−3})/2; the two agree on data quadratic in x − a. Both segments
 //! keep the Hermite form, each still reads nodes i − 1 … i + 2 only, and the spline stays C¹,
 //! interpolates the nodes and has weights summing to 1; only the last two segments differ from
-//! the chord rule, and neither takes the fast path of [`Nodes::weights`]
-//! (`catmull_rom/cells.rs`). With two nodes there is no x_{n−3}, and only the slope 0 at a
+//! the chord rule. The last segment never takes the fast path of [`Nodes::weights`]
+//! (`catmull_rom/cells.rs`); the one before keeps it, with the general formula's weights.
+//! With two nodes there is no x_{n−3}, and only the slope 0 at a
 //! applies. The table's θ axis uses the even end when it ends at π/2
 //! ([`crate::table::Axes::new`]), where the model depends on θ through sin θ only; there the
 //! slope at x_{n−2} closed the last 0.0002 percentage points between the table and Ferrier's
@@ -215,7 +216,7 @@ impl Nodes {
 
     /// The node set of validated nodes `x` (at least two, finite, increasing) with the slope
     /// `end` at the last one: spans, the slope at x_{n−2} of an even end, and cells whose hot
-    /// segments are the simple spans among those with central differences at both ends.
+    /// segments are the simple spans (see [`Span::is_simple`]).
     fn build(x: Box<[f64]>, end: End) -> Self {
         let spans: Box<[Span]> = (0..x.len() - 1)
             .map(|i| {
@@ -241,10 +242,8 @@ impl Nodes {
             }
             _ => None,
         };
-        // Segment n − 3 of an even end takes its slope at x_{n−2} from three nodes
-        let central = x.len() - usize::from(even.is_some());
         let cells = Cells::new(&x, |i| {
-            i + 3 <= central && spans.get(i).is_some_and(|span| span.is_simple(i, &x))
+            spans.get(i).is_some_and(|span| span.is_simple(i, &x))
         });
         let guide = if cells.is_empty() {
             Guide::new(&x)
@@ -305,8 +304,9 @@ impl Nodes {
     }
 
     /// [`Nodes::weights`] where that is quickest: x in a hot cell (an interior segment that
-    /// the cells find directly, the common case); `None` everywhere else, bit for bit the same
-    /// weights. For a caller that keeps them apart from the general path's until its own `?`
+    /// the cells find directly, the common case; on segment n − 3 of an even end by the general
+    /// formula, its slope at x_{n−2} being the even quartic's); `None` everywhere else, bit for
+    /// bit the same weights. For a caller that keeps them apart from the general path's until its own `?`
     /// (`match nodes.hot_weights(x) { Some(w) => w, None => nodes.weights(x)? }`) or takes the
     /// other points out of line: merged as one `Option`, as [`Nodes::weights`] returns them,
     /// they go through memory, written as scalars, and the table's blends read them back as
@@ -317,10 +317,13 @@ impl Nodes {
         let cell = self.cells.get(x)?;
         let i = cell.hot_segment(x);
         let span = self.spans.get(i)?;
-        Some(Weights {
-            segment: i,
-            w: span.simple_weights(x),
-        })
+        let w = match self.even {
+            Some([before, _]) if i + 3 == self.x.len() => {
+                span.weights(span.t(x), Slope::Central, Slope::Even(before))
+            }
+            _ => span.simple_weights(x),
+        };
+        Some(Weights { segment: i, w })
     }
 
     /// [`Nodes::weights`] where [`Nodes::hot_weights`] has none: x in a cell that is not hot
