@@ -47,13 +47,13 @@
 //! This applies while ρ ∈ [`EVEN_SLOPE_RATIOS`] (the last two widths within a factor 3 of each
 //! other); otherwise x_{n−2} keeps the central difference, which stays bounded on any widths.
 //! On equal widths (ρ = ½) both are (9f_{n−1} − 8f_{n−2} − f_{n−3})/6, against the central
-//! difference's (f_{n−1} − f_{n−3})/2; the two agree on data quadratic in x − a. Both segments
-//! keep the Hermite form, each still reads nodes i − 1 … i + 2 only, and the spline stays C¹,
+//! difference's (f_{n−1} − f_{n−3})/2; the two agree on c₀ + c₂(x − a)². Both segments keep the
+//! Hermite form, each still reads nodes i − 1 … i + 2 only, and the spline stays C¹,
 //! interpolates the nodes and has weights summing to 1; only the last two segments differ from
 //! the chord rule. The last segment never takes the fast path of [`Nodes::weights`]
-//! (`catmull_rom/cells.rs`); the one before keeps it, with the general formula's weights.
-//! With two nodes there is no x_{n−3}, and only the slope 0 at a
-//! applies. The table's θ axis uses the even end when it ends at π/2
+//! (`catmull_rom/cells.rs`), and with this end neither does the one before (its slope at
+//! x_{n−2} is not a central difference). With two nodes there is no x_{n−3}, and only the
+//! slope 0 at a applies. The table's θ axis uses the even end when it ends at π/2
 //! ([`crate::table::Axes::new`]), where the model depends on θ through sin θ only; there the
 //! slope at x_{n−2} closed the last 0.0002 percentage points between the table and Ferrier's
 //! "under 1 %" at (ρ′, θ) = (0.99, 89°) (README, "Accuracy").
@@ -133,9 +133,8 @@ pub struct Nodes {
     /// one before).
     end: End,
     /// For [`End::Even`] with at least three nodes and ρ in [`EVEN_SLOPE_RATIOS`], the slope at
-    /// x_{n−2} in t-units of the two
-    /// segments that meet there, as weights of f_{n−3}, f_{n−2}, f_{n−1}: `[before, last]`,
-    /// for segments n − 3 and n − 2 (module docs).
+    /// x_{n−2} in t-units of the two segments that meet there, as weights of f_{n−3}, f_{n−2},
+    /// f_{n−1}: `[before, last]`, for segments n − 3 and n − 2 (module docs).
     even: Option<[[f64; 3]; 2]>,
     /// Per segment, what [`Nodes::weights`] needs of it, derived from `x` once so that it does
     /// no division.
@@ -242,8 +241,11 @@ impl Nodes {
             }
             _ => None,
         };
+        // Segment n − 3 of an even end takes its slope at x_{n−2} from the even quartic: not
+        // the simple formula
+        let central = x.len() - usize::from(even.is_some());
         let cells = Cells::new(&x, |i| {
-            spans.get(i).is_some_and(|span| span.is_simple(i, &x))
+            i + 3 <= central && spans.get(i).is_some_and(|span| span.is_simple(i, &x))
         });
         let guide = if cells.is_empty() {
             Guide::new(&x)
@@ -304,9 +306,8 @@ impl Nodes {
     }
 
     /// [`Nodes::weights`] where that is quickest: x in a hot cell (an interior segment that
-    /// the cells find directly, the common case; on segment n − 3 of an even end by the general
-    /// formula, its slope at x_{n−2} being the even quartic's); `None` everywhere else, bit for
-    /// bit the same weights. For a caller that keeps them apart from the general path's until its own `?`
+    /// the cells find directly, the common case); `None` everywhere else, bit for bit the same
+    /// weights. For a caller that keeps them apart from the general path's until its own `?`
     /// (`match nodes.hot_weights(x) { Some(w) => w, None => nodes.weights(x)? }`) or takes the
     /// other points out of line: merged as one `Option`, as [`Nodes::weights`] returns them,
     /// they go through memory, written as scalars, and the table's blends read them back as
@@ -317,13 +318,10 @@ impl Nodes {
         let cell = self.cells.get(x)?;
         let i = cell.hot_segment(x);
         let span = self.spans.get(i)?;
-        let w = match self.even {
-            Some([before, _]) if i + 3 == self.x.len() => {
-                span.weights(span.t(x), Slope::Central, Slope::Even(before))
-            }
-            _ => span.simple_weights(x),
-        };
-        Some(Weights { segment: i, w })
+        Some(Weights {
+            segment: i,
+            w: span.simple_weights(x),
+        })
     }
 
     /// [`Nodes::weights`] where [`Nodes::hot_weights`] has none: x in a cell that is not hot
@@ -352,13 +350,18 @@ impl Nodes {
     #[inline(always)]
     fn slopes(&self, i: usize) -> (Slope, Slope) {
         let n = self.x.len();
-        let near = match self.even {
-            Some([_, last]) if i + 2 == n => Slope::Even(last),
+        // Interior segments away from the end first: the common case, and the only one on the
+        // sampling paths' hot loops
+        if i > 0 && i + 3 < n {
+            return (Slope::Central, Slope::Central);
+        }
+        let near = match &self.even {
+            Some([_, last]) if i + 2 == n => Slope::Even(*last),
             _ if i == 0 => Slope::Chord,
             _ => Slope::Central,
         };
-        let far = match (self.even, self.end) {
-            (Some([before, _]), _) if i + 3 == n => Slope::Even(before),
+        let far = match (&self.even, self.end) {
+            (Some([before, _]), _) if i + 3 == n => Slope::Even(*before),
             _ if i + 2 < n => Slope::Central,
             (_, End::Chord) => Slope::Chord,
             (_, End::Even) => Slope::Zero,
@@ -502,6 +505,7 @@ impl Nodes {
     }
 
     /// Segment i from the values of nodes i − 1 … i + 2 (those outside the array unused).
+    #[inline(always)]
     fn segment_from(&self, i: usize, [f_before, f0, f1, f_after]: [f64; 4]) -> Option<Segment> {
         let (x0, x1) = (*self.x.get(i)?, *self.x.get(i + 1)?);
         // Slopes by the span's factors w/(x_{i+1} − x_{i−1}) and w/(x_{i+2} − xᵢ): no division
