@@ -619,41 +619,33 @@ impl Span {
         let (t2, t3) = (t * t, t * t * t);
         let mut w = [0.0, 2.0 * t3 - 3.0 * t2 + 1.0, -2.0 * t3 + 3.0 * t2, 0.0];
         let (h10, h11) = (t3 - 2.0 * t2 + t, t3 - t2);
-        // Slope at xᵢ, over nodes i − 1 … i + 1
-        match near {
-            Slope::Central => {
-                w[0] -= h10 * self.s0;
-                w[2] += h10 * self.s0;
-            }
-            Slope::Chord => {
-                w[1] -= h10;
-                w[2] += h10;
-            }
-            Slope::Zero => {}
-            Slope::Even([k3, k2, k1]) => {
-                w[0] += h10 * k3;
-                w[1] += h10 * k2;
-                w[2] += h10 * k1;
-            }
-        }
-        // Slope at x_{i+1}, over nodes i … i + 2
-        match far {
-            Slope::Central => {
-                w[1] -= h11 * self.s1;
-                w[3] += h11 * self.s1;
-            }
-            Slope::Chord => {
-                w[1] -= h11;
-                w[2] += h11;
-            }
-            Slope::Zero => {}
-            Slope::Even([k3, k2, k1]) => {
-                w[1] += h11 * k3;
-                w[2] += h11 * k2;
-                w[3] += h11 * k1;
-            }
-        }
+        // Slope at xᵢ, over nodes i − 1 … i + 1; at x_{i+1}, over nodes i … i + 2
+        add_slope(&mut w, h10, near, self.s0, 0);
+        add_slope(&mut w, h11, far, self.s1, 1);
         w
+    }
+}
+
+/// Adds h times the slope `slope` to the weights `w` of nodes i − 1 … i + 2: a slope over the
+/// three nodes from `w[first]` (0 for the slope at xᵢ, 1 at x_{i+1}), `s` the span's factor of
+/// its central difference.
+fn add_slope(w: &mut [f64; 4], h: f64, slope: Slope, s: f64, first: usize) {
+    let nodes = w.get_mut(first..).unwrap_or_default();
+    match (slope, nodes) {
+        (Slope::Central, [before, _, after, ..]) => {
+            *before -= h * s;
+            *after += h * s;
+        }
+        (Slope::Chord, _) => {
+            w[1] -= h;
+            w[2] += h;
+        }
+        (Slope::Even(k), nodes) => {
+            for (w, k) in nodes.iter_mut().zip(k) {
+                *w += h * k;
+            }
+        }
+        _ => {}
     }
 }
 
