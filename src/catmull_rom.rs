@@ -31,9 +31,9 @@
 //! v = (a − x)² alone: f = F(v). Its slope at a is 0, which the chord slope misses by about
 //! f″·w/2. [`End::Even`] uses that slope, and with at least three nodes it also takes the
 //! slope at x_{n−2} from the evenness: the slope there of the polynomial even about a through
-//! the last three nodes, P(x) = f_{n−1} + A·v + B·v² (a quadratic in v). The central
-//! difference at x_{n−2} is exact for quadratics in x; this slope is exact for every even
-//! quartic, one order more for even data, at the same three nodes. With δ₁ = a − x_{n−2},
+//! the last three nodes, P(x) = f_{n−1} + A·v + B·v² (a quadratic in v). On equal widths the
+//! central difference at x_{n−2} is exact for quadratics in x; this slope is exact for every
+//! even quartic on any widths, one order more for even data, at the same three nodes. With δ₁ = a − x_{n−2},
 //! δ₂ = a − x_{n−3} and their ratio ρ = δ₁/δ₂ ∈ (0, 1), solving for A and B and taking
 //! dP/dx = −2δ₁·(A + 2Bδ₁²) gives, per unit t of the segment that uses it,
 //!
@@ -51,8 +51,8 @@
 //! Hermite form, each still reads nodes i − 1 … i + 2 only, and the spline stays C¹,
 //! interpolates the nodes and has weights summing to 1; only the last two segments differ from
 //! the chord rule. The last segment never takes the fast path of [`Nodes::weights`]
-//! (`catmull_rom/cells.rs`), and with this end neither does the one before (its slope at
-//! x_{n−2} is not a central difference). With two nodes there is no x_{n−3}, and only the
+//! (`catmull_rom/cells.rs`), and with the even quartic's slope (ρ in the range) neither does
+//! the one before (its slope at x_{n−2} is not a central difference). With two nodes there is no x_{n−3}, and only the
 //! slope 0 at a applies. The table's θ axis uses the even end when it ends at π/2
 //! ([`crate::table::Axes::new`]), where the model depends on θ through sin θ only; there the
 //! slope at x_{n−2} closed the last 0.0002 percentage points between the table and Ferrier's

@@ -190,7 +190,15 @@ fn even_end_reproduces_data_even_about_the_last_node_better_than_the_chord() {
 
 #[test]
 fn even_end_integrates_exactly() {
-    for (grid, seed) in [(theta_nodes(), 6), (uneven_nodes(), 7), (vec![0.0, 0.7], 8)] {
+    // Three nodes: segment 0 has the chord slope at x₀ and the even quartic's at x₁
+    let three = vec![0.0, 0.6, 1.0];
+    let grids = [
+        (theta_nodes(), 6),
+        (uneven_nodes(), 7),
+        (vec![0.0, 0.7], 8),
+        (three, 11),
+    ];
+    for (grid, seed) in grids {
         let values = random_values(&grid, seed);
         let (chord, even) = both(&grid);
         let n = grid.len();
@@ -271,6 +279,35 @@ fn chi_square_even_end() {
     chi_square(
         &grid,
         0x5eed_00e0,
+        16,
+        |u| even.sample(f, c, u).map(|s| s.x),
+        |x| even.pdf(f, c, x),
+    );
+}
+
+#[test]
+fn chi_square_even_end_on_three_nodes() {
+    // Segment 0 is both the first (chord slope at x₀) and the one before the last (the even
+    // quartic's slope at x₁, ρ = 0.4)
+    let grid = vec![0.0, 0.6, 1.0];
+    let values = [0.2, 0.9, 1.0];
+    let (_, even) = both(&grid);
+    let mut cumulative = vec![0.0; grid.len()];
+    even.integrate_positive(|i| values[i], &mut cumulative)
+        .unwrap();
+    let (f, c) = (|i: usize| values[i], |k: usize| cumulative[k]);
+    let mut rng = SplitMix64::new(12);
+    for u in (0..10_000).map(|_| rng.next_f64()) {
+        let s = even.sample(f, c, u).unwrap();
+        assert!((even.cdf(f, c, s.x).unwrap() - u).abs() < SOLVED, "u = {u}");
+        assert!(
+            (even.pdf(f, c, s.x) - s.pdf).abs() < 1e-9 * s.pdf,
+            "u = {u}"
+        );
+    }
+    chi_square(
+        &grid,
+        0x5eed_00e3,
         16,
         |u| even.sample(f, c, u).map(|s| s.x),
         |x| even.pdf(f, c, x),

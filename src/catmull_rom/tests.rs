@@ -124,6 +124,9 @@ fn irregular() -> Vec<Vec<f64>> {
         ],
         vec![1e6, 1e6 + 0.5, 1e6 + 3.0, 2e6],
         vec![3.0, 3.5, 7.0, 1e6],
+        // The even end's ratios ρ = δ₁/δ₂ at the ends of `EVEN_SLOPE_RATIOS`: ¼ and ¾
+        vec![0.0, 3.0, 4.0],
+        vec![0.0, 1.0, 4.0],
     ];
     // Adjacent f32 values, then gaps, as f32-rounded axes with duplicates merged would give
     let f32_run = |start: f32, len: usize| {

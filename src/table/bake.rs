@@ -31,8 +31,9 @@
 //! 1.94 %, 1.04 % and 1.13 % for the three-anchor fit (measured before signed floors, which
 //! lower the first: at ρ′ = 0.5 beyond r ≈ 11 no GWC with α ≥ 0 stays under 1 %, 1.3 % at
 //! r = 13). The table adds its interpolation. Along
-//! θ its spline has slope 0 at 90° like PBD, where θ enters through sin θ only, and at 80° the
-//! slope of the quartic even about 90° through the last three nodes ([`Axes::new`]); the chord
+//! θ its spline has slope 0 at 90° like PBD, where θ enters through sin θ only, and at the node
+//! before (80° on the default grid) the slope of the quartic even about 90° through the last
+//! three nodes ([`Axes::new`]); the chord
 //! slope that a plain Catmull-Rom end takes at 90° moved the lookups between 80° and 90° by up
 //! to 0.6 % (at 87°, ρ′ = 0.5; 0.3 % at 89°) and put 2.4–2.6 % of the points at (0.9, 89°) and
 //! (0.99, 89°) above 1 %, and the central difference at 80° left 1–2 points in 10⁵ at

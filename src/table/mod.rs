@@ -19,8 +19,9 @@
 //! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ).
 //!
 //! Evaluation (algorithm 1) interpolates (E, E_β, c) with tensor-product Catmull-Rom weights in
-//! (ρ′, θ, r), with slope 0 at θ = 90° where PBD's is and at 80° the slope of the quartic even
-//! about 90° through 70°, 80° and 90° (see [`Axes::new`]), forms
+//! (ρ′, θ, r), with slope 0 at θ = 90° where PBD's is and at the node before (80° on the
+//! default grid) the slope of the quartic even about 90° through the last three nodes (see
+//! [`Axes::new`]), forms
 //! α = (E − E_β)/(2πr), β = E_β/r and returns α + β pdf_WC(φ; c). The crate's evaluation refines
 //! the spline along ρ′ as it does along r, each refinement measured against PBD (README):
 //! - along ρ′, PBD's explicit factor ρ′² is taken out: the energies (E, E_β, the radial CDF, ρ_eff,
