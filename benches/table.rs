@@ -13,6 +13,13 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 mod lookup_points;
 use lookup_points::lookup_points;
 
+/// The index after `i` in 0..n, cycling: a compare, not a `%` (a 64-bit division, tens of
+/// cycles, that a timed closure would carry along with the lookup).
+fn advance(i: &mut usize, n: usize) -> usize {
+    *i = if *i + 1 < n { *i + 1 } else { 0 };
+    *i
+}
+
 fn bench(c: &mut Criterion) {
     let grid = Grid::preset(GridPreset::Default);
     let mut group = c.benchmark_group("bake");
@@ -48,22 +55,14 @@ fn bench(c: &mut Criterion) {
         let xs: Vec<f64> = points.iter().map(|p| p[k]).collect();
         let mut i = 0usize;
         group.bench_function(format!("weights_{name}"), |b| {
-            b.iter(|| {
-                i = if i + 1 < xs.len() { i + 1 } else { 0 };
-                nodes.weights(black_box(xs[i]))
-            })
+            b.iter(|| nodes.weights(black_box(xs[advance(&mut i, xs.len())])))
         });
     }
     group.finish();
 
     let mut group = c.benchmark_group("lookup");
-    // The next point: a compare, not a `%` (a 64-bit division, tens of cycles, that the
-    // timed closure would carry along with the lookup)
     let mut i = 0usize;
-    let mut next = |n: usize| {
-        i = if i + 1 < n { i + 1 } else { 0 };
-        i
-    };
+    let mut next = |n: usize| advance(&mut i, n);
     group.bench_function("harness", |b| {
         // What the eval closure does besides eval: the time the figures below include
         b.iter(|| {

@@ -28,12 +28,17 @@ fn both(grid: &[f64]) -> (Nodes, Nodes) {
     (chord, even)
 }
 
-/// ds/dx at the last node, from the cubic of the last segment: the one-sided second-order
-/// difference (3s(x) − 4s(x − h) + s(x − 2h))/(2h), whose error is s‴h²/3.
-fn end_slope(nodes: &Nodes, values: &[f64], h: f64) -> f64 {
-    let x = *nodes.as_slice().last().unwrap();
+/// ds/dx just left of x (side −1) or right of it (side 1): the one-sided second-order
+/// difference ±(3s(x) − 4s(x ∓ h) + s(x ∓ 2h))/(2h) (upper signs on the left), whose error
+/// is s‴h²/3.
+fn one_sided_slope(nodes: &Nodes, values: &[f64], x: f64, h: f64, side: f64) -> f64 {
     let s = |x: f64| nodes.evaluate(|i| values[i], x).unwrap();
-    (3.0 * s(x) - 4.0 * s(x - h) + s(x - 2.0 * h)) / (2.0 * h)
+    side * (-3.0 * s(x) + 4.0 * s(x + side * h) - s(x + 2.0 * side * h)) / (2.0 * h)
+}
+
+/// ds/dx at the last node, from the cubic of the last segment.
+fn end_slope(nodes: &Nodes, values: &[f64], h: f64) -> f64 {
+    one_sided_slope(nodes, values, *nodes.as_slice().last().unwrap(), h, -1.0)
 }
 
 #[test]
@@ -123,14 +128,6 @@ fn even_end_changes_only_the_last_two_segments() {
     }
 }
 
-/// ds/dx just left and right of x, by second-order one-sided differences with step h.
-fn one_sided_slopes(nodes: &Nodes, values: &[f64], x: f64, h: f64) -> (f64, f64) {
-    let s = |x: f64| nodes.evaluate(|i| values[i], x).unwrap();
-    let left = (3.0 * s(x) - 4.0 * s(x - h) + s(x - 2.0 * h)) / (2.0 * h);
-    let right = (-3.0 * s(x) + 4.0 * s(x + h) - s(x + 2.0 * h)) / (2.0 * h);
-    (left, right)
-}
-
 #[test]
 fn even_end_takes_the_even_quartics_slope_at_the_node_before_and_stays_c1() {
     // f = 1 + b(x − a)² + c(x − a)⁴ is an even quartic about the last node a: the spline's slope
@@ -146,7 +143,10 @@ fn even_end_takes_the_even_quartics_slope_at_the_node_before_and_stays_c1() {
         let (_, even) = both(&grid);
         let x = grid[n - 2];
         let h = 1e-5 * (grid[n - 1] - grid[n - 2]).min(grid[n - 2] - grid[n - 3]);
-        let (left, right) = one_sided_slopes(&even, &values, x, h);
+        let (left, right) = (
+            one_sided_slope(&even, &values, x, h, -1.0),
+            one_sided_slope(&even, &values, x, h, 1.0),
+        );
         let want = if grid == lopsided_nodes() {
             (values[n - 1] - values[n - 3]) / (grid[n - 1] - grid[n - 3])
         } else {

@@ -2,6 +2,8 @@
 //! (chi-square), normalisation, the report's accuracy protocol and its figure 9 (fast forms),
 //! stability at the extremes, world units.
 
+mod catmull_rom_common;
+
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::{fit_three_anchors, FitBranch, Gwc, ANCHOR_COS};
 use bssrdf_zoo::medium::Boundary;
@@ -749,10 +751,7 @@ fn theta_axis_ends_flat_exactly_at_grazing_incidence() {
         let spline = |x: f64| axes.theta().evaluate(rho_eff, x).unwrap();
         let simpson: f64 = theta
             .windows(2)
-            .map(|w| {
-                (w[1] - w[0]) / 6.0
-                    * (spline(w[0]) + 4.0 * spline(0.5 * (w[0] + w[1])) + spline(w[1]))
-            })
+            .map(|w| catmull_rom_common::simpson(spline, w[0], w[1], 2))
             .sum();
         assert!((total - simpson).abs() <= 1e-12 * total, "row {i}");
     }
