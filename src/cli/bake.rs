@@ -294,6 +294,18 @@ impl Baker {
     }
 }
 
+/// Refuses an output that is one of the bake's inputs (the scene, the material files).
+pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliError> {
+    let mut inputs: Vec<(&str, &Path)> = Vec::new();
+    if let Some(scene) = &args.scene {
+        inputs.push(("--scene", scene.as_path()));
+    }
+    if let Some(m) = &args.materials {
+        inputs.push(("--materials", m.as_path()));
+    }
+    super::output::check(&[("-o", output)], &inputs)
+}
+
 /// A material from the command line's coefficients or artist's parameters.
 enum Custom {
     Coefficients(Box<Material>),
@@ -430,6 +442,7 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
             ))
         }
     };
+    check_output(&args, &output)?;
 
     let theta_sampling = !args.no_theta_sampling;
     let n_rho = baker.grid.rho.len();

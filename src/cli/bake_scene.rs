@@ -12,6 +12,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 pub fn run(args: &BakeArgs, baker: &mut Baker, path: &Path) -> Result<ExitCode, CliError> {
+    let output = match &args.output {
+        Some(o) => o.clone(),
+        None => PathBuf::from(path.file_stem().unwrap_or_default()).with_extension("bssrdf"),
+    };
+    super::bake::check_output(args, &output)?;
     let text = std::fs::read_to_string(path)
         .map_err(|e| CliError::input(format!("cannot read scene {}: {e}", path.display())))?;
     let library = super::materials::library(args.materials.as_deref())?;
@@ -24,10 +29,6 @@ pub fn run(args: &BakeArgs, baker: &mut Baker, path: &Path) -> Result<ExitCode, 
     let plan = scene
         .plan(&axis)
         .map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
-    let output = match &args.output {
-        Some(o) => o.clone(),
-        None => PathBuf::from(path.file_stem().unwrap_or_default()).with_extension("bssrdf"),
-    };
     let theta_sampling = scene.integrator().needs_theta_sampling();
 
     baker.plan_rows(plan.tables.iter().map(|t| t.rows.len()).sum());

@@ -8,6 +8,7 @@ mod eval;
 mod inspect;
 mod library;
 mod materials;
+mod output;
 mod pack;
 mod render;
 mod sample;

@@ -168,6 +168,7 @@ pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
             args.decades
         )));
     }
+    check_outputs(&args)?;
     if let Some(files) = &args.diff {
         return run_diff(&args, files);
     }
@@ -261,6 +262,47 @@ fn config(args: &RenderArgs, model: ModelArg) -> Result<Config, CliError> {
     };
     config.validate().map_err(input)?;
     Ok(config)
+}
+
+/// Refuses a run whose outputs (the EXRs and their PNG previews) would overwrite one another
+/// or an input (`--diff`'s pictures, `--materials`), before any work.
+fn check_outputs(args: &RenderArgs) -> Result<(), CliError> {
+    let mut exrs = vec![("-o", args.output.clone())];
+    if let Some(other) = args.compare {
+        let model: Model = other.into();
+        exrs.push(("the --compare render", sibling(&args.output, model.name())));
+        exrs.push(("the difference picture", sibling(&args.output, "diff")));
+    }
+    let mut outputs = Vec::new();
+    for (what, exr) in exrs {
+        if !args.no_preview {
+            outputs.push((what, exr.with_extension("png"), true));
+        }
+        outputs.push((what, exr, false));
+    }
+    let named: Vec<(String, PathBuf)> = outputs
+        .into_iter()
+        .map(|(what, path, png)| {
+            let what = if png {
+                format!("the PNG preview of {what}")
+            } else {
+                what.to_string()
+            };
+            (what, path)
+        })
+        .collect();
+    let outputs: Vec<(&str, &Path)> = named
+        .iter()
+        .map(|(w, p)| (w.as_str(), p.as_path()))
+        .collect();
+    let mut inputs: Vec<(&str, &Path)> = Vec::new();
+    if let Some(files) = &args.diff {
+        inputs.extend(files.iter().map(|f| ("--diff", f.as_path())));
+    }
+    if let Some(m) = &args.materials {
+        inputs.push(("--materials", m.as_path()));
+    }
+    super::output::check(&outputs, &inputs)
 }
 
 /// `dir/stem.exr` → `dir/stem-suffix.exr`.

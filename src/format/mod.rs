@@ -28,6 +28,7 @@
 //! Files opened with [`Library::open_mmap`] are mapped; another process truncating a mapped
 //! file kills the reader with SIGBUS, so use [`Library::read`] for files that may change.
 
+mod atomic;
 mod error;
 mod library;
 mod map;
@@ -37,13 +38,11 @@ mod records;
 pub mod spec;
 mod writer;
 
+pub use atomic::write_file_atomic;
 pub use error::{FormatError, FormatResult};
 pub use library::{Library, Table};
 pub use provenance::{json_number, Provenance};
 pub use reader::{SectionInfo, Verify};
 pub use records::{AlbedoRange, Material, TableHeader, CHANNELS};
 pub use spec::{AxisKind, Codec, Dtype, FresnelMoments, ModelKind, SectionKind};
-pub use writer::{
-    pack, unpack, write_file_atomic, Compression, Conversion, ExtraSection, LibraryBuilder,
-    TableData,
-};
+pub use writer::{pack, unpack, Compression, Conversion, ExtraSection, LibraryBuilder, TableData};

@@ -3,13 +3,12 @@
 //! Also `pack` and `unpack`, which convert between the mappable and the compressed form.
 
 use std::collections::BTreeMap;
-use std::fs::{self, File, OpenOptions};
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use zerocopy::little_endian::{U16, U32, U64};
 use zerocopy::IntoBytes;
 
+use super::atomic::write_file_atomic;
 use super::error::{FormatError, FormatResult};
 use super::library::Library;
 use super::provenance::Provenance;
@@ -494,59 +493,6 @@ fn layout(
     let crc = crc32(&[&out[..HEADER_CRC_OFFSET], &out[HEADER_SIZE..dir_end]]);
     out[HEADER_CRC_OFFSET..HEADER_SIZE].copy_from_slice(&crc.to_le_bytes());
     Ok(out)
-}
-
-/// Writes `bytes` to `path` through a synced temporary file and a rename.
-pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| invalid(format!("{} has no file name", path.display())))?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let (mut file, tmp) = create_temp(&dir, &name.to_string_lossy())?;
-    let result = (|| {
-        file.write_all(bytes)
-            .map_err(|e| FormatError::io("write", &tmp, e))?;
-        file.sync_all()
-            .map_err(|e| FormatError::io("sync", &tmp, e))?;
-        drop(file);
-        fs::rename(&tmp, path).map_err(|e| FormatError::io("rename over", path, e))?;
-        sync_dir(&dir)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result
-}
-
-fn create_temp(dir: &Path, name: &str) -> FormatResult<(File, PathBuf)> {
-    let pid = std::process::id();
-    let mut last = None;
-    for attempt in 0..1000u32 {
-        let tmp = dir.join(format!(".{name}.{pid}.{attempt}.tmp"));
-        match OpenOptions::new().write(true).create_new(true).open(&tmp) {
-            Ok(file) => return Ok((file, tmp)),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
-            Err(e) => return Err(FormatError::io("create", &tmp, e)),
-        }
-    }
-    let e = last.unwrap_or_else(|| std::io::Error::other("no free temporary name"));
-    Err(FormatError::io("create a temporary file in", dir, e))
-}
-
-#[cfg(unix)]
-fn sync_dir(dir: &Path) -> FormatResult<()> {
-    File::open(dir)
-        .and_then(|d| d.sync_all())
-        .map_err(|e| FormatError::io("sync folder", dir, e))
-}
-
-#[cfg(not(unix))]
-fn sync_dir(_dir: &Path) -> FormatResult<()> {
-    // Folders cannot be opened for syncing here; the rename is as durable as the OS makes it.
-    Ok(())
 }
 
 /// Sizes before and after a conversion.

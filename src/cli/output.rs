@@ -1,0 +1,48 @@
+//! Checks on the files a command writes: no two outputs on one file, no output on an input.
+
+use super::CliError;
+use std::path::{Path, PathBuf};
+
+/// A path as the file system resolves it: links followed, `..` removed. A path that does not
+/// exist yet is its resolved folder joined with its file name.
+fn identity(path: &Path) -> PathBuf {
+    if let Ok(p) = std::fs::canonicalize(path) {
+        return p;
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    match (std::fs::canonicalize(dir), path.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
+/// Refuses outputs that name the same file as another output or as an input. Each path comes
+/// with what it is on the command line (`"-o"`, `"--scene"`, `"the PNG preview"`), which the
+/// message names.
+pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), CliError> {
+    let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| identity(p)).collect();
+    for (i, (what, path)) in outputs.iter().enumerate() {
+        for (j, (other, other_path)) in outputs.iter().enumerate().take(i) {
+            if ids[i] == ids[j] {
+                return Err(CliError::input(format!(
+                    "{what} {} and {other} {} are the same file: one would overwrite the other",
+                    path.display(),
+                    other_path.display()
+                )));
+            }
+        }
+        for (input, input_path) in inputs {
+            if ids[i] == identity(input_path) {
+                return Err(CliError::input(format!(
+                    "{what} {} is the input {input} {}: refusing to overwrite an input",
+                    path.display(),
+                    input_path.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}

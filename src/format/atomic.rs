@@ -1,0 +1,212 @@
+//! Writing an output file without tearing it and without replacing what is not a file.
+//!
+//! [`write_file_atomic`] decides by what the path names:
+//! - a symbolic link is followed (link by link, at most [`MAX_LINKS`]) to the path it names,
+//!   and that path is written; the link itself stays;
+//! - a regular file, or nothing yet, is replaced atomically: a temporary file in the same
+//!   folder, synced, given the old file's permissions, renamed over the target, the folder
+//!   synced. Killed at any moment, this leaves the old file or the new one at the path, and
+//!   at worst a stray `.NAME.PID.N.tmp` beside it, which the next write of NAME removes once
+//!   process PID is gone;
+//! - a character device or a FIFO (`/dev/null`, `/dev/stdout`, a named pipe) is written
+//!   through in place: such a node is never replaced by a regular file;
+//! - anything else (a folder, a block device, a socket) is refused.
+
+use std::fs::{self, File, OpenOptions, Permissions};
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+use super::error::{FormatError, FormatResult};
+
+/// How many symbolic links are followed before giving up (Linux's own limit).
+pub const MAX_LINKS: usize = 40;
+
+/// Writes `bytes` to `path` as the module documentation describes.
+pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
+    let target = follow_links(path)?;
+    match fs::metadata(&target) {
+        Ok(meta) if meta.is_file() => replace(&target, bytes, Some(meta.permissions())),
+        Ok(meta) if is_stream(&meta.file_type()) => write_through(&target, bytes),
+        Ok(meta) => Err(FormatError::io(
+            "write",
+            &target,
+            io::Error::other(format!(
+                "it is {}, not a regular file",
+                describe(&meta.file_type())
+            )),
+        )),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => replace(&target, bytes, None),
+        Err(e) => Err(FormatError::io("inspect", &target, e)),
+    }
+}
+
+/// The path a chain of symbolic links ends at (which may not exist yet).
+fn follow_links(path: &Path) -> FormatResult<PathBuf> {
+    let mut current = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = fs::read_link(&current)
+                    .map_err(|e| FormatError::io("read the link", &current, e))?;
+                current = match current.parent() {
+                    Some(dir) if link.is_relative() => dir.join(link),
+                    _ => link,
+                };
+            }
+            _ => return Ok(current),
+        }
+    }
+    Err(FormatError::io(
+        "follow the links of",
+        path,
+        io::Error::other(format!("more than {MAX_LINKS} symbolic links")),
+    ))
+}
+
+#[cfg(unix)]
+fn is_stream(kind: &fs::FileType) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    kind.is_char_device() || kind.is_fifo()
+}
+
+#[cfg(not(unix))]
+fn is_stream(_kind: &fs::FileType) -> bool {
+    false
+}
+
+fn describe(kind: &fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_block_device() {
+            return "a block device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    if kind.is_dir() {
+        "a folder"
+    } else {
+        "a special file"
+    }
+}
+
+/// Writes into an existing device or FIFO without creating or truncating anything.
+fn write_through(target: &Path, bytes: &[u8]) -> FormatResult<()> {
+    let mut file = OpenOptions::new()
+        .write(true)
+        .open(target)
+        .map_err(|e| FormatError::io("open", target, e))?;
+    file.write_all(bytes)
+        .and_then(|()| file.flush())
+        .map_err(|e| FormatError::io("write", target, e))
+}
+
+/// Replaces the regular file `target` (or creates it) through a synced temporary file.
+fn replace(target: &Path, bytes: &[u8], permissions: Option<Permissions>) -> FormatResult<()> {
+    let name = target
+        .file_name()
+        .ok_or_else(|| {
+            FormatError::io(
+                "write",
+                target,
+                io::Error::other("the path has no file name"),
+            )
+        })?
+        .to_string_lossy()
+        .into_owned();
+    let dir = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    remove_stale_temps(&dir, &name);
+    let (mut file, tmp) = create_temp(&dir, &name)?;
+    let result = (|| {
+        file.write_all(bytes)
+            .map_err(|e| FormatError::io("write", &tmp, e))?;
+        if let Some(p) = permissions {
+            file.set_permissions(p)
+                .map_err(|e| FormatError::io("set the permissions of", &tmp, e))?;
+        }
+        file.sync_all()
+            .map_err(|e| FormatError::io("sync", &tmp, e))?;
+        drop(file);
+        fs::rename(&tmp, target).map_err(|e| FormatError::io("rename over", target, e))?;
+        sync_dir(&dir)
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// The temporary name of attempt `attempt` of process `pid` writing `name`.
+fn temp_name(name: &str, pid: u32, attempt: u32) -> String {
+    format!(".{name}.{pid}.{attempt}.tmp")
+}
+
+fn create_temp(dir: &Path, name: &str) -> FormatResult<(File, PathBuf)> {
+    let pid = std::process::id();
+    let mut last = None;
+    for attempt in 0..1000u32 {
+        let tmp = dir.join(temp_name(name, pid, attempt));
+        match OpenOptions::new().write(true).create_new(true).open(&tmp) {
+            Ok(file) => return Ok((file, tmp)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last = Some(e),
+            Err(e) => return Err(FormatError::io("create", &tmp, e)),
+        }
+    }
+    let e = last.unwrap_or_else(|| io::Error::other("no free temporary name"));
+    Err(FormatError::io("create a temporary file in", dir, e))
+}
+
+/// Removes the `.NAME.PID.N.tmp` files that writers of `name` killed before their rename left
+/// in `dir`: only those whose process PID no longer runs. Best effort; errors are ignored.
+fn remove_stale_temps(dir: &Path, name: &str) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    let prefix = format!(".{name}.");
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let Some(rest) = file_name
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|f| f.strip_suffix(".tmp"))
+        else {
+            continue;
+        };
+        let Some((pid, attempt)) = rest.split_once('.') else {
+            continue;
+        };
+        let (Ok(pid), Ok(_)) = (pid.parse::<u32>(), attempt.parse::<u32>()) else {
+            continue;
+        };
+        if process_is_gone(pid) {
+            let _ = fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Whether process `pid` has certainly ended (Linux's /proc; elsewhere never assumed).
+fn process_is_gone(pid: u32) -> bool {
+    if pid == std::process::id() {
+        return false;
+    }
+    let proc_root = Path::new("/proc");
+    proc_root.join("self").exists() && !proc_root.join(pid.to_string()).exists()
+}
+
+#[cfg(unix)]
+fn sync_dir(dir: &Path) -> FormatResult<()> {
+    File::open(dir)
+        .and_then(|d| d.sync_all())
+        .map_err(|e| FormatError::io("sync folder", dir, e))
+}
+
+#[cfg(not(unix))]
+fn sync_dir(_dir: &Path) -> FormatResult<()> {
+    // Folders cannot be opened for syncing here; the rename is as durable as the OS makes it.
+    Ok(())
+}
