@@ -116,7 +116,7 @@ fn bad_input_exits_2_and_names_the_value() {
             &[
                 "eval", "--rho", "0.5", "--theta", "0", "--r", "1", "--eta", "0",
             ],
-            "eta = 0",
+            "--eta 0 is outside the valid range",
         ),
         (&["eval", "--rho", "0.5", "--theta", "0"], "--r"),
     ];

@@ -216,11 +216,12 @@ fn sample_is_pinned_for_a_seed_and_writes_csv() {
     assert_eq!(a, run("3"));
     assert_ne!(a, run("4"));
     let lines: Vec<&str> = a.lines().collect();
-    assert_eq!(lines[0], "r_mfp,phi_deg,pdf");
+    assert_eq!(lines[0], "rho,theta_deg,r,phi_deg,pdf");
     assert_eq!(lines.len(), 51);
     for line in &lines[1..] {
         let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
-        assert!(v[0] > 0.0 && v[1].abs() <= 180.0 && v[2] > 0.0);
+        assert_eq!((v[0], v[1]), (0.9, 60.0));
+        assert!(v[2] > 0.0 && v[3].abs() <= 180.0 && v[4] > 0.0);
     }
     let path = ok(&bssrdf(
         dir.path(),
@@ -234,7 +235,7 @@ fn sample_is_pinned_for_a_seed_and_writes_csv() {
             "5",
         ],
     ));
-    assert!(path.starts_with("theta_deg,r_mfp,phi_deg,phi_prime_deg,pdf\n"));
+    assert!(path.starts_with("rho,theta_deg,r,phi_deg,phi_prime_deg,pdf\n"));
 }
 
 #[test]
@@ -456,7 +457,7 @@ fn error_paths_exit_2_and_name_the_problem() {
             ],
         ),
         2,
-        "eta = 0",
+        "--eta 0 is outside the valid range",
     );
     // A material file with NaN, and one with a negative σ.
     std::fs::write(

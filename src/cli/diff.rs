@@ -31,6 +31,9 @@ pub struct DiffArgs {
     /// One JSON object on stdout instead of the report.
     #[arg(long)]
     json: bool,
+    /// Map the files instead of reading them into memory (see `eval --mmap`).
+    #[arg(long)]
+    mmap: bool,
 }
 
 /// One metadata difference: what, and its value in each file (null where absent).
@@ -436,8 +439,8 @@ pub fn run(args: DiffArgs) -> Result<ExitCode, CliError> {
             )));
         }
     }
-    let a = super::library::open(&args.a)?;
-    let b = super::library::open(&args.b)?;
+    let a = super::library::open(&args.a, args.mmap)?;
+    let b = super::library::open(&args.b, args.mmap)?;
     let tol = (args.tolerance, args.abs_tolerance);
     let mut diffs = Vec::new();
     let (pairs, only_a, only_b) = pair_tables(&a, &b);

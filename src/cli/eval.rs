@@ -1,13 +1,17 @@
 //! `bssrdf eval`: evaluate a model at a point (reduced albedo ρ′, θ in degrees, r in reduced
 //! mean free paths, φ in degrees) or at every row of a CSV file. With `--material NAME
 //! --channel c`, ρ′ and σ′t come from the material and r is in mm (the value in mm⁻²).
+//! The CSV columns are those `bssrdf sample` writes (docs/cli.md), so its output can be fed
+//! back: `bssrdf sample FILE --rho 0.9 | bssrdf eval FILE --points -`.
 
+use super::points::Point;
 use super::CliError;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
 use clap::{Args, ValueEnum};
-use std::io::{BufRead, Write};
+use std::io::Write;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -73,37 +77,37 @@ impl From<MomentsArg> for Moments {
 #[derive(Debug, Args)]
 pub struct EvalArgs {
     /// Library file (needed by the table models).
-    file: Option<std::path::PathBuf>,
+    file: Option<PathBuf>,
     /// Model to evaluate (default: table with FILE, pbd without).
     #[arg(long, value_enum)]
     model: Option<ModelName>,
-    /// Relative index of refraction η (medium over outside).
-    #[arg(long, default_value_t = 1.33)]
-    eta: f64,
-    /// Reduced albedo ρ′ = σ′s/σ′t, in [0, 1] (or from --material).
-    #[arg(long, required_unless_present_any = ["points", "material"])]
+    /// Reduced albedo ρ′ = σ′s/σ′t, in [0, 1] (not with --material, which gives it).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "material",
+          required_unless_present_any = ["points", "material"])]
     rho: Option<f64>,
     /// Incidence angle θ before refraction, degrees in [0, 90].
-    #[arg(long, required_unless_present = "points")]
+    #[arg(long, allow_hyphen_values = true, required_unless_present = "points")]
     theta: Option<f64>,
-    /// Exit distance r in reduced mean free paths (≥ 0); in mm with --material.
-    #[arg(long, required_unless_present = "points")]
+    /// Exit distance r in reduced mean free paths, finite and ≥ 0; in mm with --material.
+    #[arg(long, allow_hyphen_values = true, required_unless_present = "points")]
     r: Option<f64>,
-    /// Exit azimuth φ in degrees; 0 is forward, in the plane of incidence.
-    #[arg(long, default_value_t = 0.0)]
+    /// Exit azimuth φ in degrees, any finite number; 0 is forward, in the plane of incidence.
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
     phi: f64,
-    /// CSV with columns rho,theta_deg,r,phi_deg ('-' for stdin); writes them back with `value`.
-    #[arg(long, conflicts_with_all = ["rho", "theta", "r"])]
-    points: Option<String>,
-    /// Print one JSON object instead of the bare value.
-    #[arg(long, conflicts_with = "points")]
+    /// CSV of points ('-' for stdin), columns as `bssrdf sample` writes them: rho, theta_deg,
+    /// r (r_mm with --material), phi_deg; other columns are copied through. Writes every row
+    /// back with a `value` column (or, with --json, one JSON object per row).
+    #[arg(long, value_name = "CSV", conflicts_with_all = ["rho", "theta", "r", "phi"])]
+    points: Option<PathBuf>,
+    /// Print a JSON object (one per row with --points) instead of the bare value.
+    #[arg(long)]
     json: bool,
-    /// Fresnel moments of the boundary.
-    #[arg(long, value_enum, default_value = "exact")]
-    fresnel_moments: MomentsArg,
-    /// Quadrature of the integral over the beam.
-    #[arg(long, value_enum, default_value = "reference")]
-    quadrature: QuadratureArg,
+    /// Fresnel moments of the boundary [default: exact; with FILE, the table's].
+    #[arg(long, value_enum)]
+    fresnel_moments: Option<MomentsArg>,
+    /// Quadrature of the integral over the beam (the pbd model only) [default: reference].
+    #[arg(long, value_enum)]
+    quadrature: Option<QuadratureArg>,
     #[command(flatten)]
     choice: super::library::TableChoice,
 }
@@ -119,18 +123,27 @@ struct Evaluator<'a> {
 }
 
 impl Evaluator<'_> {
-    fn value(&self, rho: f64, theta_deg: f64, r: f64, phi_deg: f64) -> Result<f64, CliError> {
+    /// Checks a point against the domains; `names` say how the input calls ρ′, θ, r and φ
+    /// (flags or CSV columns).
+    fn check(&self, p: &Point, names: [&str; 4]) -> Result<(), CliError> {
+        if self.material.is_none() {
+            check_range(names[0], p.rho, 0.0, 1.0)?;
+        }
+        check_range(names[1], p.theta_deg, 0.0, 90.0)?;
+        check_range(names[2], p.r, 0.0, f64::INFINITY)?;
+        check_range(names[3], p.phi_deg, f64::NEG_INFINITY, f64::INFINITY)
+    }
+
+    fn value(&self, p: &Point) -> Result<f64, CliError> {
         let (rho, scale) = match self.material {
             Some((rho, st)) => (rho, st),
-            None => {
-                check_range("rho", rho, 0.0, 1.0)?;
-                (rho, 1.0)
-            }
+            None => (p.rho, 1.0),
         };
-        check_range("theta", theta_deg, 0.0, 90.0)?;
-        check_range("r", r, 0.0, f64::INFINITY)?;
-        check_range("phi", phi_deg, f64::NEG_INFINITY, f64::INFINITY)?;
-        let (theta, phi, r_opt) = (theta_deg.to_radians(), phi_deg.to_radians(), r * scale);
+        let (theta, phi, r_opt) = (
+            p.theta_deg.to_radians(),
+            p.phi_deg.to_radians(),
+            p.r * scale,
+        );
         if let Some(kind) = self.model.zoo_kind() {
             let params =
                 bssrdf_zoo::models::Params::new(rho, self.boundary.eta(), self.boundary.moments())?;
@@ -157,78 +170,97 @@ impl Evaluator<'_> {
 /// Every model is handled above; kept as an error rather than a panic.
 fn unreachable_model(model: ModelName) -> Result<f64, CliError> {
     Err(CliError::input(format!(
-        "model {model:?} cannot be evaluated here"
+        "model {} cannot be evaluated here",
+        model_name(model)
     )))
+}
+
+/// The model's name as on the command line (`pbd-fast`).
+fn model_name(model: ModelName) -> String {
+    model
+        .to_possible_value()
+        .map_or_else(|| format!("{model:?}"), |v| v.get_name().to_string())
 }
 
 fn outside(rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
     let nodes = table.axes().rho().as_slice();
     CliError::input(format!(
-        "--rho {rho} is outside the albedo range this table keeps, [{}, {}]: the table is never extrapolated",
+        "rho {rho} is outside the albedo range this table keeps, [{}, {}]: the table is never extrapolated",
         nodes[0],
         nodes[nodes.len() - 1]
     ))
 }
 
+/// Refuses `value` outside [min, max] (and NaN and ±∞ always); `name` is how the input calls
+/// it (`--rho`, `column rho`).
 pub fn check_range(name: &str, value: f64, min: f64, max: f64) -> Result<(), CliError> {
-    if value.is_nan() || value < min || value > max || (value.is_infinite() && name != "r") {
-        return Err(CliError::input(format!(
-            "--{name} {value} is outside the valid range [{min}, {max}]"
-        )));
+    if value.is_finite() && value >= min && value <= max {
+        return Ok(());
     }
-    if value.is_infinite() {
-        return Err(CliError::input(format!("--{name} {value} must be finite")));
-    }
-    Ok(())
+    let domain = match (min.is_finite(), max.is_finite()) {
+        (false, false) => "any finite number".to_string(),
+        (true, false) => format!("a finite number >= {min}"),
+        _ => format!("[{min}, {max}]"),
+    };
+    Err(CliError::input(format!(
+        "{name} {} is outside the valid range: {domain}",
+        super::show(value)
+    )))
 }
 
 pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
-    let moments: Moments = args.fresnel_moments.into();
-    let rule = match args.quadrature {
-        QuadratureArg::Reference => Rule::Reference,
-        QuadratureArg::Fast => Rule::Fast,
-    };
     let model = args.model.unwrap_or(if args.file.is_some() {
         ModelName::Table
     } else {
         ModelName::Pbd
     });
+    if args.quadrature.is_some() && model != ModelName::Pbd {
+        return Err(CliError::input(format!(
+            "--quadrature applies to the pbd model only, not to {}",
+            model_name(model)
+        )));
+    }
+    let rule = match args.quadrature {
+        Some(QuadratureArg::Fast) => Rule::Fast,
+        Some(QuadratureArg::Reference) | None => Rule::Reference,
+    };
     let library = match &args.file {
-        Some(path) => Some(super::library::open(path)?),
+        Some(path) => Some(super::library::open(path, args.choice.mmap)?),
         None => None,
     };
     let chosen = match (&library, &args.file) {
         (Some(lib), Some(path)) => Some(args.choice.resolve(lib, path)?),
         _ => None,
     };
-    // Without a file, --material still works for pbd: ρ′, σ′t and η from the named library.
-    let named = match (&chosen, &args.choice.material) {
-        (None, Some(name)) => {
-            let lib = super::materials::library(args.choice.materials.as_deref())?;
-            let m = lib
-                .get(name)
-                .map_err(|e| CliError::input(e.to_string()))?
-                .clone();
-            Some(m)
-        }
-        _ => None,
+    // Without a file, --material still works for the analytic models: ρ′, σ′t and η from
+    // the named library.
+    let named = match &chosen {
+        None => args.choice.named_material()?,
+        Some(_) => None,
     };
     let table = match &chosen {
         Some(c) => Some(c.table.view().map_err(|e| CliError::input(e.to_string()))?),
         None => None,
     };
-    let (eta, material) = match (&chosen, &named) {
-        (Some(c), _) => (
-            table.as_ref().map_or(args.eta, |t| t.eta()),
-            c.material.as_ref().map(|(_, rho, st)| (*rho, *st)),
-        ),
-        (None, Some(m)) => {
+    let (eta, material) = match (&chosen, &named, &table) {
+        (Some(c), _, Some(t)) => (t.eta(), c.material.as_ref().map(|(_, rho, st)| (*rho, *st))),
+        (_, Some(m), _) => {
             let ch = m.channel(args.choice.channel.rgb());
             (m.eta(), Some((ch.rho_prime(), ch.sigma_t_prime())))
         }
-        (None, None) => (args.eta, None),
+        _ => (args.choice.eta.unwrap_or(1.33), None),
     };
-    let moments = chosen.as_ref().map_or(moments, |c| c.table.moments());
+    let moments = match (&chosen, args.fresnel_moments) {
+        (Some(c), Some(m)) if Moments::from(m) != c.table.moments() => {
+            return Err(CliError::input(format!(
+                "--fresnel-moments {} conflicts with the table, baked with {} moments",
+                moments_name(m.into()),
+                moments_name(c.table.moments())
+            )))
+        }
+        (Some(c), _) => c.table.moments(),
+        (None, m) => m.map_or(Moments::Exact, Moments::from),
+    };
     let evaluator = Evaluator {
         model,
         boundary: Boundary::new(eta, moments)?,
@@ -236,38 +268,63 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         table,
         material,
     };
+    let describe = |p: &Point, value: f64| {
+        serde_json::json!({
+            "model": model_name(model),
+            "eta": eta,
+            "fresnel_moments": moments_name(moments),
+            "quadrature": if model == ModelName::Pbd { Some(format!("{rule:?}").to_lowercase()) } else { None },
+            "rho": p.rho,
+            "theta_deg": p.theta_deg,
+            "r": p.r,
+            "r_unit": if material.is_some() { "mm" } else { "reduced mfp" },
+            "phi_deg": p.phi_deg,
+            "value": json_number(value),
+        })
+    };
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if let Some(path) = &args.points {
-        eval_points(&evaluator, path, &mut out)?;
+        let rows = super::points::read(path, material.map(|m| m.0))?;
+        let mut values = Vec::with_capacity(rows.points.len());
+        // Every row is checked and evaluated before anything is printed.
+        for (point, line) in rows.points.iter().zip(&rows.lines) {
+            let at = |e: CliError| CliError::input(format!("{}:{line}: {e}", rows.name));
+            evaluator.check(point, rows.column_names()).map_err(at)?;
+            values.push(evaluator.value(point).map_err(at)?);
+        }
+        if args.json {
+            for (p, &v) in rows.points.iter().zip(&values) {
+                writeln!(out, "{}", describe(p, v))?;
+            }
+        } else {
+            rows.write_with_values(&mut out, &values)?;
+        }
     } else {
         // clap guarantees these are present without --points (ρ′ may come from --material).
-        let (rho, theta, r) = (
-            material.map_or(args.rho.unwrap_or_default(), |m| m.0),
-            args.theta.unwrap_or_default(),
-            args.r.unwrap_or_default(),
-        );
-        let value = evaluator.value(rho, theta, r, args.phi)?;
+        let point = Point {
+            rho: material.map_or(args.rho.unwrap_or_default(), |m| m.0),
+            theta_deg: args.theta.unwrap_or_default(),
+            r: args.r.unwrap_or_default(),
+            phi_deg: args.phi,
+        };
+        evaluator.check(&point, ["--rho", "--theta", "--r", "--phi"])?;
+        let value = evaluator.value(&point)?;
         if args.json {
-            let json = serde_json::json!({
-                "model": format!("{model:?}").to_lowercase(),
-                "eta": eta,
-                "fresnel_moments": format!("{moments:?}").to_lowercase(),
-                "quadrature": format!("{rule:?}").to_lowercase(),
-                "rho": rho,
-                "theta_deg": theta,
-                "r": r,
-                "r_unit": if material.is_some() { "mm" } else { "reduced mfp" },
-                "phi_deg": args.phi,
-                "value": json_number(value),
-            });
-            writeln!(out, "{json}")?;
+            writeln!(out, "{}", describe(&point, value))?;
         } else {
             writeln!(out, "{value:e}")?;
         }
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+fn moments_name(m: Moments) -> &'static str {
+    match m {
+        Moments::Exact => "exact",
+        Moments::Pbrt => "pbrt",
+    }
 }
 
 /// JSON has no infinity: the documented +∞ limits are written as the string "inf".
@@ -277,53 +334,4 @@ fn json_number(v: f64) -> serde_json::Value {
     } else {
         serde_json::json!(v.to_string())
     }
-}
-
-const COLUMNS: [&str; 4] = ["rho", "theta_deg", "r", "phi_deg"];
-
-fn eval_points(evaluator: &Evaluator, path: &str, out: &mut impl Write) -> Result<(), CliError> {
-    let reader: Box<dyn BufRead> = if path == "-" {
-        Box::new(std::io::BufReader::new(std::io::stdin()))
-    } else {
-        let file = std::fs::File::open(path)
-            .map_err(|e| CliError::input(format!("cannot open points file {path:?}: {e}")))?;
-        Box::new(std::io::BufReader::new(file))
-    };
-    let mut lines = reader.lines().enumerate();
-    let header = match lines.next() {
-        Some((_, line)) => line?,
-        None => return Err(CliError::input(format!("points file {path:?} is empty"))),
-    };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let mut index = [0usize; 4];
-    for (slot, column) in index.iter_mut().zip(COLUMNS) {
-        *slot = names.iter().position(|n| *n == column).ok_or_else(|| {
-            CliError::input(format!(
-                "points file {path:?} has no column {column:?} (header must name rho,theta_deg,r,phi_deg)"
-            ))
-        })?;
-    }
-    writeln!(out, "rho,theta_deg,r,phi_deg,value")?;
-    for (number, line) in lines {
-        let line = line?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let mut v = [0.0f64; 4];
-        for ((slot, &i), column) in v.iter_mut().zip(&index).zip(COLUMNS) {
-            let text = fields.get(i).copied().unwrap_or("");
-            *slot = text.parse().map_err(|_| {
-                CliError::input(format!(
-                    "{path}:{}: column {column} = {text:?} is not a number",
-                    number + 1
-                ))
-            })?;
-        }
-        let value = evaluator
-            .value(v[0], v[1], v[2], v[3])
-            .map_err(|e| CliError::input(format!("{path}:{}: {e}", number + 1)))?;
-        writeln!(out, "{},{},{},{},{value:e}", v[0], v[1], v[2], v[3])?;
-    }
-    Ok(())
 }

@@ -1,16 +1,32 @@
 //! Opening library files and choosing a table in them, shared by eval, sample and validate.
 
 use super::CliError;
-use bssrdf_zoo::format::{Library, Verify};
+use bssrdf_zoo::format::{FormatError, Library, Verify};
 use bssrdf_zoo::materials::{Material, Rgb};
 use bssrdf_zoo::table::FileTable;
 use clap::{Args, ValueEnum};
 use std::path::{Path, PathBuf};
 
-/// Opens a library file (mapped, every checksum verified); errors name the file.
-pub fn open(path: &Path) -> Result<Library, CliError> {
-    Library::open_mmap(path, Verify::Full)
-        .map_err(|e| CliError::input(format!("cannot open table file {}: {e}", path.display())))
+/// Opens a library file, every checksum verified; errors name the file. The file is read into
+/// memory, so that another process rewriting it cannot hurt this one; `mmap` maps it instead
+/// (faster to open, but a file truncated underneath kills the process with SIGBUS).
+pub fn open(path: &Path, mmap: bool) -> Result<Library, CliError> {
+    if path.is_dir() {
+        return Err(CliError::input(format!(
+            "{} is a folder, not a library file",
+            path.display()
+        )));
+    }
+    let opened = if mmap {
+        Library::open_mmap(path, Verify::Full)
+    } else {
+        Library::read(path, Verify::Full)
+    };
+    opened.map_err(|e| match e {
+        // These already name the file.
+        FormatError::Io { .. } => CliError::input(e.to_string()),
+        _ => CliError::input(format!("{}: {e}", path.display())),
+    })
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -33,10 +49,15 @@ impl Channel {
 /// Which table of a file to use, and optionally the material whose channel selects it.
 #[derive(Debug, Args)]
 pub struct TableChoice {
-    /// Index of the table in the file (default: the material's, or the first).
+    /// Index of the table in the file (default: the one of --eta or of the material, or the
+    /// first).
     #[arg(long)]
     pub table: Option<usize>,
-    /// A material of the library: ρ′ and σ′t come from it, distances are in mm.
+    /// Relative index of refraction η, > 0: selects the file's table with this η (refused when
+    /// the file has none); without a file, the medium's η (default 1.33).
+    #[arg(long, allow_hyphen_values = true)]
+    pub eta: Option<f64>,
+    /// A material of the library: ρ′, σ′t and η come from it, distances are in mm.
     #[arg(long)]
     pub material: Option<String>,
     /// The material's colour channel.
@@ -45,6 +66,10 @@ pub struct TableChoice {
     /// Extra material files (TOML file or folder) for --material.
     #[arg(long, value_name = "PATH")]
     pub materials: Option<PathBuf>,
+    /// Map the library file instead of reading it into memory (faster to open; a file
+    /// rewritten meanwhile kills the process with SIGBUS).
+    #[arg(long)]
+    pub mmap: bool,
 }
 
 /// What a lookup needs from the choice: the table, and for a material its channel's ρ′ and σ′t.
@@ -53,8 +78,59 @@ pub struct Chosen<'a> {
     pub material: Option<(Material, f64, f64)>,
 }
 
+/// Whether two η agree to the precision files and material lists give them.
+fn same_eta(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+}
+
+/// The file's tables as "1.3 (table 0), 1.33 (table 1)".
+fn list_etas(library: &Library) -> String {
+    library
+        .tables()
+        .enumerate()
+        .map(|(i, t)| format!("{} (table {i})", t.eta()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 impl TableChoice {
+    /// Checks --eta alone (its domain), for commands that may run without a file.
+    pub fn check_eta(&self) -> Result<(), CliError> {
+        match self.eta {
+            Some(eta) if !(eta.is_finite() && eta > 0.0) => Err(CliError::input(format!(
+                "--eta {eta} is outside the valid range: a finite number > 0"
+            ))),
+            _ => Ok(()),
+        }
+    }
+
+    /// The material named by --material without a file (η, ρ′ and σ′t from the library);
+    /// --eta must agree with it.
+    pub fn named_material(&self) -> Result<Option<Material>, CliError> {
+        self.check_eta()?;
+        let Some(name) = &self.material else {
+            return Ok(None);
+        };
+        let lib = super::materials::library(self.materials.as_deref())?;
+        let m = lib
+            .get(name)
+            .map_err(|e| CliError::input(e.to_string()))?
+            .clone();
+        if let Some(eta) = self.eta.filter(|&e| !same_eta(e, m.eta())) {
+            return Err(CliError::input(format!(
+                "--eta {eta} conflicts with --material {name}, whose eta is {}: give one or the other",
+                m.eta()
+            )));
+        }
+        Ok(Some(m))
+    }
+
+    /// Chooses the table of `library` (read from `path`): --table, else the table of --eta or
+    /// of the material, else the first. Inputs that disagree (--eta against the material's η or
+    /// --table's η) are refused with a message naming both.
     pub fn resolve<'a>(&self, library: &'a Library, path: &Path) -> Result<Chosen<'a>, CliError> {
+        self.check_eta()?;
+        let file = path.display();
         let material = match &self.material {
             None => None,
             Some(name) => {
@@ -73,13 +149,13 @@ impl TableChoice {
                         .clone();
                     let index = library
                         .tables()
-                        .position(|t| t.eta() == m.eta())
+                        .position(|t| same_eta(t.eta(), m.eta()))
                         .ok_or_else(|| {
                             CliError::input(format!(
-                                "{} has no table for material {:?} (eta = {}); bake one with `bssrdf bake {}`",
-                                path.display(),
+                                "{file} has no table for material {:?} (eta = {}); its tables: {}; bake one with `bssrdf bake {}`",
                                 m.id(),
                                 m.eta(),
+                                list_etas(library),
                                 m.id()
                             ))
                         })?;
@@ -87,17 +163,53 @@ impl TableChoice {
                 }
             }
         };
+        if let (Some(eta), Some((m, _))) = (self.eta, &material) {
+            if !same_eta(eta, m.eta()) {
+                return Err(CliError::input(format!(
+                    "--eta {eta} conflicts with --material {}, whose eta is {}: give one or the other",
+                    m.id(),
+                    m.eta()
+                )));
+            }
+        }
+        let by_eta = match (self.eta, &material) {
+            (Some(eta), None) if self.table.is_none() => Some(
+                library
+                    .tables()
+                    .position(|t| same_eta(t.eta(), eta))
+                    .ok_or_else(|| {
+                        CliError::input(format!(
+                            "--eta {eta}: {file} has no table at this eta; its tables: {}",
+                            list_etas(library)
+                        ))
+                    })?,
+            ),
+            _ => None,
+        };
         let index = self
             .table
+            .or(by_eta)
             .or(material.as_ref().map(|(_, i)| *i))
             .unwrap_or(0);
         let record = library.table(index).ok_or_else(|| {
             CliError::input(format!(
-                "--table {index}: {} holds {} table(s)",
-                path.display(),
+                "--table {index}: {file} holds {} table(s)",
                 library.table_count()
             ))
         })?;
+        if let Some(table) = self.table {
+            let held = record.eta();
+            let wanted = match (&material, self.eta) {
+                (Some((m, _)), _) => Some((format!("--material {}", m.id()), m.eta())),
+                (None, Some(eta)) => Some((format!("--eta {eta}"), eta)),
+                (None, None) => None,
+            };
+            if let Some((what, eta)) = wanted.filter(|(_, eta)| !same_eta(*eta, held)) {
+                return Err(CliError::input(format!(
+                    "--table {table} holds eta {held}, but {what} has eta {eta}: give one or the other"
+                )));
+            }
+        }
         let table = FileTable::new(record).map_err(|e| CliError::input(e.to_string()))?;
         let material = material.map(|(m, _)| {
             let ch = m.channel(self.channel.rgb());

@@ -10,6 +10,8 @@ mod library;
 mod materials;
 mod output;
 mod pack;
+mod points;
+mod progress;
 mod render;
 mod sample;
 mod validate;
@@ -88,6 +90,16 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Completions(args) => completions::completions(args),
         Command::Man(args) => completions::man(args),
         Command::Render(args) => render::run(args),
+    }
+}
+
+/// A number as people write it: shortest round-trip form, exponent notation when it is very
+/// large or very small (1e308, not 309 digits).
+pub fn show(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-5..1e16).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
     }
 }
 

@@ -1,5 +1,7 @@
 //! `bssrdf sample FILE`: draws (r, φ) from a table for one (ρ′, θ), or the path-tracing
-//! quadruple (θ, r, φ, φ′), as CSV on stdout.
+//! quadruple (θ, r, φ, φ′), as CSV on stdout. The columns are those `eval --points` reads
+//! (`rho,theta_deg,r,phi_deg,pdf`, `r_mm` with --material, `phi_prime_deg` before `pdf` with
+//! --path-tracing), so `bssrdf sample FILE … | bssrdf eval FILE --points -` works.
 
 use super::library::{self, TableChoice};
 use super::CliError;
@@ -13,12 +15,18 @@ use std::process::ExitCode;
 pub struct SampleArgs {
     /// Library file.
     file: PathBuf,
-    /// Reduced albedo ρ′ (or from --material).
-    #[arg(long, required_unless_present = "material")]
+    /// Reduced albedo ρ′ in [0, 1] (not with --material, which gives it).
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        conflicts_with = "material",
+        required_unless_present = "material"
+    )]
     rho: Option<f64>,
-    /// Incidence θ in degrees (not with --path-tracing, which samples θ).
-    #[arg(long, default_value_t = 0.0)]
-    theta: f64,
+    /// Incidence θ in degrees, in [0, 90] [default: 0] (not with --path-tracing, which samples
+    /// θ).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "path_tracing")]
+    theta: Option<f64>,
     /// Number of samples.
     #[arg(short = 'n', long, default_value_t = 1000)]
     count: u64,
@@ -33,7 +41,7 @@ pub struct SampleArgs {
 }
 
 pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
-    let library = library::open(&args.file)?;
+    let library = library::open(&args.file, args.choice.mmap)?;
     let chosen = args.choice.resolve(&library, &args.file)?;
     let view = chosen
         .table
@@ -43,15 +51,16 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
         Some((_, rho, st)) => (*rho, *st),
         None => (args.rho.unwrap_or_default(), 1.0),
     };
-    super::eval::check_range("rho", rho, 0.0, 1.0)?;
-    super::eval::check_range("theta", args.theta, 0.0, 90.0)?;
+    super::eval::check_range("--rho", rho, 0.0, 1.0)?;
+    let theta_deg = args.theta.unwrap_or(0.0);
+    super::eval::check_range("--theta", theta_deg, 0.0, 90.0)?;
     let mut rng = SplitMix64::new(args.seed);
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    let unit = if chosen.material.is_some() {
-        "mm"
+    let r_column = if chosen.material.is_some() {
+        "r_mm"
     } else {
-        "mfp"
+        "r"
     };
     if args.path_tracing {
         if !view.has_theta_sampling() {
@@ -60,7 +69,7 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
                 args.file.display()
             )));
         }
-        writeln!(out, "theta_deg,r_{unit},phi_deg,phi_prime_deg,pdf")?;
+        writeln!(out, "rho,theta_deg,{r_column},phi_deg,phi_prime_deg,pdf")?;
         for _ in 0..args.count {
             let u = [
                 rng.next_f64(),
@@ -71,7 +80,7 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
             match view.sample_path(rho, u) {
                 Some(s) => writeln!(
                     out,
-                    "{},{},{},{},{:e}",
+                    "{rho},{},{},{},{},{:e}",
                     s.theta.to_degrees(),
                     s.r / scale,
                     s.phi.to_degrees(),
@@ -82,20 +91,20 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
             }
         }
     } else {
-        let theta = args.theta.to_radians();
+        let theta = theta_deg.to_radians();
         view.effective_albedo(rho, theta)
             .ok_or_else(|| outside(rho, &view))?;
-        writeln!(out, "r_{unit},phi_deg,pdf")?;
+        writeln!(out, "rho,theta_deg,{r_column},phi_deg,pdf")?;
         for _ in 0..args.count {
             match view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
                 Some(s) => writeln!(
                     out,
-                    "{},{},{:e}",
+                    "{rho},{theta_deg},{},{},{:e}",
                     s.r / scale,
                     s.phi.to_degrees(),
                     s.pdf_area * scale * scale
                 )?,
-                None => return no_sample(rho, Some(args.theta)),
+                None => return no_sample(rho, Some(theta_deg)),
             }
         }
     }
