@@ -186,3 +186,384 @@ fn outputs_never_overwrite_inputs_or_each_other() {
     );
     assert_eq!(std::fs::read_to_string(d.join("s.toml")).unwrap(), scene);
 }
+
+// ---- validate: a case without points is skipped, a run that checked nothing fails ----
+
+/// Bakes `scene` (TOML) on the coarse grid into `s.bssrdf` in a fresh folder.
+fn scene_bake(scene: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.toml"), scene).unwrap();
+    ok(&bssrdf(
+        dir.path(),
+        &[
+            "bake", "--scene", "s.toml", "--grid", "coarse", "-q", "-o", "s.bssrdf",
+        ],
+    ));
+    dir
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    serde_json::from_str(&ok(o)).expect("stdout is JSON")
+}
+
+#[test]
+fn validate_skips_cases_without_points_and_nothing_checked_is_no_pass() {
+    // Rows around ρ′ 0.85..0.97 only: of table 2's ρ′ 0.5, 0.9, 0.99, only 0.9 is kept.
+    let dir = scene_bake(
+        "integrator = \"path\"\n[[material]]\nname = \"skin1\"\nalbedo_range = [[0.85, 0.97], [0.85, 0.97], [0.85, 0.97]]\n",
+    );
+    let d = dir.path();
+    let args = [
+        "validate",
+        "s.bssrdf",
+        "--samples",
+        "300",
+        "--max-mean-error",
+        "100",
+    ];
+    let text_run = ok(&bssrdf(d, &args));
+    assert_eq!(
+        text_run.matches("skipped: rho outside").count(),
+        6,
+        "{text_run}"
+    );
+    assert!(text_run.contains("3 case(s) checked, 0 failed, 6 skipped: pass"));
+    let report = json(&bssrdf(d, &[&args[..], &["--json"]].concat()));
+    assert_eq!(report["pass"], true);
+    assert_eq!(
+        (report["checked"].as_u64(), report["skipped"].as_u64()),
+        (Some(3), Some(6))
+    );
+    for row in report["rows"].as_array().unwrap() {
+        let skipped = row["rho"] != 0.9;
+        assert_eq!(
+            row["status"],
+            if skipped { "skipped" } else { "ok" },
+            "{row}"
+        );
+        assert_eq!(row["mean_rel_error"].is_null(), skipped, "{row}");
+    }
+
+    // Rows around 0.25..0.3: no case of table 2 can be checked.
+    let dir = scene_bake(
+        "integrator = \"path\"\n[[material]]\nname = \"skin1\"\nalbedo_range = [[0.25, 0.3], [0.25, 0.3], [0.25, 0.3]]\n",
+    );
+    let o = bssrdf(dir.path(), &args);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    assert!(text(&o.stdout).contains("not a pass: no case could be checked"));
+    let o = bssrdf(dir.path(), &[&args[..], &["--json"]].concat());
+    assert_eq!(o.status.code(), Some(1));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(
+        (report["pass"].as_bool(), report["checked"].as_u64()),
+        (Some(false), Some(0))
+    );
+}
+
+#[test]
+fn validate_refuses_values_outside_their_domain() {
+    let dir = bare();
+    for (value, needle) in [
+        ("nan", "--max-mean-error NaN"),
+        ("-1", "--max-mean-error -1"),
+    ] {
+        fails_with(
+            &bssrdf(
+                dir.path(),
+                &["validate", "t.bssrdf", "--max-mean-error", value],
+            ),
+            2,
+            needle,
+        );
+    }
+    fails_with(
+        &bssrdf(dir.path(), &["validate", "t.bssrdf", "--samples", "0"]),
+        2,
+        "--samples 0",
+    );
+}
+
+// ---- Tables chosen by η, conflicting inputs refused ----
+
+/// white-grapefruit-juice (η 1.33, table 1) and skin1 (η 1.3, table 0), coarse.
+fn two() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    ok(&bssrdf(
+        dir.path(),
+        &[
+            "bake",
+            "white-grapefruit-juice",
+            "skin1",
+            "--grid",
+            "coarse",
+            "-q",
+            "-o",
+            "two.bssrdf",
+        ],
+    ));
+    dir
+}
+
+#[test]
+fn eta_selects_the_table_or_is_refused() {
+    let dir = two();
+    let d = dir.path();
+    let point = ["--rho", "0.5", "--theta", "30", "--r", "1"];
+    let value = |extra: &[&str]| -> String {
+        ok(&bssrdf(
+            d,
+            &[&["eval", "two.bssrdf"][..], extra, &point].concat(),
+        ))
+    };
+    assert_eq!(value(&["--eta", "1.3"]), value(&["--table", "0"]));
+    assert_eq!(value(&["--eta", "1.33"]), value(&["--table", "1"]));
+    assert_ne!(value(&["--eta", "1.3"]), value(&["--eta", "1.33"]));
+    // Every model: the table of that η, or a refusal naming the file's η.
+    for model in ["table", "pbd", "dipole"] {
+        fails_with(
+            &bssrdf(
+                d,
+                &[&["eval", "two.bssrdf", "--model", model, "--eta", "2.0"][..], &point].concat(),
+            ),
+            2,
+            "--eta 2: two.bssrdf has no table at this eta; its tables: 1.3 (table 0), 1.33 (table 1)",
+        );
+    }
+    for args in [
+        &["sample", "two.bssrdf", "--rho", "0.5", "--eta", "1.5"][..],
+        &["validate", "two.bssrdf", "--eta", "1.5"],
+    ] {
+        fails_with(&bssrdf(d, args), 2, "has no table at this eta");
+    }
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                &["eval", "two.bssrdf", "--eta", "1.3", "--table", "1"][..],
+                &point,
+            ]
+            .concat(),
+        ),
+        2,
+        "--table 1 holds eta 1.33, not --eta 1.3",
+    );
+    let pbd_json = json(&bssrdf(
+        d,
+        &[
+            &[
+                "eval",
+                "two.bssrdf",
+                "--model",
+                "pbd",
+                "--eta",
+                "1.3",
+                "--json",
+            ][..],
+            &point,
+        ]
+        .concat(),
+    ));
+    assert_eq!(pbd_json["eta"], 1.3);
+}
+
+#[test]
+fn conflicting_inputs_are_refused_naming_both() {
+    let dir = two();
+    let d = dir.path();
+    let at = ["--theta", "30", "--r", "1"];
+    let eval = |extra: &[&str]| bssrdf(d, &[&["eval", "two.bssrdf"][..], extra, &at].concat());
+    let o = eval(&["--material", "skin1", "--rho", "0.5"]);
+    fails_with(&o, 2, "--material");
+    fails_with(&o, 2, "--rho");
+    let o = bssrdf(
+        d,
+        &[
+            "sample",
+            "two.bssrdf",
+            "--material",
+            "skin1",
+            "--rho",
+            "0.5",
+        ],
+    );
+    fails_with(&o, 2, "--rho");
+    fails_with(
+        &eval(&["--material", "skin1", "--table", "1"]),
+        2,
+        "--table 1 holds eta 1.33, but --material skin1 has eta 1.3",
+    );
+    fails_with(
+        &eval(&["--material", "skin1", "--eta", "1.33"]),
+        2,
+        "--eta 1.33 conflicts with --material skin1, whose eta is 1.3",
+    );
+    fails_with(
+        &eval(&["--fresnel-moments", "pbrt", "--rho", "0.5"]),
+        2,
+        "--fresnel-moments pbrt conflicts with the table, baked with exact moments",
+    );
+    fails_with(
+        &eval(&["--quadrature", "fast", "--rho", "0.5"]),
+        2,
+        "--quadrature applies to the pbd model only",
+    );
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "sample",
+                "two.bssrdf",
+                "--rho",
+                "0.5",
+                "--path-tracing",
+                "--theta",
+                "30",
+            ],
+        ),
+        2,
+        "--theta",
+    );
+    // A points file whose ρ′ is not the material's.
+    let o = with_stdin(
+        d,
+        &["eval", "two.bssrdf", "--material", "skin1", "--points", "-"],
+        "rho,theta_deg,r_mm,phi_deg\n0.5,0,1,0\n",
+    );
+    fails_with(&o, 2, "stdin:2: column rho = 0.5 conflicts with --material");
+    assert!(o.stdout.is_empty());
+    let o = with_stdin(
+        d,
+        &["eval", "two.bssrdf", "--material", "skin1", "--points", "-"],
+        "theta_deg,r,phi_deg\n0,1,0\n",
+    );
+    fails_with(&o, 2, "name the column r_mm, not r");
+}
+
+// ---- One set of CSV columns: sample | eval ----
+
+#[test]
+fn sample_output_feeds_eval_points() {
+    let dir = two();
+    let d = dir.path();
+    for (sample, eval) in [
+        (
+            vec![
+                "sample",
+                "two.bssrdf",
+                "--rho",
+                "0.9",
+                "--theta",
+                "30",
+                "-n",
+                "5",
+            ],
+            vec!["eval", "two.bssrdf", "--points", "-"],
+        ),
+        (
+            vec![
+                "sample",
+                "two.bssrdf",
+                "--rho",
+                "0.9",
+                "--path-tracing",
+                "-n",
+                "5",
+            ],
+            vec!["eval", "two.bssrdf", "--points", "-"],
+        ),
+        (
+            vec![
+                "sample",
+                "two.bssrdf",
+                "--material",
+                "skin1",
+                "--channel",
+                "g",
+                "-n",
+                "5",
+            ],
+            vec![
+                "eval",
+                "two.bssrdf",
+                "--material",
+                "skin1",
+                "--channel",
+                "g",
+                "--points",
+                "-",
+            ],
+        ),
+    ] {
+        let samples = ok(&bssrdf(d, &sample));
+        let o = with_stdin(d, &eval, &samples);
+        let out = ok(&o);
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.len(), 6, "{out}");
+        assert_eq!(
+            lines[0],
+            format!("{},value", samples.lines().next().unwrap())
+        );
+        for (row, sampled) in lines[1..].iter().zip(samples.lines().skip(1)) {
+            assert!(row.starts_with(sampled), "{row} does not copy {sampled}");
+            let value: f64 = row.rsplit(',').next().unwrap().parse().unwrap();
+            assert!(value > 0.0, "{row}");
+        }
+        // The same rows as JSON lines.
+        let o = with_stdin(d, &[&eval[..], &["--json"]].concat(), &samples);
+        let lines: Vec<serde_json::Value> = ok(&o)
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(lines.len(), 5);
+        assert!(lines.iter().all(|j| j["value"].as_f64().unwrap() > 0.0));
+    }
+}
+
+#[test]
+fn points_files_are_read_whole_and_checked_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let eval = ["eval", "--points", "-", "--quadrature", "fast"];
+    // A UTF-8 byte-order mark and quoted fields are fine.
+    let out = ok(&with_stdin(
+        d,
+        &eval,
+        "\u{feff}rho,theta_deg,r,phi_deg\n\"0.9\",0,1,0\n",
+    ));
+    assert!(
+        out.starts_with("rho,theta_deg,r,phi_deg,value\n0.9,0,1,0,"),
+        "{out}"
+    );
+    // A bad row after good ones: nothing printed, the error names line and column.
+    let o = with_stdin(d, &eval, "rho,theta_deg,r,phi_deg\n0.9,0,1,0\n0.9,95,1,0\n");
+    fails_with(
+        &o,
+        2,
+        "stdin:3: column theta_deg 95 is outside the valid range: [0, 90]",
+    );
+    assert!(o.stdout.is_empty());
+    for (input, needle) in [
+        (
+            "rho,theta_deg,r,phi_deg,rho\n0.9,0,1,0,0.9\n",
+            "column \"rho\" appears twice",
+        ),
+        (
+            "rho,theta_deg,r,phi_deg,value\n0.9,0,1,0,1\n",
+            "column \"value\" is the one eval writes",
+        ),
+        (
+            "rho,theta_deg,r_mm,phi_deg\n0.9,0,1,0\n",
+            "column r_mm is in mm, which needs --material",
+        ),
+        ("rho,theta_deg,r,phi_deg\n0.9,0,1\n", "points file stdin"),
+        ("", "is empty"),
+    ] {
+        fails_with(&with_stdin(d, &eval, input), 2, needle);
+    }
+    std::fs::create_dir(d.join("pts")).unwrap();
+    fails_with(
+        &bssrdf(d, &["eval", "--points", "pts"]),
+        2,
+        "points file pts is a folder",
+    );
+}

@@ -89,7 +89,7 @@ pub struct BakeArgs {
     /// Extra material files (TOML file or folder).
     #[arg(long, value_name = "PATH")]
     pub(super) materials: Option<PathBuf>,
-    /// Threads (default: all cores); the result is identical on any count.
+    /// Threads, in [1, 1024] (default: all cores); the result is identical on any count.
     #[arg(long)]
     threads: Option<usize>,
     /// No progress bar or messages on stderr (the bar only ever shows on a terminal).
@@ -389,9 +389,7 @@ pub(super) fn record(m: &Material, source: &str, table: u32) -> format::Material
 }
 
 pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
-    if args.threads == Some(0) {
-        return Err(CliError::input("--threads 0: at least one thread"));
-    }
+    super::check_threads(args.threads)?;
     let mut baker = Baker::new(&args);
     if let Some(scene) = &args.scene {
         return super::bake_scene::run(&args, &mut baker, scene);

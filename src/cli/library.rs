@@ -199,15 +199,19 @@ impl TableChoice {
         })?;
         if let Some(table) = self.table {
             let held = record.eta();
-            let wanted = match (&material, self.eta) {
-                (Some((m, _)), _) => Some((format!("--material {}", m.id()), m.eta())),
-                (None, Some(eta)) => Some((format!("--eta {eta}"), eta)),
-                (None, None) => None,
+            let conflict = match (&material, self.eta) {
+                (Some((m, _)), _) if !same_eta(m.eta(), held) => Some(format!(
+                    "--table {table} holds eta {held}, but --material {} has eta {}",
+                    m.id(),
+                    m.eta()
+                )),
+                (None, Some(eta)) if !same_eta(eta, held) => {
+                    Some(format!("--table {table} holds eta {held}, not --eta {eta}"))
+                }
+                _ => None,
             };
-            if let Some((what, eta)) = wanted.filter(|(_, eta)| !same_eta(*eta, held)) {
-                return Err(CliError::input(format!(
-                    "--table {table} holds eta {held}, but {what} has eta {eta}: give one or the other"
-                )));
+            if let Some(message) = conflict {
+                return Err(CliError::input(format!("{message}: give one or the other")));
             }
         }
         let table = FileTable::new(record).map_err(|e| CliError::input(e.to_string()))?;

@@ -36,10 +36,12 @@ pub struct Cli {
     command: Command,
 }
 
+/// Every command takes negative numbers as values (`--g -0.5`, `--level -3`).
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Bake angular tables for named materials, coefficients, a scene manifest (--scene) or a
     /// bare η into a library file.
+    #[command(allow_negative_numbers = true)]
     Bake(bake::BakeArgs),
     /// Evaluate a model at one point or at every row of a CSV file.
     #[command(allow_negative_numbers = true)]
@@ -48,25 +50,35 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Sample(sample::SampleArgs),
     /// Run the accuracy protocol on a table: error against run time.
+    #[command(allow_negative_numbers = true)]
     Validate(validate::ValidateArgs),
     /// Show a library file: version, sections and checksums, tables, materials, provenance.
+    #[command(allow_negative_numbers = true)]
     Inspect(inspect::InspectArgs),
     /// Compress a library file with zstd for distribution (lossless).
+    #[command(allow_negative_numbers = true)]
     Pack(pack::PackArgs),
     /// Decompress a library file into its mappable form (lossless).
-    Unpack(pack::PackArgs),
+    #[command(allow_negative_numbers = true)]
+    Unpack(pack::UnpackArgs),
     /// List the named-material library.
+    #[command(allow_negative_numbers = true)]
     Materials(materials::MaterialsArgs),
     /// Run the Monte Carlo random walk alone (the ground truth).
+    #[command(allow_negative_numbers = true)]
     Walk(walk::WalkArgs),
     /// Compare every model with the Monte Carlo walk: error against run time.
+    #[command(allow_negative_numbers = true)]
     Zoo(zoo::ZooArgs),
     /// Compare two library files: metadata, and every section's differences per table (exit 1
     /// when they differ beyond the tolerance).
+    #[command(allow_negative_numbers = true)]
     Diff(diff::DiffArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    #[command(allow_negative_numbers = true)]
     Completions(completions::CompletionsArgs),
     /// Print the man page (roff) on stdout, or write one page per command with --dir.
+    #[command(allow_negative_numbers = true)]
     Man(completions::ManArgs),
     /// Picture a beam entering a slab (EXR + PNG), or the difference of two pictures.
     #[command(allow_negative_numbers = true)]
@@ -81,8 +93,8 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Sample(args) => sample::run(args),
         Command::Validate(args) => validate::run(args),
         Command::Inspect(args) => inspect::run(args),
-        Command::Pack(args) => pack::run(args, true),
-        Command::Unpack(args) => pack::run(args, false),
+        Command::Pack(args) => pack::pack(args),
+        Command::Unpack(args) => pack::unpack(args),
         Command::Materials(args) => materials::run(args),
         Command::Walk(args) => walk::run(args),
         Command::Zoo(args) => zoo::run(args),
@@ -103,19 +115,36 @@ pub fn show(v: f64) -> String {
     }
 }
 
-/// Runs `f` on a pool of `threads` threads, or on the global pool when `None`.
+/// Most threads a --threads may ask for: far more than any machine this runs on has cores,
+/// and few enough that spawning them cannot exhaust the system.
+pub const MAX_THREADS: usize = 1024;
+
+/// Runs `f` on a pool of `threads` threads, or on the global pool when `None`. --threads is a
+/// whole number in [1, MAX_THREADS].
 pub fn with_threads<T: Send>(
     threads: Option<usize>,
     f: impl FnOnce() -> T + Send,
 ) -> Result<T, CliError> {
     match threads {
         None => Ok(f()),
-        Some(0) => Err(CliError::input("--threads 0: at least one thread")),
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map(|pool| pool.install(f))
-            .map_err(|e| CliError::input(format!("--threads {n}: {e}"))),
+        Some(n) => {
+            check_threads(Some(n))?;
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map(|pool| pool.install(f))
+                .map_err(|e| CliError::input(format!("--threads {n}: {e}")))
+        }
+    }
+}
+
+/// Refuses a --threads outside [1, MAX_THREADS] before any work.
+pub fn check_threads(threads: Option<usize>) -> Result<(), CliError> {
+    match threads {
+        Some(n) if !(1..=MAX_THREADS).contains(&n) => Err(CliError::input(format!(
+            "--threads {n} is outside the valid range: [1, {MAX_THREADS}]"
+        ))),
+        _ => Ok(()),
     }
 }
 

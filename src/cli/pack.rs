@@ -9,22 +9,37 @@ use std::process::ExitCode;
 
 #[derive(Debug, Args)]
 pub struct PackArgs {
-    /// Library file to convert.
-    file: PathBuf,
-    /// Output (default: rewrite FILE in place, atomically).
-    #[arg(short, long)]
-    output: Option<PathBuf>,
-    /// zstd level (pack only).
+    #[command(flatten)]
+    files: UnpackArgs,
+    /// zstd level, in zstd's range (1..=22, and its fast negative levels down to -131072).
     #[arg(long, default_value_t = Compression::DEFAULT_ZSTD_LEVEL)]
     level: i32,
 }
 
-pub fn run(args: PackArgs, compress: bool) -> Result<ExitCode, CliError> {
+#[derive(Debug, Args)]
+pub struct UnpackArgs {
+    /// Library file to convert.
+    file: PathBuf,
+    /// Output (default: rewrite FILE in place, atomically; a link is followed, the file's
+    /// permissions kept).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+pub fn pack(args: PackArgs) -> Result<ExitCode, CliError> {
+    convert(&args.files, Some(args.level))
+}
+
+pub fn unpack(args: UnpackArgs) -> Result<ExitCode, CliError> {
+    convert(&args, None)
+}
+
+/// Packs at `level`, or unpacks without one.
+fn convert(args: &UnpackArgs, level: Option<i32>) -> Result<ExitCode, CliError> {
     let output = args.output.clone().unwrap_or_else(|| args.file.clone());
-    let done = if compress {
-        format::pack(&args.file, &output, args.level)
-    } else {
-        format::unpack(&args.file, &output)
+    let done = match level {
+        Some(level) => format::pack(&args.file, &output, level),
+        None => format::unpack(&args.file, &output),
     }
     .map_err(|e| CliError::input(format!("{}: {e}", args.file.display())))?;
     eprintln!(

@@ -127,7 +127,7 @@ pub struct RenderArgs {
     /// Decades of exitance below the brightest pixel that the PNG preview shows (log scale).
     #[arg(long, default_value_t = render::png::DECADES)]
     decades: f64,
-    /// Threads (default: all cores).
+    /// Threads, in [1, 1024] (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
     /// No progress bar.

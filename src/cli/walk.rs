@@ -23,7 +23,7 @@ pub struct WalkArgs {
     /// Incidence angle θ before refraction, degrees in [0, 90).
     #[arg(long, default_value_t = 0.0)]
     theta: f64,
-    /// Number of photons entering the medium.
+    /// Number of photons entering the medium, ≥ 2 (a standard error needs two).
     #[arg(long, default_value_t = 1_000_000)]
     photons: u64,
     /// Seed of the per-photon random streams (results do not depend on the thread count).
@@ -32,23 +32,40 @@ pub struct WalkArgs {
     /// A slab of this optical thickness instead of a half-space.
     #[arg(long, value_name = "TAU")]
     slab: Option<f64>,
-    /// Bins of the profile: r_min,r_max,radial_bins,phi_bins (mean free paths).
-    #[arg(
-        long,
-        value_name = "R_MIN,R_MAX,NR,NPHI",
-        value_delimiter = ',',
-        num_args = 4
-    )]
-    bins: Option<Vec<f64>>,
+    /// Bins of the profile: r_min,r_max in mean free paths (0 < r_min < r_max), then the
+    /// radial and φ bin counts, whole numbers in [1, 1e6].
+    #[arg(long, value_name = "R_MIN,R_MAX,NR,NPHI", value_parser = parse_bins)]
+    bins: Option<[f64; 4]>,
     /// Write the binned exitance R(r, φ) with standard errors to this CSV file.
     #[arg(long, value_name = "OUT.csv")]
     profile: Option<PathBuf>,
-    /// Threads (default: all cores).
+    /// Threads, in [1, 1024] (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
     /// One JSON object instead of the summary.
     #[arg(long)]
     json: bool,
+    /// No progress bar (it only ever shows on a terminal).
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+/// Parses "R_MIN,R_MAX,NR,NPHI": exactly four comma-separated numbers.
+fn parse_bins(text: &str) -> Result<[f64; 4], String> {
+    let values = text
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("{:?} is not a number", t.trim()))
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    <[f64; 4]>::try_from(values.as_slice()).map_err(|_| {
+        format!(
+            "expected 4 comma-separated numbers R_MIN,R_MAX,NR,NPHI, got {}",
+            values.len()
+        )
+    })
 }
 
 pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
@@ -58,13 +75,19 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
             args.theta
         )));
     }
+    if args.photons < 2 {
+        return Err(CliError::input(format!(
+            "--photons {} is outside the valid range: at least 2 (a standard error needs two)",
+            args.photons
+        )));
+    }
     let mut config = Config::new(args.albedo, args.g, args.eta, args.theta.to_radians());
     config.photons = args.photons;
     config.seed = args.seed;
     if let Some(tau) = args.slab {
         config.geometry = Geometry::Slab { thickness: tau };
     }
-    if let Some(b) = &args.bins {
+    if let Some(b) = args.bins {
         let count = |v: f64, name: &str| {
             if v.fract() == 0.0 && (1.0..=1e6).contains(&v) {
                 Ok(v as usize)
@@ -83,7 +106,12 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     }
     config.validate()?;
     let start = Instant::now();
-    let result = super::with_threads(args.threads, || walk::run(&config))??;
+    let bar = super::progress::bar(config.photons, "photons", args.quiet);
+    bar.set_message("walking");
+    let result = super::with_threads(args.threads, || {
+        walk::run_with_progress(&config, &|n| bar.inc(n))
+    })??;
+    bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
     if let Some(path) = &args.profile {
         let mut csv = Vec::new();

@@ -31,12 +31,16 @@ pub struct ZooArgs {
     /// Write SVG figures (error against time; profiles over the walk) into this folder.
     #[arg(long, value_name = "DIR")]
     plot: Option<PathBuf>,
-    /// Threads (default: all cores); results do not depend on it.
+    /// Threads, in [1, 1024] (default: all cores); results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
     /// One JSON object instead of the table.
     #[arg(long)]
     json: bool,
+    /// No progress indicator or messages on stderr (the indicator only ever shows on a
+    /// terminal).
+    #[arg(long, short)]
+    quiet: bool,
 }
 
 pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
@@ -55,14 +59,28 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
             .map(|c| parse_case(c))
             .collect::<Result<_, _>>()?;
     }
+    super::check_threads(args.threads)?;
+    // The comparison reports no progress of its own: a spinner with the elapsed time.
+    let spinner = super::progress::spinner(
+        &format!(
+            "comparing {} model(s) with the walk on {} case(s) of {} photons",
+            config.models.len(),
+            config.cases.len(),
+            config.photons
+        ),
+        args.quiet,
+    );
     let report = super::with_threads(args.threads, || compare::run(&config))??;
+    spinner.finish_and_clear();
     if let Some(dir) = &args.plot {
         std::fs::create_dir_all(dir)
             .map_err(|e| CliError::input(format!("cannot create {}: {e}", dir.display())))?;
         let files = compare::write_svgs(&report, dir).map_err(|e| {
             CliError::input(format!("cannot write plots into {}: {e}", dir.display()))
         })?;
-        eprintln!("wrote {} figure(s) into {}", files.len(), dir.display());
+        if !args.quiet {
+            eprintln!("wrote {} figure(s) into {}", files.len(), dir.display());
+        }
     }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());

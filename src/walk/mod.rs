@@ -204,6 +204,12 @@ impl Config {
 ///
 /// Runs on the current rayon thread pool; the result does not depend on its size.
 pub fn run(config: &Config) -> Result<WalkResult> {
+    run_with_progress(config, &|_| {})
+}
+
+/// [`run`], calling `progress(n)` after each chunk of photons with the `n` photons it traced
+/// (for a progress bar; the result is the same).
+pub fn run_with_progress(config: &Config, progress: &(dyn Fn(u64) + Sync)) -> Result<WalkResult> {
     config.validate()?;
     let medium = config.medium();
     let blocks = config.photons.div_ceil(BLOCK);
@@ -221,6 +227,7 @@ pub fn run(config: &Config) -> Result<WalkResult> {
         for part in &parts {
             total.merge(part);
         }
+        progress(config.photons.min(end * BLOCK) - start * BLOCK);
         start = end;
     }
     Ok(WalkResult::new(config, &total))
