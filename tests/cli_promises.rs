@@ -567,3 +567,218 @@ fn points_files_are_read_whole_and_checked_first() {
         "points file pts is a folder",
     );
 }
+
+// ---- Negative numbers, bins, threads, progress ----
+
+#[test]
+fn negative_numbers_are_values() {
+    let dir = bare();
+    let d = dir.path();
+    ok(&bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "0.9",
+            "--g",
+            "-0.5",
+            "--photons",
+            "1000",
+        ],
+    ));
+    ok(&bssrdf(
+        d,
+        &["pack", "t.bssrdf", "-o", "fast.bssrdf", "--level", "-3"],
+    ));
+    for (args, needle) in [
+        (
+            &["diff", "t.bssrdf", "t.bssrdf", "--tolerance", "-1"][..],
+            "--tolerance -1",
+        ),
+        (
+            &["validate", "t.bssrdf", "--max-mean-error", "-1"],
+            "--max-mean-error -1",
+        ),
+        (&["bake", "--eta", "-1", "-q", "-o", "n.bssrdf"], "eta = -1"),
+        (
+            &["eval", "--rho", "0.5", "--theta", "-5", "--r", "1"],
+            "--theta -5 is outside",
+        ),
+        (
+            &[
+                "eval", "--rho", "0.5", "--theta", "0", "--r", "1", "--phi", "-inf",
+            ],
+            "--phi -inf is outside the valid range: any finite number",
+        ),
+        (
+            &["eval", "--rho", "-0.5", "--theta", "0", "--r", "1"],
+            "--rho -0.5",
+        ),
+        (&["sample", "t.bssrdf", "--rho", "-0.5"], "--rho -0.5"),
+    ] {
+        fails_with(&bssrdf(d, args), 2, needle);
+    }
+}
+
+#[test]
+fn walk_bins_threads_and_photons_keep_their_domains() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(&bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "0.9",
+            "--photons",
+            "1000",
+            "--bins",
+            "0.01,100,10,4",
+            "--profile",
+            "p.csv",
+        ],
+    ));
+    let profile = std::fs::read_to_string(d.join("p.csv")).unwrap();
+    assert!(profile.lines().count() > 40, "{profile}");
+    fails_with(
+        &bssrdf(d, &["walk", "--albedo", "0.9", "--bins", "0.01,100,10"]),
+        2,
+        "expected 4 comma-separated numbers",
+    );
+    fails_with(
+        &bssrdf(d, &["walk", "--albedo", "0.9", "--photons", "1"]),
+        2,
+        "--photons 1 is outside the valid range",
+    );
+    for args in [
+        &["bake", "--eta", "1.33", "-q", "--threads", "100000"][..],
+        &["walk", "--albedo", "0.9", "--threads", "100000"],
+        &["zoo", "--threads", "100000"],
+        &[
+            "render",
+            "--preset",
+            "figure-10",
+            "--theta",
+            "0",
+            "-o",
+            "r.exr",
+            "--threads",
+            "100000",
+        ],
+    ] {
+        fails_with(
+            &bssrdf(d, args),
+            2,
+            "--threads 100000 is outside the valid range: [1, 1024]",
+        );
+    }
+    fails_with(
+        &bssrdf(d, &["bake", "--eta", "1.33", "-q", "--threads", "0"]),
+        2,
+        "--threads 0",
+    );
+    // unpack has no level to take.
+    fails_with(
+        &bssrdf(d, &["unpack", "x.bssrdf", "--level", "3"]),
+        2,
+        "--level",
+    );
+}
+
+#[test]
+fn progress_shows_on_a_terminal_only() {
+    let dir = bare();
+    let d = dir.path();
+    let long = [
+        &["walk", "--albedo", "0.9", "--photons", "200000"][..],
+        &[
+            "validate",
+            "t.bssrdf",
+            "--samples",
+            "200",
+            "--max-mean-error",
+            "100",
+        ],
+        &[
+            "zoo",
+            "--photons",
+            "2000",
+            "--models",
+            "dipole",
+            "--cases",
+            "0.5:0",
+        ],
+    ];
+    // Piped: nothing on stderr, with or without -q.
+    for args in long {
+        let o = bssrdf(d, args);
+        assert!(o.status.success(), "{args:?}: {}", text(&o.stderr));
+        assert!(o.stderr.is_empty(), "{args:?}: {}", text(&o.stderr));
+    }
+    // On a terminal (util-linux `script` gives one): a bar, and none with -q.
+    let script = Path::new("/usr/bin/script");
+    if !script.exists() {
+        return;
+    }
+    let exe = env!("CARGO_BIN_EXE_bssrdf");
+    for (args, shown) in [(long[0], "walking"), (long[1], "validating")] {
+        for quiet in [false, true] {
+            let line = format!(
+                "{exe} {}{} >/dev/null",
+                args.join(" "),
+                if quiet { " -q" } else { "" }
+            );
+            let o = Command::new(script)
+                .current_dir(d)
+                .args(["-qec", &line, "/dev/null"])
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{line}: {}", text(&o.stdout));
+            assert_eq!(
+                text(&o.stdout).contains(shown),
+                !quiet,
+                "{line}: {}",
+                text(&o.stdout)
+            );
+        }
+    }
+}
+
+#[test]
+fn files_are_read_into_memory_unless_mmap() {
+    let dir = bare();
+    let d = dir.path();
+    let point = [
+        "eval", "t.bssrdf", "--rho", "0.5", "--theta", "30", "--r", "1",
+    ];
+    let read = ok(&bssrdf(d, &point));
+    assert_eq!(read, ok(&bssrdf(d, &[&point[..], &["--mmap"]].concat())));
+    ok(&bssrdf(d, &["diff", "t.bssrdf", "t.bssrdf", "--mmap"]));
+    ok(&bssrdf(
+        d,
+        &["sample", "t.bssrdf", "--rho", "0.5", "-n", "2", "--mmap"],
+    ));
+    // A folder is named as one, for every command that opens a library.
+    std::fs::create_dir(d.join("dir.bssrdf")).unwrap();
+    for args in [
+        &[
+            "eval",
+            "dir.bssrdf",
+            "--rho",
+            "0.5",
+            "--theta",
+            "0",
+            "--r",
+            "1",
+        ][..],
+        &["sample", "dir.bssrdf", "--rho", "0.5"],
+        &["validate", "dir.bssrdf"],
+        &["diff", "dir.bssrdf", "t.bssrdf"],
+    ] {
+        fails_with(
+            &bssrdf(d, args),
+            2,
+            "dir.bssrdf is a folder, not a library file",
+        );
+    }
+}
