@@ -169,6 +169,9 @@ pub enum SceneError {
     /// The same material twice.
     #[error("material {0:?} is listed twice")]
     Duplicate(String),
+    /// A `source` longer than the file format keeps.
+    #[error("material {material:?}: source is {bytes} bytes; a library file keeps at most {MAX_SOURCE_BYTES}")]
+    SourceTooLong { material: String, bytes: usize },
     /// A range is not covered by the table's albedo axis.
     #[error("albedo rows for material {material:?}, channel {channel}: {source}")]
     Plan {
@@ -236,7 +239,7 @@ impl SceneMaterial {
         let m = &self.material;
         format::Material {
             name: m.id().to_string(),
-            source: truncate(&self.source, 256),
+            source: truncate(&self.source, MAX_SOURCE_BYTES),
             sigma_s: m.sigma_s(),
             sigma_a: m.sigma_a(),
             g: m.g(),
@@ -442,6 +445,14 @@ fn resolve(
         .as_ref()
         .map(|v| channels(name, "g", v, true))
         .transpose()?;
+    if let Some(bytes) = entry.source.as_ref().map(String::len) {
+        if bytes > MAX_SOURCE_BYTES {
+            return Err(SceneError::SourceTooLong {
+                material: owned(),
+                bytes,
+            });
+        }
+    }
     let coefficients = sigma_s.is_some() || sigma_a.is_some();
     let diffuse = reflectance.is_some() || mfp.is_some();
     if coefficients && diffuse {
@@ -669,6 +680,10 @@ fn show(v: &Value) -> String {
 }
 
 /// The longest prefix of `text` of at most `max` bytes that ends on a character boundary.
+/// Most bytes of a material's `source` in a library file (format-spec.md, material records).
+pub const MAX_SOURCE_BYTES: usize = 256;
+
+/// The generated sources are short; a user's longer one is refused before this.
 fn truncate(text: &str, max: usize) -> String {
     let mut end = text.len().min(max);
     while !text.is_char_boundary(end) {

@@ -6,7 +6,7 @@ use super::eval::MomentsArg;
 use super::CliError;
 use bssrdf_zoo::format::{self, Compression, LibraryBuilder, Provenance};
 use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::materials::Material;
+use bssrdf_zoo::materials::{Library as MaterialLibrary, Material};
 use bssrdf_zoo::scene::artist::{self, EffectiveAlbedo};
 use bssrdf_zoo::scene::DEFAULT_ETA;
 use bssrdf_zoo::table::{self, bake_rows, AngularTable, Grid, GridPreset};
@@ -286,7 +286,9 @@ impl Baker {
         builder
             .write_atomic(output, self.compression)
             .map_err(|e| CliError::input(format!("cannot write {}: {e}", output.display())))?;
-        Ok(std::fs::metadata(output).map(|m| m.len())?)
+        std::fs::metadata(output).map(|m| m.len()).map_err(|e| {
+            CliError::input(format!("cannot read the size of {}: {e}", output.display()))
+        })
     }
 
     pub fn compressed(&self) -> bool {
@@ -328,7 +330,7 @@ impl Custom {
 }
 
 /// The material of --sigma-s/--sigma-a or --reflectance/--mfp, validated before any bake.
-fn custom(args: &BakeArgs) -> Result<Option<Custom>, CliError> {
+fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<Custom>, CliError> {
     let given = args.sigma_s.is_some() || args.reflectance.is_some();
     if !given {
         if args.g.is_some() || args.name.is_some() {
@@ -345,6 +347,11 @@ fn custom(args: &BakeArgs) -> Result<Option<Custom>, CliError> {
         )));
     }
     let name = args.name.clone().unwrap_or_else(|| "custom".to_string());
+    if library.get(&name).is_ok() {
+        return Err(CliError::input(format!(
+            "--name {name} is a material of the library (see `bssrdf materials`): choose another id"
+        )));
+    }
     let g = args.g.unwrap_or([0.0; 3]);
     match (args.sigma_s, args.sigma_a, args.reflectance, args.mfp) {
         (Some(s), Some(a), _, _) => Material::from_coefficients(&name, s, a, g, eta)
@@ -406,7 +413,7 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
             Ok((m.clone(), source.unwrap_or_default()))
         })
         .collect::<Result<_, CliError>>()?;
-    let custom = custom(&args)?;
+    let custom = custom(&args, &library)?;
     let mut etas: Vec<f64> = materials.iter().map(|(m, _)| m.eta()).collect();
     etas.extend(custom.as_ref().map(Custom::eta));
     match (etas.is_empty(), args.eta, &custom) {

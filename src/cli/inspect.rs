@@ -5,7 +5,7 @@
 
 use super::CliError;
 use bssrdf_zoo::format::spec::required_features;
-use bssrdf_zoo::format::{AxisKind, Library, SectionKind, Verify};
+use bssrdf_zoo::format::{AxisKind, Codec, FresnelMoments, SectionKind};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
@@ -41,6 +41,21 @@ fn axis_summary(values: &[f32]) -> String {
     }
 }
 
+fn codec_name(codec: Codec) -> &'static str {
+    match codec {
+        Codec::None => "none",
+        Codec::Zstd => "zstd",
+    }
+}
+
+/// As `--fresnel-moments` names them.
+fn fresnel_name(m: FresnelMoments) -> &'static str {
+    match m {
+        FresnelMoments::Exact => "exact",
+        FresnelMoments::PbrtPolynomial => "pbrt",
+    }
+}
+
 fn section_name(kind: u32) -> String {
     SectionKind::from_code(kind)
         .map_or_else(|| format!("extension 0x{kind:x}"), |k| k.name().to_string())
@@ -48,8 +63,7 @@ fn section_name(kind: u32) -> String {
 
 pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     // Every CRC is checked here: a file that opens has all its checksums verified.
-    let library = Library::read(&args.file, Verify::Full)
-        .map_err(|e| CliError::input(format!("{}: {e}", args.file.display())))?;
+    let library = super::library::open(&args.file, false)?;
     let (major, minor) = library.version();
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
@@ -57,18 +71,20 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
         let sections: Vec<_> = library
             .sections()
             .iter()
-            .map(|s| serde_json::json!({
-                "kind": section_name(s.kind), "table": s.table, "dtype": format!("{:?}", s.dtype),
-                "codec": format!("{:?}", s.codec), "required": s.required, "dims": s.dims,
-                "offset": s.offset, "stored_len": s.stored_len, "raw_len": s.raw_len,
-                "crc32": format!("{:08x}", s.crc32), "crc_verified": true,
-            }))
+            .map(|s| {
+                serde_json::json!({
+                    "kind": section_name(s.kind), "table": s.table, "dtype": s.dtype.name(),
+                    "codec": codec_name(s.codec), "required": s.required, "dims": s.dims,
+                    "offset": s.offset, "stored_len": s.stored_len, "raw_len": s.raw_len,
+                    "crc32": format!("{:08x}", s.crc32), "crc_verified": true,
+                })
+            })
             .collect();
         let tables: Vec<_> = library
             .tables()
             .map(|t| serde_json::json!({
-                "index": t.index(), "model": format!("{:?}", t.model()), "eta": t.eta(),
-                "fresnel_moments": format!("{:?}", t.fresnel()), "dims": t.dims(),
+                "index": t.index(), "model": t.model().name(), "eta": t.eta(),
+                "fresnel_moments": fresnel_name(t.fresnel()), "dims": t.dims(),
                 "rho": t.axis(AxisKind::Rho), "theta": t.axis(AxisKind::Theta), "r": t.axis(AxisKind::R),
                 "theta_sampling": t.theta_cdf().is_some(),
             }))
@@ -125,11 +141,11 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     for s in library.sections() {
         writeln!(
             out,
-            "  {:<18} table {:<4} {:?} {:?} dims {:?}  offset {:>8}  {:>8} -> {:>8} bytes  crc {:08x}{}",
+            "  {:<18} table {:<4} {:<3} {:<4} dims {:?}  offset {:>8}  {:>8} -> {:>8} bytes  crc {:08x}{}",
             section_name(s.kind),
             s.table.map_or("-".to_string(), |t| t.to_string()),
-            s.dtype,
-            s.codec,
+            s.dtype.name(),
+            codec_name(s.codec),
             s.dims,
             s.offset,
             s.stored_len,
@@ -142,11 +158,11 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     for t in library.tables() {
         writeln!(
             out,
-            "  [{}] {:?} eta {} moments {:?} dims {:?} theta-sampling {}",
+            "  [{}] {} eta {} moments {} dims {:?} theta-sampling {}",
             t.index(),
-            t.model(),
+            t.model().name(),
             t.eta(),
-            t.fresnel(),
+            fresnel_name(t.fresnel()),
             t.dims(),
             if t.theta_cdf().is_some() { "yes" } else { "no" }
         )?;
@@ -184,7 +200,18 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     if let Some(p) = library.provenance() {
         writeln!(out, "provenance:")?;
         for (key, value) in p.fields() {
-            writeln!(out, "  {}: {}", escape(key), escape(&value.to_string()))?;
+            // Objects and arrays pretty-printed, indented under their key.
+            let pretty = serde_json::to_string_pretty(value).unwrap_or_else(|_| value.to_string());
+            let mut lines = pretty.lines();
+            writeln!(
+                out,
+                "  {}: {}",
+                escape(key),
+                escape(lines.next().unwrap_or(""))
+            )?;
+            for line in lines {
+                writeln!(out, "    {}", escape(line))?;
+            }
         }
     }
     out.flush()?;

@@ -1,7 +1,7 @@
 //! `bssrdf materials`: the named-material library, one line per material.
 
 use super::CliError;
-use bssrdf_zoo::materials::Library;
+use bssrdf_zoo::materials::{Coefficients, Library};
 use clap::Args;
 use std::io::Write;
 use std::process::ExitCode;
@@ -36,27 +36,95 @@ pub fn run(args: MaterialsArgs) -> Result<ExitCode, CliError> {
         serde_json::to_writer_pretty(&mut out, &all).map_err(std::io::Error::from)?;
         writeln!(out)?;
     } else {
+        // sigma_s as the source states it: unreduced σs with its g, or, for "reduced"
+        // materials, σ′s with g = 0 (the `sigma_s` column says which).
+        let width = library
+            .iter()
+            .map(|m| m.id().len())
+            .max()
+            .unwrap_or(2)
+            .max(2);
+        let triple = |v: [f64; 3]| format!("{} {} {}", sig4(v[0]), sig4(v[1]), sig4(v[2]));
+        let rows: Vec<[String; 6]> = library
+            .iter()
+            .map(|m| {
+                let kind = match m.coefficients() {
+                    Coefficients::Reduced => "reduced",
+                    Coefficients::Unreduced => "unreduced",
+                };
+                let source = m.source().map_or("(none given)", |s| s.coefficients());
+                [
+                    m.eta().to_string(),
+                    kind.to_string(),
+                    triple(m.sigma_s()),
+                    triple(m.sigma_a()),
+                    triple(m.g()),
+                    source.chars().take(40).collect(),
+                ]
+            })
+            .collect();
+        let col = |k: usize, title: &str| {
+            rows.iter()
+                .map(|r| r[k].chars().count())
+                .max()
+                .unwrap_or(0)
+                .max(title.chars().count())
+        };
+        let titles = [
+            "eta",
+            "sigma_s is",
+            "sigma_s (mm^-1, R G B)",
+            "sigma_a (mm^-1, R G B)",
+            "g (R G B)",
+        ];
+        let w: Vec<usize> = titles.iter().enumerate().map(|(k, t)| col(k, t)).collect();
         writeln!(
             out,
-            "{:<26} {:>5}  {:<26} {:<26} {:<20} source",
-            "id", "eta", "sigma_s (mm^-1, R G B)", "sigma_a (mm^-1, R G B)", "g (R G B)"
+            "{:<width$}  {:>w0$}  {:<w1$}  {:<w2$}  {:<w3$}  {:<w4$}  source",
+            "id",
+            titles[0],
+            titles[1],
+            titles[2],
+            titles[3],
+            titles[4],
+            w0 = w[0],
+            w1 = w[1],
+            w2 = w[2],
+            w3 = w[3],
+            w4 = w[4],
         )?;
-        for m in library.iter() {
-            let triple = |v: [f64; 3]| format!("{:.4} {:.4} {:.4}", v[0], v[1], v[2]);
-            let source = m.source().map_or("(none given)", |s| s.coefficients());
-            let short: String = source.chars().take(40).collect();
+        for (m, r) in library.iter().zip(&rows) {
             writeln!(
                 out,
-                "{:<26} {:>5}  {:<26} {:<26} {:<20} {}",
+                "{:<width$}  {:>w0$}  {:<w1$}  {:<w2$}  {:<w3$}  {:<w4$}  {}",
                 m.id(),
-                m.eta(),
-                triple(m.sigma_s()),
-                triple(m.sigma_a()),
-                format!("{:.3} {:.3} {:.3}", m.g()[0], m.g()[1], m.g()[2]),
-                short
+                r[0],
+                r[1],
+                r[2],
+                r[3],
+                r[4],
+                r[5],
+                w0 = w[0],
+                w1 = w[1],
+                w2 = w[2],
+                w3 = w[3],
+                w4 = w[4],
             )?;
         }
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Four significant digits, so that small coefficients do not show as 0.0000.
+fn sig4(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let magnitude = v.abs().log10().floor();
+    if !(-4.0..6.0).contains(&magnitude) {
+        return format!("{v:.3e}");
+    }
+    let decimals = (3.0 - magnitude).max(0.0) as usize;
+    format!("{v:.decimals$}")
 }

@@ -183,7 +183,9 @@ impl fmt::Display for CliError {
         match self {
             CliError::Input(m) => f.write_str(m),
             CliError::Library(e) => write!(f, "{e}"),
-            CliError::Io(e) => write!(f, "{e}"),
+            // Every file a command writes maps its errors to Input with the file's name; what is
+            // left is the standard streams.
+            CliError::Io(e) => write!(f, "cannot write the output (stdout or stderr): {e}"),
         }
     }
 }

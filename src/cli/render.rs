@@ -478,12 +478,7 @@ fn summary_json(timed: &Timed, files: &[PathBuf]) -> serde_json::Value {
         .picture
         .meta()
         .iter()
-        .map(|(k, v)| {
-            (
-                k.trim_start_matches("bssrdf:").to_string(),
-                v.clone().into(),
-            )
-        })
+        .map(|(k, v)| (k.trim_start_matches("bssrdf:").to_string(), meta_value(v)))
         .collect();
     serde_json::json!({
         "meta": meta,
@@ -508,6 +503,17 @@ fn print_diff(out: &mut impl Write, d: &Difference, files: &[PathBuf]) -> std::i
         d.centroid_shift_mm()
     )?;
     writeln!(out, "wrote {}", names(files))
+}
+
+/// A picture's metadata value in JSON: numbers as numbers, text as text.
+fn meta_value(text: &str) -> serde_json::Value {
+    if let Ok(n) = text.parse::<i64>() {
+        return serde_json::json!(n);
+    }
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() => serde_json::json!(v),
+        _ => serde_json::json!(text),
+    }
 }
 
 fn diff_json(d: &Difference, files: &[PathBuf]) -> serde_json::Value {

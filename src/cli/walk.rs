@@ -125,6 +125,8 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
         let mut json = serde_json::to_value(&result).map_err(std::io::Error::from)?;
         if let Some(map) = json.as_object_mut() {
             map.insert("seconds".into(), serde_json::json!(seconds));
+            // θ as given, not its round trip through radians (60, not 59.99999999999999).
+            map.insert("theta_deg".into(), serde_json::json!(args.theta));
         }
         writeln!(out, "{json}")?;
     } else {

@@ -101,8 +101,9 @@ use transport::Medium;
 pub const BLOCK: u64 = 1024;
 
 /// Shape of the medium.
+/// In JSON one shape for both: `{"kind": "half-space"}`, `{"kind": "slab", "thickness": τ}`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum Geometry {
     /// The half-space z < 0.
     HalfSpace,
