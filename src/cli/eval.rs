@@ -65,6 +65,19 @@ pub enum QuadratureArg {
     Fast,
 }
 
+/// The Fresnel moments `eval` offers: those of every model, and the directional dipole's
+/// authors' fits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum EvalMomentsArg {
+    /// Exact Fresnel moments, integrated numerically.
+    Exact,
+    /// pbrt-v3's polynomial fits, to compare with pbrt's numbers.
+    Pbrt,
+    /// The dirpole model only: the authors' sample code (d'Eon & Irving's fits), to compare
+    /// with their numbers.
+    Authors,
+}
+
 impl From<MomentsArg> for Moments {
     fn from(m: MomentsArg) -> Self {
         match m {
@@ -104,7 +117,7 @@ pub struct EvalArgs {
     json: bool,
     /// Fresnel moments of the boundary [default: exact; with FILE, the table's].
     #[arg(long, value_enum)]
-    fresnel_moments: Option<MomentsArg>,
+    fresnel_moments: Option<EvalMomentsArg>,
     /// Quadrature of the integral over the beam (the pbd model only) [default: reference].
     #[arg(long, value_enum)]
     quadrature: Option<QuadratureArg>,
@@ -114,6 +127,8 @@ pub struct EvalArgs {
 
 /// What one evaluation needs: the model, and for a material the channel's ρ′ and σ′t.
 struct Evaluator<'a> {
+    /// The dirpole with its authors' Fresnel fits (`--fresnel-moments authors`).
+    authors: bool,
     model: ModelName,
     boundary: Boundary,
     rule: Rule,
@@ -149,6 +164,9 @@ impl Evaluator<'_> {
                 bssrdf_zoo::models::Params::new(rho, self.boundary.eta(), self.boundary.moments())?;
             let mut options = bssrdf_zoo::models::Options::default();
             options.mc.theta = theta;
+            if self.authors {
+                options.dirpole.fresnel = bssrdf_zoo::models::dirpole::DirpoleFresnel::AuthorsFits;
+            }
             let model = bssrdf_zoo::models::build(kind, &params, &options)?;
             return Ok(model.eval(theta, r_opt, phi) * scale * scale);
         }
@@ -250,18 +268,31 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         }
         _ => (args.choice.eta.unwrap_or(1.33), None),
     };
-    let moments = match (&chosen, args.fresnel_moments) {
-        (Some(c), Some(m)) if Moments::from(m) != c.table.moments() => {
+    let authors = args.fresnel_moments == Some(EvalMomentsArg::Authors);
+    if authors && model != ModelName::Dirpole {
+        return Err(CliError::input(format!(
+            "--fresnel-moments authors is the dirpole model's only, not {}'s",
+            model_name(model)
+        )));
+    }
+    let given = match args.fresnel_moments {
+        Some(EvalMomentsArg::Exact) => Some(Moments::Exact),
+        Some(EvalMomentsArg::Pbrt) => Some(Moments::Pbrt),
+        Some(EvalMomentsArg::Authors) | None => None,
+    };
+    let moments = match (&chosen, given) {
+        (Some(c), Some(m)) if m != c.table.moments() => {
             return Err(CliError::input(format!(
                 "--fresnel-moments {} conflicts with the table, baked with {} moments",
-                moments_name(m.into()),
+                moments_name(m),
                 moments_name(c.table.moments())
             )))
         }
         (Some(c), _) => c.table.moments(),
-        (None, m) => m.map_or(Moments::Exact, Moments::from),
+        (None, m) => m.unwrap_or(Moments::Exact),
     };
     let evaluator = Evaluator {
+        authors,
         model,
         boundary: Boundary::new(eta, moments)?,
         rule,
@@ -272,7 +303,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         serde_json::json!({
             "model": model_name(model),
             "eta": eta,
-            "fresnel_moments": moments_name(moments),
+            "fresnel_moments": if authors { "authors" } else { moments_name(moments) },
             "quadrature": if model == ModelName::Pbd { Some(format!("{rule:?}").to_lowercase()) } else { None },
             "rho": p.rho,
             "theta_deg": p.theta_deg,

@@ -1,0 +1,282 @@
+//! End-to-end tests of the minor promises of the command line (issue 18, "rough edges"):
+//! messages that name what went wrong, flags that are used or refused, JSON in one shape.
+
+use std::path::Path;
+use std::process::Output;
+
+mod cli_common;
+use cli_common::{bssrdf, ok, text};
+
+fn fails_with(o: &Output, code: i32, needle: &str) {
+    assert_eq!(o.status.code(), Some(code), "stderr: {}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains(needle),
+        "{needle:?} not in {}",
+        text(&o.stderr)
+    );
+    assert!(!text(&o.stderr).contains("panicked"));
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    serde_json::from_str(&ok(o)).expect("stdout is JSON")
+}
+
+fn bare(dir: &Path) {
+    ok(&bssrdf(
+        dir,
+        &[
+            "bake", "--eta", "1.33", "--grid", "coarse", "-q", "-o", "t.bssrdf",
+        ],
+    ));
+}
+
+#[test]
+fn messages_name_the_file_and_the_stream() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // One "cannot open", naming the file once.
+    let o = bssrdf(
+        d,
+        &[
+            "eval",
+            "missing.bssrdf",
+            "--rho",
+            "0.5",
+            "--theta",
+            "0",
+            "--r",
+            "1",
+        ],
+    );
+    fails_with(&o, 2, "cannot open missing.bssrdf: No such file");
+    assert_eq!(
+        text(&o.stderr).matches("missing.bssrdf").count(),
+        1,
+        "{}",
+        text(&o.stderr)
+    );
+    // A full stdout is named as the output.
+    if Path::new("/dev/full").exists() {
+        let out = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_bssrdf"))
+            .args(["materials"])
+            .stdout(out)
+            .output()
+            .unwrap();
+        fails_with(
+            &o,
+            2,
+            "cannot write the output (stdout or stderr): No space left on device",
+        );
+    }
+    // Huge values in exponent notation, not 309 digits.
+    fails_with(
+        &bssrdf(d, &["eval", "--rho", "1e308", "--theta", "0", "--r", "1"]),
+        2,
+        "--rho 1e308 is outside the valid range: [0, 1]",
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn points_paths_need_not_be_utf8() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = tempfile::tempdir().unwrap();
+    let name = std::ffi::OsStr::from_bytes(b"pts-\xff.csv");
+    std::fs::write(
+        dir.path().join(name),
+        "rho,theta_deg,r,phi_deg\n0.9,0,1,0\n",
+    )
+    .unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_bssrdf"))
+        .current_dir(dir.path())
+        .arg("eval")
+        .arg("--points")
+        .arg(name)
+        .args(["--quadrature", "fast"])
+        .output()
+        .unwrap();
+    assert!(ok(&o).starts_with("rho,theta_deg,r,phi_deg,value\n0.9,0,1,0,"));
+}
+
+#[test]
+fn names_and_sources_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "bake",
+                "--sigma-s",
+                "1,1,1",
+                "--sigma-a",
+                "0.1,0.1,0.1",
+                "--name",
+                "skin1",
+                "-q",
+            ],
+        ),
+        2,
+        "--name skin1 is a material of the library",
+    );
+    let long = "x".repeat(300);
+    let scene = format!(
+        "integrator = \"path\"\n[[material]]\nname = \"wax\"\nsigma_s = [1, 1, 1]\nsigma_a = [0.1, 0.1, 0.1]\nsource = \"{long}\"\n"
+    );
+    std::fs::write(d.join("long.toml"), scene).unwrap();
+    fails_with(
+        &bssrdf(
+            d,
+            &["bake", "--scene", "long.toml", "--grid", "coarse", "-q"],
+        ),
+        2,
+        "source is 300 bytes; a library file keeps at most 256",
+    );
+}
+
+#[test]
+fn json_uses_command_line_names_and_one_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    bare(d);
+    let inspect = json(&bssrdf(d, &["inspect", "t.bssrdf", "--json"]));
+    assert_eq!(inspect["tables"][0]["model"], "pbd-angular");
+    assert_eq!(inspect["tables"][0]["fresnel_moments"], "exact");
+    for s in inspect["sections"].as_array().unwrap() {
+        assert!(["u8", "f32"].contains(&s["dtype"].as_str().unwrap()), "{s}");
+        assert_eq!(s["codec"], "none");
+    }
+    let text_inspect = ok(&bssrdf(d, &["inspect", "t.bssrdf"]));
+    for debug in ["PbdAngular", "Exact", " None ", "F32"] {
+        assert!(!text_inspect.contains(debug), "{debug} in {text_inspect}");
+    }
+    // The provenance pretty-printed: one key per line.
+    assert!(
+        text_inspect
+            .lines()
+            .any(|l| l.trim() == "\"samples_per_case\": 400,"),
+        "{text_inspect}"
+    );
+    let eval = json(&bssrdf(
+        d,
+        &[
+            "eval", "--model", "pbd-fast", "--rho", "0.5", "--theta", "0", "--r", "1", "--json",
+        ],
+    ));
+    assert_eq!(eval["model"], "pbd-fast");
+    // walk: geometry always an object, θ as given.
+    let walk = |extra: &[&str]| {
+        json(&bssrdf(
+            d,
+            &[
+                &[
+                    "walk",
+                    "--albedo",
+                    "0.9",
+                    "--theta",
+                    "60",
+                    "--photons",
+                    "100",
+                    "--json",
+                ][..],
+                extra,
+            ]
+            .concat(),
+        ))
+    };
+    let half = walk(&[]);
+    assert_eq!(half["geometry"], serde_json::json!({"kind": "half-space"}));
+    assert_eq!(half["theta_deg"], 60.0);
+    let slab = walk(&["--slab", "2"]);
+    assert_eq!(
+        slab["geometry"],
+        serde_json::json!({"kind": "slab", "thickness": 2.0})
+    );
+    // render: numbers as numbers.
+    let render = json(&bssrdf(
+        d,
+        &[
+            "render",
+            "--preset",
+            "figure-10",
+            "--theta",
+            "60",
+            "--photons",
+            "200",
+            "--size",
+            "4,4",
+            "-q",
+            "--json",
+            "-o",
+            "r.exr",
+        ],
+    ));
+    let meta = &render["render"]["meta"];
+    assert_eq!(meta["photons"], 200);
+    assert_eq!(meta["theta_deg"], 60);
+    assert!(meta["eta"].is_f64(), "{meta}");
+    assert!(meta["model"].is_string());
+}
+
+#[test]
+fn materials_align_and_show_small_coefficients() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let id = "a-material-with-a-very-long-identifier-indeed";
+    std::fs::write(
+        d.join("long.toml"),
+        format!("id = \"{id}\"\nname = \"Long\"\neta = 1.4\ncoefficients = \"unreduced\"\nsigma_s = [0.00002, 1.0, 1.0]\nsigma_a = [0.1, 0.1, 0.1]\ng = [0.0, 0.0, 0.0]\n"),
+    )
+    .unwrap();
+    let out = ok(&bssrdf(d, &["materials", "--materials", "long.toml"]));
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(lines[0].contains("sigma_s is"), "{}", lines[0]);
+    // The eta column ends at the same place on every line.
+    let eta_end = lines[0].find("eta").unwrap() + 3;
+    for line in &lines[1..] {
+        assert_eq!(line.as_bytes()[eta_end], b' ', "{line}");
+        assert_ne!(line.as_bytes()[eta_end - 1], b' ', "{line}");
+    }
+    let long = lines.iter().find(|l| l.starts_with(id)).unwrap();
+    assert!(
+        long.contains("unreduced") && long.contains("2.000e-5"),
+        "{long}"
+    );
+    assert!(lines.iter().any(|l| l.contains(" reduced ")));
+}
+
+#[test]
+fn dirpole_authors_fits_are_reachable() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let at = ["--rho", "0.9", "--theta", "30", "--r", "1", "--json"];
+    let run = |moments: &str| {
+        json(&bssrdf(
+            d,
+            &[
+                &["eval", "--model", "dirpole", "--fresnel-moments", moments][..],
+                &at,
+            ]
+            .concat(),
+        ))
+    };
+    let (exact, authors) = (run("exact"), run("authors"));
+    assert_eq!(authors["fresnel_moments"], "authors");
+    let (a, b) = (
+        exact["value"].as_f64().unwrap(),
+        authors["value"].as_f64().unwrap(),
+    );
+    assert!(a != b && (a / b - 1.0).abs() < 0.01, "{a} vs {b}");
+    fails_with(
+        &bssrdf(
+            d,
+            &[&["eval", "--fresnel-moments", "authors"][..], &at].concat(),
+        ),
+        2,
+        "--fresnel-moments authors is the dirpole model's only",
+    );
+}
