@@ -280,3 +280,31 @@ fn dirpole_authors_fits_are_reachable() {
         "--fresnel-moments authors is the dirpole model's only",
     );
 }
+
+#[test]
+fn r_zero_is_each_models_limit_and_tiny_r_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    bare(d);
+    let at = |model: &str, r: &str| {
+        bssrdf(
+            d,
+            &[
+                "eval", "t.bssrdf", "--model", model, "--rho", "0.9", "--theta", "0", "--r", r,
+            ],
+        )
+    };
+    // PBD diverges like ln(1/r): +inf at 0; the table gives its value at 1e-9 r_1 (finite).
+    assert_eq!(ok(&at("pbd", "0")).trim(), "inf");
+    let table0: f64 = ok(&at("table", "0")).trim().parse().unwrap();
+    assert!(table0.is_finite() && table0 > 0.0);
+    let tiny: f64 = ok(&at("table", "1e-100")).trim().parse().unwrap();
+    assert!(tiny.is_finite() && tiny > table0);
+    for model in ["table", "pbd"] {
+        fails_with(
+            &at(model, "1e-320"),
+            2,
+            "--r 1e-320 is outside the valid range: 0, or a finite number >= 1e-100",
+        );
+    }
+}
