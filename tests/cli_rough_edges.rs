@@ -308,3 +308,43 @@ fn r_zero_is_each_models_limit_and_tiny_r_is_refused() {
         );
     }
 }
+
+/// The README's quick start, line by line as printed (`> FILE` redirects stdout), in a fresh
+/// folder: every command succeeds.
+#[test]
+fn readme_quick_start_runs_as_printed() {
+    let readme = include_str!("../README.md");
+    let start = readme
+        .find("`cargo install --path .`")
+        .expect("the README says how to install");
+    let block = &readme[start..];
+    let block = &block[block.find("```sh\n").unwrap() + 6..];
+    let block = &block[..block.find("```").unwrap()];
+    let dir = tempfile::tempdir().unwrap();
+    let mut ran = 0;
+    for line in block.lines() {
+        let command = line.split(" #").next().unwrap().trim();
+        let (command, redirect) = match command.split_once(" > ") {
+            Some((c, file)) => (c, Some(file.trim())),
+            None => (command, None),
+        };
+        let words: Vec<&str> = command.split_whitespace().collect();
+        assert_eq!(words[0], "bssrdf", "{line}");
+        let o = bssrdf(dir.path(), &words[1..]);
+        assert!(o.status.success(), "{line}: {}", text(&o.stderr));
+        if let Some(file) = redirect {
+            std::fs::write(dir.path().join(file), &o.stdout).unwrap();
+        }
+        ran += 1;
+    }
+    assert!(ran >= 8, "{block}");
+    // No command of the README writes into the tracked docs/ folder.
+    for line in readme
+        .lines()
+        .filter(|l| l.trim_start().starts_with("bssrdf "))
+    {
+        for flag in ["-o docs/", "--plot docs/", "--dir docs/", "--profile docs/"] {
+            assert!(!line.contains(flag), "{line}");
+        }
+    }
+}
