@@ -85,6 +85,36 @@ fn devices_are_written_through_never_replaced() {
         let kind = std::fs::metadata("/dev/full").unwrap().file_type();
         assert!(kind.is_char_device(), "{args:?} replaced /dev/full");
     }
+    // render: the EXR is written through with --no-preview; a preview named after the device
+    // is refused.
+    let render = [
+        "render",
+        "--preset",
+        "figure-10",
+        "--theta",
+        "0",
+        "--photons",
+        "100",
+        "--size",
+        "4,4",
+        "-q",
+        "-o",
+    ];
+    fails_with(
+        &bssrdf(d, &[&render[..], &["/dev/full", "--no-preview"]].concat()),
+        2,
+        "/dev/full",
+    );
+    fails_with(
+        &bssrdf(d, &[&render[..], &["/dev/null"]].concat()),
+        2,
+        "-o /dev/null is not a regular file",
+    );
+    ok(&bssrdf(
+        d,
+        &[&render[..], &["/dev/null", "--no-preview"]].concat(),
+    ));
+    assert!(!Path::new("/dev/null.png").exists());
     ok(&bssrdf(d, &["pack", "t.bssrdf", "-o", "/dev/null"]));
     assert!(std::fs::metadata("/dev/null")
         .unwrap()

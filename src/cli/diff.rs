@@ -206,8 +206,8 @@ fn compare_tables(
     };
     differ(
         "fresnel_moments",
-        json!(format!("{:?}", ta.fresnel())),
-        json!(format!("{:?}", tb.fresnel())),
+        json!(super::inspect::fresnel_name(ta.fresnel())),
+        json!(super::inspect::fresnel_name(tb.fresnel())),
     );
     differ("dims", json!(ta.dims()), json!(tb.dims()));
     for (kind, field) in [

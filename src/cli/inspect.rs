@@ -49,7 +49,7 @@ fn codec_name(codec: Codec) -> &'static str {
 }
 
 /// As `--fresnel-moments` names them.
-fn fresnel_name(m: FresnelMoments) -> &'static str {
+pub(super) fn fresnel_name(m: FresnelMoments) -> &'static str {
     match m {
         FresnelMoments::Exact => "exact",
         FresnelMoments::PbrtPolynomial => "pbrt",

@@ -267,6 +267,15 @@ fn config(args: &RenderArgs, model: ModelArg) -> Result<Config, CliError> {
 /// Refuses a run whose outputs (the EXRs and their PNG previews) would overwrite one another
 /// or an input (`--diff`'s pictures, `--materials`), before any work.
 fn check_outputs(args: &RenderArgs) -> Result<(), CliError> {
+    // A device or FIFO is written through, but the files named after it (previews, --compare
+    // pictures) would land beside it, e.g. /dev/null.png.
+    let special = std::fs::metadata(&args.output).is_ok_and(|m| !m.is_file());
+    if special && (!args.no_preview || args.compare.is_some()) {
+        return Err(CliError::input(format!(
+            "-o {} is not a regular file: the PNG preview and --compare pictures are named after it; write to a file, or add --no-preview (without --compare)",
+            args.output.display()
+        )));
+    }
     let mut exrs = vec![("-o", args.output.clone())];
     if let Some(other) = args.compare {
         let model: Model = other.into();
