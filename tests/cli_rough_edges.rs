@@ -348,3 +348,22 @@ fn readme_quick_start_runs_as_printed() {
         }
     }
 }
+
+#[test]
+fn file_flags_without_a_file_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let at = ["eval", "--rho", "0.5", "--theta", "0", "--r", "1"];
+    for flag in [&["--table", "1"][..], &["--mmap"]] {
+        fails_with(
+            &bssrdf(d, &[&at[..], flag].concat()),
+            2,
+            &format!("{} chooses how to read a library FILE", flag[0]),
+        );
+    }
+    fails_with(
+        &bssrdf(d, &[&at[..], &["--materials", "m.toml"]].concat()),
+        2,
+        "--material",
+    );
+}

@@ -260,6 +260,18 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         Some(QuadratureArg::Fast) => Rule::Fast,
         Some(QuadratureArg::Reference) | None => Rule::Reference,
     };
+    if args.file.is_none() {
+        // What only a file gives meaning to.
+        let given = [
+            ("--table", args.choice.table.is_some()),
+            ("--mmap", args.choice.mmap),
+        ];
+        if let Some((flag, _)) = given.iter().find(|(_, on)| *on) {
+            return Err(CliError::input(format!(
+                "{flag} chooses how to read a library FILE; give one, or drop {flag}"
+            )));
+        }
+    }
     let library = match &args.file {
         Some(path) => Some(super::library::open(path, args.choice.mmap)?),
         None => None,

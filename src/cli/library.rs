@@ -94,8 +94,13 @@ fn list_etas(library: &Library) -> String {
 }
 
 impl TableChoice {
-    /// Checks --eta alone (its domain), for commands that may run without a file.
+    /// Checks --eta (its domain) and that --materials comes with --material.
     pub fn check_eta(&self) -> Result<(), CliError> {
+        if self.materials.is_some() && self.material.is_none() {
+            return Err(CliError::input(
+                "--materials adds files to look --material up in; give --material NAME, or drop --materials",
+            ));
+        }
         match self.eta {
             Some(eta) if !(eta.is_finite() && eta > 0.0) => Err(CliError::input(format!(
                 "--eta {eta} is outside the valid range: a finite number > 0"
