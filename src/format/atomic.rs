@@ -210,3 +210,50 @@ fn sync_dir(_dir: &Path) -> FormatResult<()> {
     // Folders cannot be opened for syncing here; the rename is as durable as the OS makes it.
     Ok(())
 }
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_dangling_link_creates_its_target_and_a_cycle_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        std::os::unix::fs::symlink("target.bin", d.join("link.bin")).unwrap();
+        write_file_atomic(&d.join("link.bin"), b"abc").unwrap();
+        assert_eq!(fs::read(d.join("target.bin")).unwrap(), b"abc");
+        assert!(fs::symlink_metadata(d.join("link.bin"))
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        std::os::unix::fs::symlink("b", d.join("a")).unwrap();
+        std::os::unix::fs::symlink("a", d.join("b")).unwrap();
+        let err = write_file_atomic(&d.join("a"), b"x").unwrap_err();
+        assert!(
+            err.to_string().contains("more than 40 symbolic links"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn stale_temporaries_are_parsed_strictly() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        // Not of this writer's pattern: kept, whatever the PID.
+        for name in [
+            ".t.bin.x.0.tmp",
+            ".t.bin.4194305.tmp",
+            ".t.binx.4194305.0.tmp",
+        ] {
+            fs::write(d.join(name), b"").unwrap();
+        }
+        fs::write(d.join(".t.bin.4194305.7.tmp"), b"").unwrap();
+        write_file_atomic(&d.join("t.bin"), b"new").unwrap();
+        assert!(d.join(".t.bin.x.0.tmp").exists());
+        assert!(d.join(".t.bin.4194305.tmp").exists());
+        assert!(d.join(".t.binx.4194305.0.tmp").exists());
+        if Path::new("/proc/self").exists() {
+            assert!(!d.join(".t.bin.4194305.7.tmp").exists());
+        }
+    }
+}
