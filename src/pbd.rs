@@ -338,16 +338,21 @@ impl Pbd {
         let t_min = beam.t_min;
         let mut ts = [0.0f64; 9];
         let mut k = 0;
-        // Left branch, decreasing on [0, t_min]: from the far level inward.
-        for level in [TAIL_NATS, 12.0, 3.0] {
-            if t_min > 0.0 && f(0.0) > level {
+        // Left branch, decreasing on [0, t_min]. The integral starts at the beam's entry, or
+        // where f has fallen to the tail level if it starts above it; the inner levels split
+        // what lies between.
+        let f_entry = f(0.0);
+        ts[k] = if t_min > 0.0 && f_entry > TAIL_NATS {
+            bisect(|t| f(t) > TAIL_NATS, 0.0, t_min)
+        } else {
+            0.0
+        };
+        k += 1;
+        for level in [12.0, 3.0] {
+            if t_min > 0.0 && f_entry > level {
                 ts[k] = bisect(|t| f(t) > level, 0.0, t_min);
                 k += 1;
             }
-        }
-        if k == 0 {
-            ts[k] = 0.0;
-            k += 1;
         }
         ts[k] = t_min;
         k += 1;

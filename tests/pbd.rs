@@ -5,7 +5,14 @@ use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::{Boundary, Medium, ReducedDiffusion};
 use bssrdf_zoo::pbd::{eval_world, Pbd, Rule};
 use bssrdf_zoo::quadrature::GaussLegendre;
+use bssrdf_zoo::rng::SplitMix64;
 use std::f64::consts::PI;
+
+#[path = "pbd/domain.rs"]
+mod domain;
+#[path = "pbd/oracle.rs"]
+mod oracle;
+use domain::domain_point;
 
 fn pbd(rho: f64, eta: f64) -> Pbd {
     Pbd::new(rho, Boundary::new(eta, Moments::Exact).unwrap()).unwrap()
@@ -333,5 +340,81 @@ fn documented_limits() {
         (2.0, 1.0, 0.0),
     ] {
         assert_eq!(p.eval(theta, r, phi, Rule::Fast), 0.0);
+    }
+}
+
+/// Holds the reference rule to the independent oracle on `n` random points of the domain:
+/// ln S within `tol` everywhere S > 0 (the relative error of S), S itself within `tol` relative
+/// where S > 1e-290, and exact zeros where the oracle has none. Returns the worst error.
+fn check_reference_against_oracle(seed: u64, n: usize, tol: f64) -> f64 {
+    let mut rng = SplitMix64::new(seed);
+    let (mut worst, mut failures, mut positive) = (0.0f64, Vec::new(), 0);
+    for _ in 0..n {
+        let (rho, eta, theta, r, phi) = domain_point(&mut rng);
+        let truth = oracle::ln_pbd(rho, eta, theta, r, phi);
+        let p = pbd(rho, eta);
+        let ln_ours = p.ln_eval(theta, r, phi, Rule::Reference);
+        let ours = p.eval(theta, r, phi, Rule::Reference);
+        let err = if truth == f64::NEG_INFINITY {
+            if ours == 0.0 {
+                0.0
+            } else {
+                f64::INFINITY
+            }
+        } else {
+            positive += 1;
+            let mut e = (ln_ours - truth).abs();
+            if truth > 1e-290f64.ln() {
+                e = e.max((ours / truth.exp() - 1.0).abs());
+            }
+            e
+        };
+        if !(err <= tol) {
+            failures.push((err, rho, eta, theta.to_degrees(), r, phi.to_degrees()));
+        }
+        worst = worst.max(err);
+    }
+    failures.sort_by(|a, b| b.0.total_cmp(&a.0));
+    assert!(positive > n / 2, "only {positive} of {n} points have S > 0");
+    assert!(
+        failures.is_empty(),
+        "{} of {n} points off by more than {tol:e}; worst (err, ρ′, η, θ°, r, φ°): {:?}",
+        failures.len(),
+        &failures[..failures.len().min(12)]
+    );
+    worst
+}
+
+#[test]
+fn reference_rule_agrees_with_an_independent_quadrature_over_the_domain() {
+    let worst = check_reference_against_oracle(1, 600, 1e-8);
+    eprintln!("worst relative error over 600 points: {worst:e}");
+}
+
+/// The long version: `cargo test --release --test pbd -- --ignored reference_rule_over`.
+#[test]
+#[ignore = "long: 20,000 oracle evaluations (about a minute in release)"]
+fn reference_rule_over_twenty_thousand_points() {
+    let worst = check_reference_against_oracle(2, 20_000, 1e-8);
+    eprintln!("worst relative error over 20,000 points: {worst:e}");
+}
+
+#[test]
+fn forty_digit_values_where_the_beam_integral_started_late() {
+    // Issue 16: an arbitrary-precision quadrature at 40 digits, cut at the beam's closest
+    // approach, at (η, ρ′, θ, r, φ) = (1, 1.157162753722408e-4, 81.69362878667471°, r, 0). The
+    // reference rule used to start the integral 12 nats above the exponent's minimum here.
+    let (rho, eta, theta) = (1.157162753722408e-4, 1.0, 81.69362878667471f64.to_radians());
+    for (r, want, digits) in [
+        (23.73060396043742, 6.534358452390e-21, 1e-11),
+        (90.0, 1.21913e-52, 1e-5),
+    ] {
+        let ours = pbd(rho, eta).eval(theta, r, 0.0, Rule::Reference);
+        let independent = oracle::ln_pbd(rho, eta, theta, r, 0.0).exp();
+        assert!((ours / want - 1.0).abs() < digits, "r {r}: {ours:e}");
+        assert!(
+            (independent / want - 1.0).abs() < digits,
+            "r {r}: {independent:e}"
+        );
     }
 }
