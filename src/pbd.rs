@@ -74,6 +74,13 @@ pub enum Rule {
 pub const REFERENCE_REL_TOL: f64 = 1e-10;
 /// Nats beyond the smallest exponent at which the beam integral is cut.
 const TAIL_NATS: f64 = 46.0;
+/// Levels of f − m (nats above the exponent's minimum) at which panels are cut; the last is
+/// where the integral ends.
+const LEVELS: [f64; 5] = [3.0, 6.0, 12.0, 24.0, TAIL_NATS];
+/// Widest panel in u (see [`Pbd::breaks`]).
+const MAX_PANEL_U: f64 = 2.5;
+/// Most panel edges [`Pbd::breaks`] returns.
+const MAX_EDGES: usize = 40;
 /// Points per panel of the fast rule.
 pub const FAST_POINTS_PER_PANEL: usize = 8;
 
@@ -329,26 +336,32 @@ impl Pbd {
     }
 
     /// Panel edges in u. The integrand is e^{−(f(t) − m)} times algebraic factors, with
-    /// f(t) = t + σtr d_r(t) convex in t. Edges go where f − m reaches 3, 12 and 46 nats on
-    /// each side of its minimum (found by bisection on the monotone branches), and at the
-    /// closest approach t* (u = 0), where the algebraic factors peak.
-    fn breaks(&self, beam: &Beam) -> ([f64; 14], usize) {
+    /// f(t) = t + σtr d_r(t) convex in t. Edges go
+    /// - where f − m reaches each of [`LEVELS`] on both sides of its minimum (bisection on the
+    ///   monotone branches); the integral starts at t = 0, or where f − m falls to the last
+    ///   level if it starts above, and ends where it rises to it;
+    /// - at the closest approach t* (u = 0), where the algebraic factors peak, and at u = ±2, ±5
+    ///   around it;
+    /// - and every panel wider than [`MAX_PANEL_U`] is split evenly: the algebraic factors vary
+    ///   like e^{±u} away from the peak, which one 8-point panel integrates to 1e-11 over that
+    ///   width (small r, or a beam just under the surface, spread them over tens of units of u).
+    fn breaks(&self, beam: &Beam) -> ([f64; MAX_EDGES], usize) {
         let sigma_tr = self.diffusion.sigma_tr;
-        let f = |t: f64| t + sigma_tr * (t - beam.t_star).hypot(beam.h) - beam.m;
-        let t_min = beam.t_min;
-        let mut ts = [0.0f64; 9];
-        let mut k = 0;
-        // Left branch, decreasing on [0, t_min]. The integral starts at the beam's entry, or
-        // where f has fallen to the tail level if it starts above it; the inner levels split
-        // what lies between.
-        let f_entry = f(0.0);
-        ts[k] = if t_min > 0.0 && f_entry > TAIL_NATS {
-            bisect(|t| f(t) > TAIL_NATS, 0.0, t_min)
-        } else {
-            0.0
+        let f = |t: f64| {
+            let dt = t - beam.t_star;
+            t + sigma_tr * (dt * dt + beam.h * beam.h).sqrt() - beam.m
         };
+        let t_min = beam.t_min;
+        // Edges in t, increasing: left branch (decreasing on [0, t_min]) from the far level
+        // inward, the minimum, the right branch outward.
+        let mut ts = [0.0f64; 2 * LEVELS.len() + 1];
+        let mut k = 0;
+        let f_entry = f(0.0);
+        if t_min > 0.0 && f_entry > TAIL_NATS {
+            ts[k] = bisect(|t| f(t) > TAIL_NATS, 0.0, t_min);
+        }
         k += 1;
-        for level in [12.0, 3.0] {
+        for &level in LEVELS.iter().rev().skip(1) {
             if t_min > 0.0 && f_entry > level {
                 ts[k] = bisect(|t| f(t) > level, 0.0, t_min);
                 k += 1;
@@ -356,43 +369,53 @@ impl Pbd {
         }
         ts[k] = t_min;
         k += 1;
-        // Right branch, increasing; f(t) ≥ t − m... so f(m + level + t_min) ≥ level.
-        for level in [3.0, 12.0, TAIL_NATS] {
+        // f(t) ≥ t − m, so f(t_min + m + level) ≥ level.
+        for level in LEVELS {
             ts[k] = bisect(|t| f(t) < level, t_min, t_min + beam.m + level);
             k += 1;
         }
-        let mut out = [0.0; 14];
+        let to_u = |t: f64| ((t - beam.t_star) / beam.h).asinh();
+        let (u_first, u_last) = (to_u(ts[0]), to_u(ts[k - 1]));
+        // Merge the level edges with the ones around the closest approach.
+        let mut merged = [0.0f64; 2 * LEVELS.len() + 6];
         let mut n = 0;
-        let mut push = |u: f64| {
-            if n == 0 || u > out[n - 1] {
-                out[n] = u;
+        let mut star = [-5.0, -2.0, 0.0, 2.0, 5.0]
+            .into_iter()
+            .filter(|&u| u > u_first && u < u_last)
+            .peekable();
+        for u in ts[..k].iter().map(|&t| to_u(t)) {
+            while let Some(us) = star.next_if(|&us| us < u) {
+                merged[n] = us;
                 n += 1;
             }
-        };
-        // Edges at u = 0, ±2, ±5 resolve the unit-width bump at the closest approach.
-        let (u_first, u_last) = (
-            ((ts[0] - beam.t_star) / beam.h).asinh(),
-            ((ts[k - 1] - beam.t_star) / beam.h).asinh(),
-        );
-        let mut star = [-5.0, -2.0, 0.0, 2.0, 5.0].into_iter().peekable();
-        for &t in &ts[..k] {
-            let u = ((t - beam.t_star) / beam.h).asinh();
-            while let Some(&us) = star.peek() {
-                if us >= u {
-                    break;
-                }
-                if us > u_first && us < u_last {
-                    push(us);
-                }
-                star.next();
+            merged[n] = u;
+            n += 1;
+        }
+        // Split wide panels, dropping repeated edges.
+        let mut out = [0.0; MAX_EDGES];
+        out[0] = merged[0];
+        let mut m = 1;
+        for (j, &b) in merged[1..n].iter().enumerate() {
+            let a = out[m - 1];
+            if b <= a {
+                continue;
             }
-            push(u);
+            // Room for this panel's edges with one slot kept for each edge still to come
+            // (at least 1: MAX_EDGES exceeds the merged edges).
+            let room = MAX_EDGES - m - (n - 2 - j);
+            let pieces = (((b - a) / MAX_PANEL_U).ceil() as usize).clamp(1, room);
+            for i in 1..pieces {
+                out[m] = a + (b - a) * i as f64 / pieces as f64;
+                m += 1;
+            }
+            out[m] = b;
+            m += 1;
         }
-        if n < 2 {
+        if m < 2 {
             out[1] = out[0];
-            n = 2;
+            m = 2;
         }
-        (out, n)
+        (out, m)
     }
 
     fn reference(&self, beam: &Beam) -> crate::quadrature::Estimate {
@@ -427,10 +450,10 @@ fn sinh_cosh(u: f64) -> (f64, f64) {
     (sinh.copysign(u), cosh)
 }
 
-/// The point where `below` switches from true to false in [lo, hi], to 2⁻²⁴ of the bracket
+/// The point where `below` switches from true to false in [lo, hi], to 2⁻¹⁶ of the bracket
 /// (panel edges need not be exact: any edge gives a valid rule).
 fn bisect(below: impl Fn(f64) -> bool, mut lo: f64, mut hi: f64) -> f64 {
-    for _ in 0..24 {
+    for _ in 0..16 {
         let mid = 0.5 * (lo + hi);
         if below(mid) {
             lo = mid;
