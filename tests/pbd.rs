@@ -393,7 +393,7 @@ fn check_reference_against_oracle(seed: u64, n: usize, tol: f64) -> f64 {
             }
             e
         };
-        if !(err <= tol) {
+        if err.is_nan() || err > tol {
             failures.push((err, rho, eta, theta.to_degrees(), r, phi.to_degrees()));
         }
         worst = worst.max(err);
