@@ -7,7 +7,8 @@
 //! on every panel, refined until two levels agree, against the library's Gauss–Kronrod.
 //!
 //! Panels: the beam is cut at t = 0, at the closest approach t* and t* ± h·2ᵏ (the 1/d_r² peak of
-//! width h), at r·2ᵏ (the scale of the ln(1/r) growth near the entry point), and on both sides of
+//! width h; the integrand is written in x = t − t* so that it resolves any h), at r·2ᵏ (the scale
+//! of the ln(1/r) growth near the entry point), and on both sides of
 //! the exponent's minimum every few nats out to 150 nats above it. Beyond that the integrand is
 //! below e⁻¹⁵⁰ times its algebraic factors, which no point of the checked domain brings near
 //! 10⁻³⁰ of the integral.
@@ -33,33 +34,36 @@ pub fn ln_pbd(rho: f64, eta: f64, theta: f64, r: f64, phi: f64) -> f64 {
     let c_phi = 0.25 * (1.0 - 2.0 * f1);
     let c_e = 0.5 * (1.0 - 3.0 * f2);
     let (sin_phi, cos_phi) = phi.sin_cos();
-    // Squared distance in the surface plane from the exit point to the source's foot, written
-    // as a sum of squares so it never cancels.
-    let lambda2 = |t: f64| (t * sin_t - r * cos_phi).powi(2) + (r * sin_phi).powi(2);
-    let d_r = |t: f64| (lambda2(t) + (t * cos_t).powi(2)).sqrt();
-    let exponent = |t: f64| t + sigma * d_r(t);
-    // Scale: near the minimum of the convex exponent, which lies in [0, σr] since exponent ≥ t.
-    let t_min = golden_section_min(exponent, 0.0, sigma * r);
-    let m = exponent(t_min);
-    let integrand = |t: f64| {
-        let l2 = lambda2(t);
+    // The beam is parametrised by x = t − t*, the distance past its closest approach to the
+    // exit point, so that distances near that point never come from a difference of nearby
+    // t. With t = t* + x, the exit point's offset in the surface plane from the source's foot
+    // is (x sin θ′ − r cos φ cos²θ′, r sin φ): t* sin θ′ − r cos φ = −r cos φ cos²θ′.
+    let t_star = r * sin_t * cos_phi;
+    let (along, across) = (r * cos_phi * cos_t * cos_t, r * sin_phi);
+    let distance = |x: f64, z: f64| (x * sin_t - along).hypot(across).hypot(z);
+    let d_r = |x: f64| distance(x, (t_star + x) * cos_t);
+    let exponent = |x: f64| t_star + x + sigma * d_r(x);
+    // Scale: near the minimum of the convex exponent, at t ∈ [0, σr] since exponent ≥ t.
+    let x_min = golden_section_min(exponent, -t_star, sigma * r - t_star);
+    let m = exponent(x_min);
+    let integrand = |x: f64| {
+        let t = t_star + x;
         let z_r = t * cos_t;
         let z_v = z_r + 2.0 * z_b;
-        let dr = (l2 + z_r * z_r).sqrt();
-        let dv = (l2 + z_v * z_v).sqrt();
+        let dr = distance(x, z_r);
+        let dv = distance(x, z_v);
         let er = (m - t - sigma * dr).exp();
         let ev = (m - t - sigma * dv).exp();
         let fluence = c_phi / (4.0 * PI * d) * (er / dr - ev / dv);
         let flux = c_e / (4.0 * PI)
-            * (z_r * (1.0 + sigma * dr) * er / dr.powi(3)
-                + z_v * (1.0 + sigma * dv) * ev / dv.powi(3));
+            * ((z_r / dr) * (1.0 + sigma * dr) * er / dr / dr
+                + (z_v / dv) * (1.0 + sigma * dv) * ev / dv / dv);
         let kappa = -(-2.0 * (dr + t)).exp_m1();
         rho * rho * kappa * (fluence + flux)
     };
 
-    // Breakpoints.
-    let t_star = r * sin_t * cos_phi;
-    let h = r * (sin_phi * sin_phi + (cos_t * cos_phi).powi(2)).sqrt();
+    // Breakpoints in x.
+    let h = r * sin_phi.hypot(cos_t * cos_phi);
     let level = |nats: f64, lo: f64, hi: f64, rising: bool| {
         // Bisection for exponent − m = nats on a monotone branch.
         let (mut lo, mut hi) = (lo, hi);
@@ -76,23 +80,22 @@ pub fn ln_pbd(rho: f64, eta: f64, theta: f64, r: f64, phi: f64) -> f64 {
     const LEVELS: [f64; 12] = [
         0.25, 1.0, 2.5, 5.0, 10.0, 20.0, 35.0, 50.0, 70.0, 95.0, 120.0, 150.0,
     ];
-    // exponent ≥ t, so exponent − m ≥ 150 at t_min + m + 150.
-    let t_end = level(150.0, t_min, t_min + m + 150.0, true);
-    let mut edges = vec![0.0, t_min, t_end];
+    // exponent ≥ t, so exponent − m ≥ 150 at t = t_min + m + 150.
+    let x_start = -t_star;
+    let x_end = level(150.0, x_min, x_min + m + 150.0, true);
+    let mut edges = vec![x_start, x_min, x_end];
     for nats in LEVELS {
-        if exponent(0.0) - m > nats {
-            edges.push(level(nats, 0.0, t_min, false));
+        if exponent(x_start) - m > nats {
+            edges.push(level(nats, x_start, x_min, false));
         }
-        edges.push(level(nats, t_min, t_end, true));
+        edges.push(level(nats, x_min, x_end, true));
     }
-    for k in -4..=80 {
-        let step = 2f64.powi(k);
-        edges.push(r * step);
-        if t_star > 0.0 {
-            edges.extend([t_star, t_star - h * step, t_star + h * step]);
-        }
+    let mut step = 1.0 / 16.0;
+    while r * step <= x_end - x_start || h * step <= x_end - x_start {
+        edges.extend([x_start + r * step, 0.0, -h * step, h * step]);
+        step *= 2.0;
     }
-    edges.retain(|&t| (0.0..=t_end).contains(&t));
+    edges.retain(|&x| (x_start..=x_end).contains(&x));
     edges.sort_by(f64::total_cmp);
     edges.dedup();
 
