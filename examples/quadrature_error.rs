@@ -1,68 +1,119 @@
-//! Error against run time of the two PBD quadratures, over the bake grid's stiff corners.
+//! Error against run time of the two PBD quadratures: the fast rule against the reference, on
+//! the points every bake evaluates and over the whole documented domain.
 //!
-//! Run: `cargo run --release --example quadrature_error`
+//! Run: `cargo run --release --example quadrature_error [STRIDE]`
 //!
-//! For η ∈ {1, 1.33, 2.5}, every 7th albedo node of the default table (plus ρ′ = 1), θ every
-//! 10° to 90° (and 89.99°), every 3rd radius node, and the three anchor azimuths of the table
-//! fit, it prints the fast rule's mean, 99th-percentile and max relative error against the
-//! reference quadrature, and the mean time of one evaluation with each.
+//! - **Bake grid**: every STRIDE-th point (default 7) of what a bake evaluates, for each grid
+//!   preset (coarse, default, fine) at η ∈ {0.75, 0.9, 1, 1.0001, 1.05, 1.1, 1.2, 1.33, 1.5, 2,
+//!   2.5}: every (ρ′, θ, r > 0) node at the three anchor azimuths of the fit and the four of
+//!   its refinement, and the θ = 10⁻³ rad limit of the θ = 0 nodes. STRIDE = 1 is every point
+//!   (several minutes).
+//! - **Domain**: 20,000 random points of the documented domain with the stiff corners weighted
+//!   up (the distribution of the reference rule's oracle test, `tests/pbd/domain.rs`).
+//!
+//! For each it prints the number of points, the fast rule's mean, 99th-percentile and largest
+//! relative error (and where the largest is), and the mean time of one evaluation with each rule.
+
+#[path = "../tests/pbd/domain.rs"]
+mod domain;
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
+use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::table::{Grid, GridPreset, REFINE_PHI_DEG};
 use std::time::Instant;
 
-fn main() {
-    let mut errors = Vec::new();
-    let mut points = Vec::new();
-    for eta in [1.0, 1.33, 2.5] {
-        let boundary = Boundary::new(eta, Moments::Exact).expect("valid eta");
-        for i in (0..100).step_by(7).chain([99]) {
-            let rho = (1.0 - (-8.0 * i as f64 / 99.0).exp()) / (1.0 - (-8.0f64).exp());
-            let pbd = Pbd::new(rho.min(1.0), boundary).expect("valid rho");
-            for theta_deg in [
-                0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 89.99, 90.0,
-            ] {
-                for j in (1..64).step_by(3) {
-                    for cos_phi in [0.9530f64, 0.4050, -0.7527] {
-                        points.push((
-                            pbd,
-                            f64::to_radians(theta_deg),
-                            0.0025 * 1.2f64.powi(j),
-                            cos_phi.acos(),
-                        ));
+/// (ρ′, η, θ, r, φ).
+type Point = (f64, f64, f64, f64, f64);
+
+const ETAS: [f64; 11] = [0.75, 0.9, 1.0, 1.0001, 1.05, 1.1, 1.2, 1.33, 1.5, 2.0, 2.5];
+const ANCHOR_COS: [f64; 3] = [0.9530, 0.4050, -0.7527];
+
+fn bake_points(stride: usize) -> Vec<Point> {
+    let mut phis: Vec<f64> = ANCHOR_COS.iter().map(|c| c.acos()).collect();
+    phis.extend(REFINE_PHI_DEG.map(f64::to_radians));
+    let mut all = Vec::new();
+    for preset in [GridPreset::Coarse, GridPreset::Default, GridPreset::Fine] {
+        let grid = Grid::preset(preset);
+        for &eta in &ETAS {
+            for &rho in &grid.rho {
+                for &theta in &grid.theta {
+                    let theta = if theta == 0.0 { 1e-3 } else { theta };
+                    for &r in grid.r.iter().filter(|&&r| r > 0.0) {
+                        for &phi in &phis {
+                            all.push((rho, eta, theta, r, phi));
+                        }
                     }
                 }
             }
         }
     }
+    all.into_iter().step_by(stride.max(1)).collect()
+}
+
+fn domain_points(n: usize) -> Vec<Point> {
+    let mut rng = SplitMix64::new(11);
+    (0..n).map(|_| domain::domain_point(&mut rng)).collect()
+}
+
+fn report(name: &str, points: &[Point]) {
+    let pbds: Vec<Pbd> = points
+        .iter()
+        .map(|&(rho, eta, ..)| {
+            Pbd::new(
+                rho,
+                Boundary::new(eta, Moments::Exact).expect("eta in domain"),
+            )
+            .expect("rho in domain")
+        })
+        .collect();
     let time = |rule: Rule| {
         let start = Instant::now();
         let values: Vec<f64> = points
             .iter()
-            .map(|(p, t, r, phi)| p.eval(*t, *r, *phi, rule))
+            .zip(&pbds)
+            .map(|(&(_, _, theta, r, phi), p)| p.eval(theta, r, phi, rule))
             .collect();
         (values, start.elapsed().as_secs_f64() / points.len() as f64)
     };
     let (reference, t_reference) = time(Rule::Reference);
     let (fast, t_fast) = time(Rule::Fast);
-    for (f, r) in fast.iter().zip(&reference) {
-        if *r > 0.0 && r.is_finite() {
-            errors.push((f / r - 1.0).abs());
-        }
-    }
-    errors.sort_by(f64::total_cmp);
-    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
-    let p99 = errors[errors.len() * 99 / 100];
-    let max = errors[errors.len() - 1];
-    println!("points: {}", errors.len());
-    println!("rule       time/eval   mean rel. error   p99         max");
+    let mut errors: Vec<(f64, Point)> = fast
+        .iter()
+        .zip(&reference)
+        .zip(points)
+        .filter(|((_, r), _)| **r > 0.0 && r.is_finite())
+        .map(|((f, r), p)| ((f / r - 1.0).abs(), *p))
+        .collect();
+    errors.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let n = errors.len();
+    let mean = errors.iter().map(|e| e.0).sum::<f64>() / n as f64;
+    let (max, (rho, eta, theta, r, phi)) = errors[n - 1];
+    println!("{name}: {n} points with S > 0");
     println!(
-        "reference  {:7.2} µs   (tolerance 1e-10)",
-        t_reference * 1e6
+        "  reference {:6.2} µs/eval   fast {:6.2} µs/eval ({:.2}× faster)",
+        t_reference * 1e6,
+        t_fast * 1e6,
+        t_reference / t_fast
     );
     println!(
-        "fast       {:7.2} µs   {mean:.2e}          {p99:.2e}    {max:.2e}",
-        t_fast * 1e6
+        "  fast rule: mean {mean:.2e}, p99 {:.2e}, p99.99 {:.2e}, max {max:.2e} at ρ′ {rho}, η {eta}, θ {:.4}°, r {r:.4e}, φ {:.3}°",
+        errors[n * 99 / 100].0,
+        errors[n * 9999 / 10000].0,
+        theta.to_degrees(),
+        phi.to_degrees()
     );
+}
+
+fn main() {
+    let stride = std::env::args()
+        .nth(1)
+        .map(|s| s.parse().expect("STRIDE is a positive whole number"))
+        .unwrap_or(7);
+    report(
+        &format!("bake grid (every {stride}th point)"),
+        &bake_points(stride),
+    );
+    report("domain", &domain_points(20_000));
 }

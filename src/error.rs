@@ -15,9 +15,6 @@ pub enum Error {
     /// The Henyey–Greenstein asymmetry is outside the open interval (-1, 1).
     #[error("g = {0} is outside (-1, 1)")]
     AsymmetryOutOfRange(f64),
-    /// The relative index of refraction is not positive.
-    #[error("eta = {0} must be > 0")]
-    EtaNotPositive(f64),
     /// σ′t = σ′s + σa is zero: the medium neither scatters nor absorbs.
     #[error("reduced extinction sigma_t' = 0 (sigma_s*(1-g) + sigma_a): the medium is vacuum")]
     Vacuum,
@@ -25,7 +22,7 @@ pub enum Error {
     #[error(transparent)]
     Table(#[from] crate::table::TableError),
     /// A value is outside the range the quantity allows.
-    #[error("{name} = {value} is outside [{min}, {max}]")]
+    #[error("{name} = {} is outside [{}, {}]", number(*value), number(*min), number(*max))]
     OutOfRange {
         name: &'static str,
         value: f64,
@@ -64,6 +61,18 @@ pub enum Error {
         found: String,
         expected: String,
     },
+}
+
+/// A number as a message shows it: plain where that is short (0.75, 2.5, 300), in exponent form
+/// where it is not (1e-9, 1e308 rather than 309 digits).
+pub fn number(x: f64) -> String {
+    let plain = x.to_string();
+    let exponent = format!("{x:e}");
+    if plain.len() <= exponent.len() {
+        plain
+    } else {
+        exponent
+    }
 }
 
 /// Result with the library's error type.

@@ -5,7 +5,8 @@
 //! | σs | mm⁻¹ | ≥ 0, finite | scattering coefficient (unreduced) |
 //! | σa | mm⁻¹ | ≥ 0, finite | absorption coefficient |
 //! | g | – | (−1, 1) | Henyey–Greenstein mean cosine |
-//! | η | – | > 0, finite | relative index of refraction, medium over outside |
+//! | η | – | [0.75, 2.5] | relative index of refraction, medium over outside |
+//! | σ′t = σs(1−g) + σa | mm⁻¹ | [1e-9, 1e12] | reduced extinction (0 is refused as vacuum) |
 //!
 //! Derived (Habel et al. 2013; Ferrier 2016, table 4; Grosjean's diffusion coefficient):
 //! σ′s = σs(1−g), σ′t = σ′s + σa, ρ′ = σ′s/σ′t, D = (2σa + σ′s)/(3σ′t²), σtr = √(σa/D).
@@ -21,6 +22,12 @@
 use crate::error::{finite, Error, Result};
 use crate::fresnel::Moments;
 
+/// Smallest reduced extinction σ′t a medium may have, mm⁻¹ (a mean free path of 1000 km): below
+/// it the world-unit scale factor σ′t² of every profile would leave f64's normal range.
+pub const SIGMA_T_MIN: f64 = 1e-9;
+/// Largest reduced extinction σ′t, mm⁻¹ (a mean free path of 1 fm), see [`SIGMA_T_MIN`].
+pub const SIGMA_T_MAX: f64 = 1e12;
+
 /// A validated homogeneous medium (see the module table for units and ranges).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Medium {
@@ -32,7 +39,8 @@ pub struct Medium {
 
 impl Medium {
     /// Validates and builds a medium. Rejects NaN, infinities, negative coefficients,
-    /// |g| ≥ 1, η ≤ 0, and a medium with σ′t = 0 (vacuum).
+    /// |g| ≥ 1, η outside [[`ETA_MIN`], [`ETA_MAX`]], a medium with σ′t = 0 (vacuum), and σ′t
+    /// outside [[`SIGMA_T_MIN`], [`SIGMA_T_MAX`]] mm⁻¹ (σ′t = 10³⁰⁸ + 10³⁰⁸ overflows to ∞).
     pub fn new(sigma_s: f64, sigma_a: f64, g: f64, eta: f64) -> Result<Self> {
         for (name, value) in [("sigma_s", sigma_s), ("sigma_a", sigma_a)] {
             finite(name, value)?;
@@ -51,8 +59,18 @@ impl Medium {
             g,
             eta,
         };
-        if medium.sigma_t_prime() <= 0.0 {
+        let sigma_t_prime = medium.sigma_t_prime();
+        if sigma_t_prime == 0.0 {
             return Err(Error::Vacuum);
+        }
+        // Not in_range: σ′t = ∞ from finite coefficients is out of range, not "not finite".
+        if !(SIGMA_T_MIN..=SIGMA_T_MAX).contains(&sigma_t_prime) {
+            return Err(Error::OutOfRange {
+                name: "sigma_t'",
+                value: sigma_t_prime,
+                min: SIGMA_T_MIN,
+                max: SIGMA_T_MAX,
+            });
         }
         Ok(medium)
     }
@@ -104,12 +122,17 @@ impl Medium {
     }
 }
 
-fn validate_eta(eta: f64) -> Result<f64> {
-    finite("eta", eta)?;
-    if eta <= 0.0 {
-        return Err(Error::EtaNotPositive(eta));
-    }
-    Ok(eta)
+/// The relative index of refraction every model, table and walk accepts: [`ETA_MIN`, `ETA_MAX`].
+/// Below 0.75 light enters only near normal incidence; above 2.5 no common medium lies (diamond
+/// is 2.42). Every model is verified over this range (PBD by the independent quadrature of
+/// `tests/pbd.rs`).
+pub const ETA_MIN: f64 = 0.75;
+/// Upper end of the η domain, see [`ETA_MIN`].
+pub const ETA_MAX: f64 = 2.5;
+
+/// Checks η ∈ [[`ETA_MIN`], [`ETA_MAX`]], naming it otherwise.
+pub fn validate_eta(eta: f64) -> Result<f64> {
+    crate::error::in_range("eta", eta, ETA_MIN, ETA_MAX)
 }
 
 /// Diffusion constants in reduced optical units (σ′t = 1) for reduced albedo ρ′ ∈ [0, 1].

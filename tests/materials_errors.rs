@@ -98,11 +98,12 @@ fn g_of_one_is_rejected() {
 }
 
 #[test]
-fn eta_of_zero_is_rejected() {
-    for eta in ["0.0", "-1.33"] {
+fn eta_outside_the_domain_is_rejected() {
+    for eta in ["0.0", "-1.33", "0.7", "2.6", "1e6"] {
         let err = reject(&with("eta = 1.33", &format!("eta = {eta}")));
+        assert!(err.to_string().contains("[0.75, 2.5]"), "{err}");
         assert!(
-            matches!(&err, MaterialError::EtaNotPositive { value, .. }
+            matches!(&err, MaterialError::EtaOutOfRange { value, .. }
                 if *value == eta.parse::<f64>().unwrap()),
             "{err:?}"
         );
@@ -262,7 +263,7 @@ fn inline_coefficients_are_validated_like_files() {
     ));
     assert!(matches!(
         ok("mine", 1.0, 0.0, 0.0),
-        Err(MaterialError::EtaNotPositive { .. })
+        Err(MaterialError::EtaOutOfRange { .. })
     ));
     assert!(matches!(
         ok("Mine", 1.0, 0.0, 1.3),

@@ -15,22 +15,29 @@ use models_common::{model, options, table_for};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-const RHOS: [f64; 4] = [0.0, 1e-9, 1.0 - 1e-9, 1.0];
-const ETAS: [f64; 4] = [0.75, 1.0, 1.0001, 2.5];
-const R: [f64; 3] = [1e-12, 1.0, 1e4];
-const PHIS: [f64; 3] = [0.0, PI, -PI];
+const RHOS: [f64; 5] = [0.0, 1e-9, 0.5, 1.0 - 1e-9, 1.0];
+/// Both ends of the η domain, index matching and just above it.
+const ETAS: [f64; 5] = [0.75, 1.0, 1.0001, 1.33, 2.5];
+/// r = 0, the smallest subnormal and others below the smallest normal, up to 10⁴ mfp.
+const R: [f64; 9] = [0.0, 5e-324, 1e-310, 1e-100, 1e-12, 1.0, 300.0, 1e4, 1e300];
+const PHIS: [f64; 4] = [0.0, PI, -PI, 1e-300];
 
-fn thetas() -> [f64; 3] {
-    [0.0, 89.99f64.to_radians(), 0.5 * PI]
+fn thetas() -> [f64; 4] {
+    [0.0, 1e-300, 89.99f64.to_radians(), 0.5 * PI]
 }
 
-/// Whether +∞ is the documented value: PBD when the refracted beam runs along the surface
-/// (θ = 90° at η = 1) through the exit point (φ = 0).
-fn documented_infinity(kind: ModelKind, eta: f64, theta: f64, phi: f64) -> bool {
-    matches!(kind, ModelKind::Pbd | ModelKind::PbdFast)
-        && eta == 1.0
-        && theta == 0.5 * PI
-        && phi == 0.0
+/// Whether +∞ is the documented value: PBD at r = 0, where it diverges like ln(1/r), and when
+/// the refracted beam runs along the surface (θ = 90° at η = 1) through the exit point (φ = 0);
+/// Christensen–Burley at r = 0.
+fn documented_infinity(kind: ModelKind, eta: f64, theta: f64, r: f64, phi: f64) -> bool {
+    match kind {
+        ModelKind::Pbd | ModelKind::PbdFast => {
+            r == 0.0 || (eta == 1.0 && theta == 0.5 * PI && phi == 0.0)
+        }
+        // An integrable 1/r at r = 0, beyond f64's range below r ~ 1e-307.
+        ModelKind::Burley => r < 1e-300,
+        _ => false,
+    }
 }
 
 fn no_light_enters(eta: f64, theta: f64) -> bool {
@@ -61,7 +68,7 @@ fn check_extremes(kind: ModelKind) {
                         let at =
                             format!("{kind} rho {rho} eta {eta} theta {theta} r {r} phi {phi}");
                         assert!(v >= 0.0, "{at}: {v}");
-                        if !documented_infinity(kind, eta, theta, phi) {
+                        if !documented_infinity(kind, eta, theta, r, phi) {
                             assert!(v.is_finite(), "{at}: {v}");
                         }
                         if no_light_enters(eta, theta) {
@@ -245,4 +252,34 @@ fn the_shared_table_is_the_one_in_use() {
     let table = table_for(2.5);
     let m = TableModel::new(&p, &TableSource::Shared(Arc::clone(&table)), Mode::Angular).unwrap();
     assert!(Arc::ptr_eq(m.table(), &table));
+}
+
+#[test]
+fn every_model_refuses_eta_and_extinction_outside_the_domain() {
+    // Every model is built from Params, which enforces η ∈ [0.75, 2.5] (as do Medium, Boundary
+    // and the walk); the message names the value and the range.
+    for eta in [1e6, 100.0, 2.51, 0.74, 0.0, -1.33] {
+        let err = Params::new(0.5, eta, Moments::Exact)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(&format!("eta = {}", bssrdf_zoo::error::number(eta)))
+                && err.contains("[0.75, 2.5]"),
+            "{err}"
+        );
+        let err = Medium::new(1.0, 1.0, 0.0, eta).unwrap_err().to_string();
+        assert!(err.contains("[0.75, 2.5]"), "{err}");
+    }
+    for eta in [f64::NAN, f64::INFINITY] {
+        assert!(Params::new(0.5, eta, Moments::Exact).is_err());
+    }
+    // σ′t = 1e308 + 1e308 overflows to ∞ (it stored ρ′ = 0 and σ′t = ∞); far below any medium,
+    // σ′t² of the world-unit conversion would underflow.
+    for (s, a) in [(1e308, 1e308), (1e13, 0.0), (0.0, 1e-10)] {
+        let err = Medium::new(s, a, 0.0, 1.33).unwrap_err().to_string();
+        assert!(
+            err.contains("sigma_t'") && err.contains("[1e-9, 1e12]"),
+            "{err}"
+        );
+    }
 }

@@ -65,9 +65,14 @@ pub enum MaterialError {
         field: String,
         value: f64,
     },
-    /// The relative index of refraction is not positive.
-    #[error("{file}: eta = {value} must be > 0")]
-    EtaNotPositive { file: String, value: f64 },
+    /// The relative index of refraction is outside the models' domain.
+    #[error("{file}: eta = {value} is outside [{min}, {max}]")]
+    EtaOutOfRange {
+        file: String,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
     /// The display name is empty or only white space.
     #[error("{file}: name is empty")]
     EmptyName { file: String },

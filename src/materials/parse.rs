@@ -234,10 +234,12 @@ pub(super) fn channels(
     eta: f64,
 ) -> Result<[Channel; 3], MaterialError> {
     let eta = finite(file, || "eta".to_string(), eta)?;
-    if eta <= 0.0 {
-        return Err(MaterialError::EtaNotPositive {
+    if crate::medium::validate_eta(eta).is_err() {
+        return Err(MaterialError::EtaOutOfRange {
             file: file.to_string(),
             value: eta,
+            min: crate::medium::ETA_MIN,
+            max: crate::medium::ETA_MAX,
         });
     }
     let sigma_s = non_negative_triple(file, "sigma_s", sigma_s)?;

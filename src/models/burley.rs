@@ -5,10 +5,10 @@
 //! | parameter | unit | valid range |
 //! |---|---|---|
 //! | ρ′ reduced albedo | – | [0, 1] (< 1 for the diffuse-mean-free-path fit) |
-//! | η relative index | – | > 0 (only through the surface albedo A and whether light enters) |
+//! | η relative index | – | [0.75, 2.5] (only through the surface albedo A and whether light enters) |
 //! | A surface albedo (total diffuse reflectance) | – | [0, 1], see [`SurfaceAlbedo`] |
 //! | θ incidence | rad | the profile ignores θ; 0 where no light enters |
-//! | r exit distance | reduced mfp | ≥ 0; R = +∞ at r = 0 (integrable 1/r) |
+//! | r exit distance | reduced mfp | ≥ 0; R = +∞ at r = 0 (integrable 1/r) and where R ~ 1/r exceeds f64's range (r ≲ 1e-307) |
 //! | result R(r) | per reduced mfp², per unit power entering | ≥ 0 |
 //!
 //! # The model

@@ -211,10 +211,7 @@ impl Params {
     /// Validated parameters with g = 0.
     pub fn new(rho_prime: f64, eta: f64, moments: Moments) -> Result<Self> {
         in_range("rho'", rho_prime, 0.0, 1.0)?;
-        finite("eta", eta)?;
-        if eta <= 0.0 {
-            return Err(Error::EtaNotPositive(eta));
-        }
+        crate::medium::validate_eta(eta)?;
         Ok(Self {
             rho_prime,
             eta,

@@ -113,10 +113,7 @@ impl ExitWalk {
         if g.abs() >= 1.0 {
             return Err(Error::AsymmetryOutOfRange(g));
         }
-        finite("eta", eta)?;
-        if eta <= 0.0 {
-            return Err(Error::EtaNotPositive(eta));
-        }
+        crate::medium::validate_eta(eta)?;
         Ok(Self { albedo, g, eta })
     }
 

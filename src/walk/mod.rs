@@ -158,10 +158,7 @@ impl Config {
         if self.g.abs() >= 1.0 {
             return Err(Error::AsymmetryOutOfRange(self.g));
         }
-        finite("eta", self.eta)?;
-        if self.eta <= 0.0 {
-            return Err(Error::EtaNotPositive(self.eta));
-        }
+        crate::medium::validate_eta(self.eta)?;
         in_range("theta", self.theta, 0.0, FRAC_PI_2)?;
         if self.eta < 1.0 && self.theta.sin() > self.eta {
             // Total reflection at entry: no power enters to normalise by.

@@ -478,6 +478,12 @@ fn grazing_and_extreme_parameters_stay_finite() {
 #[test]
 fn invalid_configs_are_rejected() {
     let ok = || half_space(0.5, 0.0, 1.3, 10.0, 100, 0);
+    let eta_out_of_range = |value| Error::OutOfRange {
+        name: "eta",
+        value,
+        min: crate::medium::ETA_MIN,
+        max: crate::medium::ETA_MAX,
+    };
     let cases: Vec<(Config, Error)> = vec![
         (
             Config {
@@ -525,8 +531,9 @@ fn invalid_configs_are_rejected() {
                 value: f64::INFINITY,
             },
         ),
-        (Config { eta: 0.0, ..ok() }, Error::EtaNotPositive(0.0)),
-        (Config { eta: -1.3, ..ok() }, Error::EtaNotPositive(-1.3)),
+        (Config { eta: 0.0, ..ok() }, eta_out_of_range(0.0)),
+        (Config { eta: -1.3, ..ok() }, eta_out_of_range(-1.3)),
+        (Config { eta: 2.6, ..ok() }, eta_out_of_range(2.6)),
         (
             Config {
                 eta: f64::NAN,
