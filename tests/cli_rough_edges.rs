@@ -282,7 +282,7 @@ fn dirpole_authors_fits_are_reachable() {
 }
 
 #[test]
-fn r_zero_is_each_models_limit_and_tiny_r_is_refused() {
+fn r_zero_is_each_models_limit_and_tiny_r_is_finite() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     bare(d);
@@ -298,15 +298,15 @@ fn r_zero_is_each_models_limit_and_tiny_r_is_refused() {
     assert_eq!(ok(&at("pbd", "0")).trim(), "inf");
     let table0: f64 = ok(&at("table", "0")).trim().parse().unwrap();
     assert!(table0.is_finite() && table0 > 0.0);
-    let tiny: f64 = ok(&at("table", "1e-100")).trim().parse().unwrap();
-    assert!(tiny.is_finite() && tiny > table0);
-    for model in ["table", "pbd"] {
-        fails_with(
-            &at(model, "1e-320"),
-            2,
-            "--r 1e-320 is outside the valid range: 0, or a finite number >= 1e-100",
-        );
+    // Below 1e-9 r_1 the table keeps that value; PBD follows its ln(1/r) down to subnormals.
+    for r in ["1e-100", "5e-324"] {
+        let tiny: f64 = ok(&at("table", r)).trim().parse().unwrap();
+        assert_eq!(tiny, table0, "{r}");
     }
+    let pbd_tiny: f64 = ok(&at("pbd", "5e-324")).trim().parse().unwrap();
+    let pbd_small: f64 = ok(&at("pbd", "1e-100")).trim().parse().unwrap();
+    assert!(pbd_tiny.is_finite() && pbd_tiny > pbd_small);
+    fails_with(&at("pbd", "-1e-300"), 2, "--r");
 }
 
 /// The README's quick start, line by line as printed (`> FILE` redirects stdout), in a fresh

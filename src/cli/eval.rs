@@ -209,22 +209,12 @@ fn outside(rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
     ))
 }
 
-/// Smallest positive r, reduced mean free paths (or mm): below it the quadrature of PBD
-/// underflows (NaN from about 1e-200) and the table's ln(1/r) growth overflows near 1e-320.
-pub const R_MIN_POSITIVE: f64 = 1e-100;
-
-/// r is 0 or a finite number in [R_MIN_POSITIVE, ∞). At r = 0 each model gives its limit:
-/// +∞ where it diverges (pbd like ln(1/r), burley like 1/r; JSON writes "inf"), and the
-/// table models their value at 10⁻⁹ times the first radial node (finite, documented in
-/// `TableRef::eval`).
+/// r is a finite number ≥ 0; every positive r, subnormals included, has a finite value. At
+/// r = 0 each model gives its limit: +∞ where it diverges (pbd like ln(1/r), burley like 1/r;
+/// JSON writes "inf"), and the table models the value at which they cap that growth, 10⁻⁹
+/// times the first radial node (finite, documented in `TableRef::eval`).
 fn check_r(name: &str, r: f64) -> Result<(), CliError> {
-    if r == 0.0 || (r.is_finite() && r >= R_MIN_POSITIVE) {
-        return Ok(());
-    }
-    Err(CliError::input(format!(
-        "{name} {} is outside the valid range: 0, or a finite number >= {R_MIN_POSITIVE:e}",
-        super::show(r)
-    )))
+    check_range(name, r, 0.0, f64::INFINITY)
 }
 
 /// Refuses `value` outside [min, max] (and NaN and ±∞ always); `name` is how the input calls

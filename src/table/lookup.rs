@@ -501,19 +501,17 @@ impl<'a> TableRef<'a> {
     }
 
     /// The radius at which to evaluate r, with its Catmull-Rom weights; `None` for r outside
-    /// [0, r_max] or NaN. PBD diverges like ln(1/r) at r = 0; the table returns its value at
-    /// r = 10⁻⁹ r₁ there (finite, documented).
+    /// [0, r_max] or NaN. PBD diverges like ln(1/r) at r = 0; the table caps that growth at
+    /// r = 10⁻⁹ r₁: every r below, 0 and subnormals included, has the value there (finite,
+    /// documented).
     // Inlined: returned through memory, its weights are written as scalars and read back as
     // pairs, which stalls store forwarding (measured ~8 % of an evaluation)
     #[inline(always)]
     fn radius(&self, r: f64) -> Option<(f64, Weights)> {
-        let r_eval = if r > 0.0 {
-            r
-        } else if r == 0.0 {
-            self.first_radius() * 1e-9
-        } else {
+        if r.is_nan() || r < 0.0 {
             return None;
-        };
+        }
+        let r_eval = r.max(self.first_radius() * 1e-9);
         // Hot cells apart, see `Nodes::hot_weights`
         let w = match self.axes.r().hot_weights(r_eval) {
             Some(w) => w,

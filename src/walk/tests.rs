@@ -460,9 +460,9 @@ fn grazing_and_extreme_parameters_stay_finite() {
     for (albedo, g, eta, theta) in [
         (0.9, 0.0, 1.0, FRAC_PI_2),
         (0.9, 0.99, 1.0, FRAC_PI_2),
-        (0.5, -0.99, 0.5, 0.5f64.asin()),
+        (0.5, -0.99, 0.75, 0.75f64.asin()),
         (1.0, 0.0, 1.0, 0.0),
-        (0.99, 0.0, 3.0, 1.0),
+        (0.99, 0.0, 2.5, 1.0),
     ] {
         let config = Config {
             photons: 2000,
@@ -567,7 +567,7 @@ fn invalid_configs_are_rejected() {
         ),
         (
             Config {
-                eta: 0.5,
+                eta: 0.75,
                 theta: 1.0,
                 ..ok()
             },
@@ -575,7 +575,7 @@ fn invalid_configs_are_rejected() {
                 name: "theta",
                 value: 1.0,
                 min: 0.0,
-                max: 0.5f64.asin(),
+                max: 0.75f64.asin(),
             },
         ),
         (
