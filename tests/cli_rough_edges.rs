@@ -367,3 +367,48 @@ fn file_flags_without_a_file_are_refused() {
         "--material",
     );
 }
+
+/// Issue 16's list: inputs that printed NaN, a negative value or stored ∞ with exit 0 now give
+/// the finite value or a refusal naming the value and its range (exit 2).
+#[test]
+fn no_nan_and_no_negative_value_from_any_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let eval = |model: &str, extra: &[&str]| {
+        let mut args = vec!["eval", "--model", model, "--rho", "0.5", "--theta", "10"];
+        args.extend_from_slice(extra);
+        bssrdf(d, &args)
+    };
+    for model in ["pbd", "pbd-fast", "burley", "dipole", "dirpole"] {
+        for eta in ["1e6", "100", "2.51", "0.74"] {
+            fails_with(
+                &eval(model, &["--eta", eta, "--r", "1"]),
+                2,
+                &format!("eta = {eta} is outside [0.75, 2.5]"),
+            );
+        }
+    }
+    for model in ["pbd", "pbd-fast"] {
+        for r in ["5e-324", "1e-310", "1e-200"] {
+            let v: f64 = ok(&eval(model, &["--r", r])).trim().parse().unwrap();
+            assert!(v.is_finite() && v > 0.0, "{model} r {r}: {v}");
+        }
+    }
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "bake",
+                "--sigma-s",
+                "1e308,1e308,1e308",
+                "--sigma-a",
+                "1e308,1e308,1e308",
+                "-o",
+                "x.bssrdf",
+            ],
+        ),
+        2,
+        "sigma_t' = inf is outside [1e-9, 1e12]",
+    );
+    assert!(!d.join("x.bssrdf").exists());
+}
