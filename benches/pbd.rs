@@ -1,5 +1,7 @@
-//! One photon-beam-diffusion evaluation with each quadrature, at a few representative points
-//! (normal incidence, oblique, grazing). Run: `cargo bench --bench pbd`.
+//! One photon-beam-diffusion evaluation with each quadrature, at representative points (normal
+//! incidence, oblique, grazing, a beam just under the exit point at η ≈ 1, small r), against a
+//! fixed arithmetic baseline in the same run. Run: `cargo bench --bench pbd`; the README gives
+//! each evaluation as a ratio to `baseline/exp_sqrt_64`.
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
@@ -7,15 +9,28 @@ use bssrdf_zoo::pbd::{Pbd, Rule};
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 
 fn bench(c: &mut Criterion) {
-    let boundary = Boundary::new(1.33, Moments::Exact).unwrap();
-    let pbd = Pbd::new(0.9, boundary).unwrap();
+    let deg = f64::to_radians;
     let points = [
-        ("theta0_r1", 0.0f64, 1.0, 0.0),
-        ("theta60_r0.1", 60f64.to_radians(), 0.1, 0.3),
-        ("theta89_r1", 89f64.to_radians(), 1.0, 0.0),
+        ("theta0_r1", 0.9, 1.33, 0.0, 1.0, 0.0),
+        ("theta60_r0.1", 0.9, 1.33, deg(60.0), 0.1, 0.3),
+        ("theta89_r1", 0.9, 1.33, deg(89.0), 1.0, 0.0),
+        ("eta1.0001_theta90_r19", 0.96, 1.0001, deg(90.0), 18.8, 0.0),
+        ("theta60_r1e-9", 0.5, 1.33, deg(60.0), 1e-9, 2.0),
     ];
     let mut group = c.benchmark_group("pbd_eval");
-    for (name, theta, r, phi) in points {
+    // The baseline: 64 exponentials and square roots, about one panel's worth of integrand work.
+    group.bench_function("baseline/exp_sqrt_64", |b| {
+        b.iter(|| {
+            (0..64)
+                .map(|i| {
+                    let x = black_box(0.1) + f64::from(i) * 0.01;
+                    (-x).exp() * x.sqrt()
+                })
+                .sum::<f64>()
+        })
+    });
+    for (name, rho, eta, theta, r, phi) in points {
+        let pbd = Pbd::new(rho, Boundary::new(eta, Moments::Exact).unwrap()).unwrap();
         for (rule_name, rule) in [("reference", Rule::Reference), ("fast", Rule::Fast)] {
             group.bench_function(format!("{rule_name}/{name}"), |b| {
                 b.iter(|| pbd.eval(black_box(theta), black_box(r), black_box(phi), rule))

@@ -751,7 +751,11 @@ fn progress_shows_on_a_terminal_only() {
         return;
     }
     let exe = env!("CARGO_BIN_EXE_bssrdf");
-    for (args, shown) in [(long[0], "walking"), (long[1], "validating")] {
+    for (args, shown) in [
+        (long[0], "walking"),
+        (long[1], "validating"),
+        (long[2], "walks and models"),
+    ] {
         for quiet in [false, true] {
             let line = format!(
                 "{exe} {}{} >/dev/null",

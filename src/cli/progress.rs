@@ -16,17 +16,3 @@ pub fn bar(len: u64, unit: &str, quiet: bool) -> ProgressBar {
     }
     bar
 }
-
-/// A spinner with `message` and the elapsed time, for work that reports no steps.
-pub fn spinner(message: &str, quiet: bool) -> ProgressBar {
-    if quiet || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} ({elapsed})") {
-        bar.set_style(style);
-    }
-    bar.set_message(message.to_string());
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
-}

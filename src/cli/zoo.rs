@@ -60,18 +60,21 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
             .collect::<Result<_, _>>()?;
     }
     super::check_threads(args.threads)?;
-    // The comparison reports no progress of its own: a spinner with the elapsed time.
-    let spinner = super::progress::spinner(
-        &format!(
-            "comparing {} model(s) with the walk on {} case(s) of {} photons",
-            config.models.len(),
-            config.cases.len(),
-            config.photons
-        ),
+    // Per case: its reference walk, then each model.
+    let bar = super::progress::bar(
+        compare::progress_steps(&config),
+        "walks and models",
         args.quiet,
     );
-    let report = super::with_threads(args.threads, || compare::run(&config))??;
-    spinner.finish_and_clear();
+    bar.set_message(format!(
+        "{} case(s), {} photons",
+        config.cases.len(),
+        config.photons
+    ));
+    let report = super::with_threads(args.threads, || {
+        compare::run_with_progress(&config, &|n| bar.inc(n))
+    })??;
+    bar.finish_and_clear();
     if let Some(dir) = &args.plot {
         std::fs::create_dir_all(dir)
             .map_err(|e| CliError::input(format!("cannot create {}: {e}", dir.display())))?;

@@ -240,6 +240,16 @@ pub fn component_name(c: Component) -> &'static str {
 
 /// Runs the comparison (walks in parallel on the current rayon pool; timing on this thread).
 pub fn run(config: &CompareConfig) -> Result<CompareReport> {
+    run_with_progress(config, &|_| {})
+}
+
+/// Steps [`run_with_progress`] reports: per case, its reference walk and each model.
+pub fn progress_steps(config: &CompareConfig) -> u64 {
+    (config.cases.len() * (1 + config.models.len())) as u64
+}
+
+/// [`run`], calling `progress(1)` after each of the [`progress_steps`] steps.
+pub fn run_with_progress(config: &CompareConfig, progress: &dyn Fn(u64)) -> Result<CompareReport> {
     let mut options = config.options.clone();
     if config
         .models
@@ -254,7 +264,7 @@ pub fn run(config: &CompareConfig) -> Result<CompareReport> {
     for &(rho, theta_deg) in &config.cases {
         in_range("theta (degrees)", theta_deg, 0.0, 90.0)?;
         let params = Params::new(rho, config.eta, config.moments)?.with_g(config.g)?;
-        let (case, case_rows) = run_case(config, &options, &params, theta_deg)?;
+        let (case, case_rows) = run_case(config, &options, &params, theta_deg, progress)?;
         rows.extend(case_rows);
         cases.push(case);
     }
@@ -290,6 +300,7 @@ fn run_case(
     options: &Options,
     params: &Params,
     theta_deg: f64,
+    progress: &dyn Fn(u64),
 ) -> Result<(Case, Vec<Row>)> {
     let theta = theta_deg.to_radians();
     let walk_config = walk::Config {
@@ -303,6 +314,7 @@ fn run_case(
         geometry: walk::Geometry::HalfSpace,
     };
     let result = walk::run(&walk_config)?;
+    progress(1);
     let reference = Reference {
         multiple: McModel::from_walk(&result, Component::Multiple, params.moments())?,
         total: McModel::from_walk(&result, Component::Total, params.moments())?,
@@ -334,6 +346,7 @@ fn run_case(
         };
         rows.push(row);
         averages.push(avg);
+        progress(1);
     }
     let case = profiles(
         config, params, theta_deg, &result, &reference, &grid, &averages,
