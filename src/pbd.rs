@@ -9,7 +9,7 @@
 //! | η relative index ([`Boundary`]) | – | [0.75, 2.5] |
 //! | θ incidence before refraction | rad | [0, π/2]; outside → 0 |
 //! | r exit distance | reduced mean free paths (σ′t = 1) | ≥ 0, finite |
-//! | φ exit azimuth, 0 = forward | rad | any (2π-periodic) |
+//! | φ exit azimuth, 0 = forward | rad | any finite (2π-periodic); non-finite → 0 |
 //! | result S_p^MS | per reduced mfp² (per unit area per unit power entering) | ≥ 0 |
 //!
 //! # The model
@@ -58,8 +58,8 @@
 //! - η < 1 beyond the critical angle (sin θ > η): no light enters; S = 0.
 //! - Very far out (r ≳ 600 mfp at low albedo) S leaves f64's normal range: [`Pbd::eval`] is
 //!   within 10⁻⁸ relative down to 2.2e-308 and within one subnormal step below, then 0;
-//!   [`Pbd::ln_eval`] gives ln S to 10⁻⁸ there, up to r = 10¹⁴⁰, beyond which S < 10⁻⁴⁰⁰ and
-//!   both return 0 (ln: −∞).
+//!   [`Pbd::ln_eval`] gives ln S there, to r·10⁻¹⁶ (the rounding of the beam's exponent, of
+//!   order r): 10⁻⁸ up to r = 10⁸. Beyond r = 10⁸, where S < 10⁻²⁴, both return 0 (ln: −∞).
 
 use crate::error::Result;
 use crate::fresnel::Moments;
@@ -92,8 +92,9 @@ const R_SMALL: f64 = 1e-12;
 /// is used with; closer, a closed-form log term takes the rest ([`Pbd::setup`]).
 const H_FLOOR: f64 = 1e-280;
 /// Beyond this radius (reduced mfp) S is 0: it falls at least like r⁻³ (the power-law tail at
-/// ρ′ = 1), below 1e-400, while squares of the distances would leave f64's range.
-const R_LARGE: f64 = 1e140;
+/// ρ′ = 1), below 1e-24, while the beam's exponent t + σtr d_r, of order r, carries an absolute
+/// rounding error of r·1e-16 that reaches 1e-8 there.
+const R_LARGE: f64 = 1e8;
 /// Nats beyond the smallest exponent at which the beam integral is cut.
 const TAIL_NATS: f64 = 46.0;
 /// Levels of f − m (nats above the exponent's minimum) at which panels are cut; the last is
@@ -104,9 +105,10 @@ const MAX_PANEL_U: f64 = 2.5;
 /// Most edges before the wide panels are split: the level edges on both sides, the minimum and
 /// the five around the closest approach.
 const MERGED_EDGES: usize = 2 * LEVELS.len() + 6;
-/// Most panel edges [`Pbd::breaks`] returns: room for the merged edges and the splits of a few
-/// wide panels (a beam 10⁻²⁸⁰ from the exit point needs about 40).
-const MAX_EDGES: usize = 128;
+/// Most panel edges [`Pbd::breaks`] returns: room for the merged edges split in up to four each,
+/// and for the doubling splits of a few wide panels (a beam 10⁻²⁸⁰ from the exit point needs
+/// about 40).
+const MAX_EDGES: usize = 160;
 /// Points per panel of the fast rule.
 pub const FAST_POINTS_PER_PANEL: usize = 8;
 
@@ -136,14 +138,13 @@ enum Setup {
     Integrate(Beam, f64),
 }
 
-/// What one evaluation found: S = scaled·e^{ln_scale} + log_term.
+/// What one evaluation found: S = scaled·e^{ln_scale}.
 struct Evaluated {
-    /// The integral scaled by e^{m} (or the exact value where no integral was needed).
+    /// The integral scaled by e^{m}, with the small-r expansion's k·ln(R_SMALL/r) or a grazing
+    /// beam's A·ln(floor/h) scaled likewise (or the exact value where no integral was needed).
     scaled: f64,
     /// −m: the exponent scale (0 for an exact value).
     ln_scale: f64,
-    /// The small-r expansion's k·ln(R_SMALL/r), or the grazing beam's A·ln(H_FLOOR/h); else 0.
-    log_term: f64,
     /// The reference rule's error estimate of `scaled` (0 for the fast rule).
     error: f64,
     converged: bool,
@@ -154,7 +155,6 @@ impl Evaluated {
         Self {
             scaled: value,
             ln_scale: 0.0,
-            log_term: 0.0,
             error: 0.0,
             converged: true,
         }
@@ -162,19 +162,15 @@ impl Evaluated {
 
     fn value(&self) -> f64 {
         if self.ln_scale > -700.0 {
-            self.scaled * self.ln_scale.exp() + self.log_term
+            self.scaled * self.ln_scale.exp()
         } else {
             // e^{ln_scale} alone would be subnormal or 0 while the product is not.
-            (self.scaled.ln() + self.ln_scale).exp()
+            self.ln_value().exp()
         }
     }
 
     fn ln_value(&self) -> f64 {
-        if self.log_term == 0.0 {
-            self.scaled.ln() + self.ln_scale
-        } else {
-            self.value().ln()
-        }
+        self.scaled.ln() + self.ln_scale
     }
 }
 
@@ -244,13 +240,21 @@ impl Pbd {
     /// beam's flux term, z_r/d_r³ with κ ≈ 2(d_r + t) ≈ 4t, integrates k/t from t ~ r outward;
     /// the other terms stay finite. 0 where no light enters.
     pub fn log_slope(&self, theta: f64) -> f64 {
-        let sin_t = theta.sin() / self.boundary.eta();
-        if !(0.0..=0.5 * PI).contains(&theta) || sin_t > 1.0 {
+        let Some((_, cos_t)) = self.refract(theta) else {
             return 0.0;
-        }
-        let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
+        };
         let rho = self.diffusion.rho_prime;
         rho * rho * self.boundary.c_e() * cos_t / PI
+    }
+
+    /// (sin θ′, cos θ′) of the refracted beam; `None` where no light enters (θ outside
+    /// [0, π/2], NaN, or beyond the critical angle, sin θ > η).
+    fn refract(&self, theta: f64) -> Option<(f64, f64)> {
+        if !(0.0..=0.5 * PI).contains(&theta) {
+            return None;
+        }
+        let sin_t = theta.sin() / self.boundary.eta();
+        (sin_t <= 1.0).then(|| (sin_t, (1.0 - sin_t * sin_t).max(0.0).sqrt()))
     }
 
     fn evaluate(&self, theta: f64, r: f64, phi: f64, rule: Rule) -> Evaluated {
@@ -258,12 +262,12 @@ impl Pbd {
             // The small-r expansion: S(r) = S(R_SMALL) + k·ln(R_SMALL/r), with ln r taken
             // apart so that R_SMALL/r cannot overflow at subnormal r.
             let mut at = self.evaluate(theta, R_SMALL, phi, rule);
-            at.log_term += self.log_slope(theta) * (R_SMALL.ln() - r.ln());
+            at.scaled += self.log_slope(theta) * (R_SMALL.ln() - r.ln()) * (-at.ln_scale).exp();
             return at;
         }
         match self.setup(theta, r, phi) {
             Setup::Value(v) => Evaluated::exact(v),
-            Setup::Integrate(beam, log_term) => {
+            Setup::Integrate(beam, log_scaled) => {
                 let (scaled, error, converged) = match rule {
                     Rule::Reference => {
                         let est = self.reference(&beam);
@@ -272,9 +276,8 @@ impl Pbd {
                     Rule::Fast => (self.fast(&beam), 0.0, true),
                 };
                 Evaluated {
-                    scaled,
+                    scaled: scaled + log_scaled,
                     ln_scale: -beam.m,
-                    log_term,
                     error,
                     converged,
                 }
@@ -292,14 +295,12 @@ impl Pbd {
     /// are adaptive (relative tolerance 1e-9); the radial one is mapped onto [0, 1) so the
     /// power-law tail at ρ′ = 1 is integrated to infinity.
     pub fn effective_albedo(&self, theta: f64) -> f64 {
-        if !(0.0..=0.5 * PI).contains(&theta) {
+        let Some((_, cos_t)) = self.refract(theta) else {
+            return 0.0;
+        };
+        if self.diffusion.rho_prime == 0.0 {
             return 0.0;
         }
-        let sin_t = theta.sin() / self.boundary.eta();
-        if sin_t > 1.0 || self.diffusion.rho_prime == 0.0 {
-            return 0.0;
-        }
-        let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
         let ReducedDiffusion {
             rho_prime,
             d,
@@ -347,20 +348,17 @@ impl Pbd {
     }
 
     fn setup(&self, theta: f64, r: f64, phi: f64) -> Setup {
-        let rho = self.diffusion.rho_prime;
-        if !(0.0..=0.5 * PI).contains(&theta) || !r.is_finite() || r < 0.0 || !phi.is_finite() {
+        if !r.is_finite() || r < 0.0 || !phi.is_finite() || r > R_LARGE {
+            // Beyond R_LARGE, S < 1e-24 and its exponent is no longer resolved: 0.
             return Setup::Value(0.0);
         }
-        if r > R_LARGE {
-            // S < 1e-400 (it falls at least like r⁻³): 0 is its rounded value.
+        // Where no light enters, or with ρ′ = 0 where nothing scatters, S = 0.
+        let Some((sin_t, cos_t)) = self.refract(theta) else {
+            return Setup::Value(0.0);
+        };
+        if self.diffusion.rho_prime == 0.0 {
             return Setup::Value(0.0);
         }
-        let sin_t = theta.sin() / self.boundary.eta();
-        if sin_t > 1.0 || rho == 0.0 {
-            // Beyond the critical angle nothing enters; with ρ′ = 0 nothing scatters.
-            return Setup::Value(0.0);
-        }
-        let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
         if r == 0.0 {
             return Setup::Value(f64::INFINITY);
         }
@@ -369,27 +367,20 @@ impl Pbd {
         // h = r·√(sin²φ + cos²θ′cos²φ), as a product so that it underflows only with h itself.
         let h_over_r = sin_phi.hypot(cos_t * cos_phi);
         let mut h = r * h_over_r;
-        let mut log_term = 0.0;
-        if h < H_FLOOR && t_star > 0.0 {
+        // Closer than this the beam is taken at this distance plus a closed-form log term
+        // (relative to r too, so that |u| stays below ~670 over the beam).
+        let floor = H_FLOOR.max(r * 1e-290);
+        // ln(floor/h) where the beam passes closer than the floor, else 0.
+        let mut log_ratio = 0.0;
+        if h < floor {
             if h_over_r == 0.0 {
                 // The beam runs along the surface through the exit point.
                 return Setup::Value(f64::INFINITY);
             }
-            // The beam runs along the surface (cos θ′ = 0: η = 1 and θ within 1e-8 of 90°)
-            // closer than H_FLOOR to the exit point. Its only singular term is the fluence's
-            // 1/d_r at t*, which integrates to 2 ln(1/h) times the rest of the integrand
-            // there; so S(h) = S(H_FLOOR) + A ln(H_FLOOR/h), with
-            // A = 2ρ′² C_φ κ(t*) e^{−t*}/(4πD) and κ(t*) = 1 − e^{−2t*} (d_r = 0).
-            let ReducedDiffusion { rho_prime, d, .. } = self.diffusion;
-            let a = 2.0 * rho_prime * rho_prime * self.boundary.c_phi() / (4.0 * PI * d)
-                * -(-2.0 * t_star).exp_m1()
-                * (-t_star).exp();
-            log_term = a * (H_FLOOR.ln() - r.ln() - h_over_r.ln());
-            h = H_FLOOR;
-        } else if h < H_FLOOR {
-            // The beam runs away from the exit point: no singularity on t ≥ 0. A tiny h keeps
-            // the substitution valid while changing d_r by a relative 1e-100 at most.
-            h = h.max(r * 1e-100);
+            // Only a beam along the surface (cos θ′ = 0: η = 1 and θ within 1e-8 of 90°, or
+            // sin θ = η < 1) at φ within ~1e-268 of 0 comes this close, so t* = r > 0.
+            log_ratio = floor.ln() - r.ln() - h_over_r.ln();
+            h = floor;
         }
         let sigma_tr = self.diffusion.sigma_tr;
         // m = min over t ≥ 0 of t + σtr·d_r(t).
@@ -401,6 +392,19 @@ impl Pbd {
                 m = t_star + h * s;
             }
         }
+        // The grazing beam's only singular term is the fluence's 1/d_r at t*, which
+        // integrates to 2 ln(1/h) times the rest of the integrand there; so
+        // S(h) = S(floor) + A ln(floor/h), with A = 2ρ′² C_φ κ(t*) e^{−t*}/(4πD) and
+        // κ(t*) = 1 − e^{−2t*} (d_r = 0); scaled by e^{m} as the integral is (m ≤ t* + σtr h).
+        let log_scaled = if log_ratio > 0.0 {
+            let ReducedDiffusion { rho_prime, d, .. } = self.diffusion;
+            2.0 * rho_prime * rho_prime * self.boundary.c_phi() / (4.0 * PI * d)
+                * -(-2.0 * t_star).exp_m1()
+                * (m - t_star).exp()
+                * log_ratio
+        } else {
+            0.0
+        };
         Setup::Integrate(
             Beam {
                 cos_t,
@@ -409,7 +413,7 @@ impl Pbd {
                 m,
                 t_min,
             },
-            log_term,
+            log_scaled,
         )
     }
 
@@ -450,14 +454,15 @@ impl Pbd {
 
     /// Panel edges in u. The integrand is e^{−(f(t) − m)} times algebraic factors, with
     /// f(t) = t + σtr d_r(t) convex in t. Edges go
-    /// - where f − m reaches each of [`LEVELS`] on both sides of its minimum (bisection on the
-    ///   monotone branches); the integral starts at t = 0, or where f − m falls to the last
+    /// - where f − m reaches each of [`LEVELS`] on both sides of its minimum ([`crossing`] on
+    ///   the monotone branches); the integral starts at t = 0, or where f − m falls to the last
     ///   level if it starts above, and ends where it rises to it;
     /// - at the closest approach t* (u = 0), where the algebraic factors peak, and at u = ±2, ±5
     ///   around it;
-    /// - and every panel wider than [`MAX_PANEL_U`] is split evenly: the algebraic factors vary
-    ///   like e^{±u} away from the peak, which one 8-point panel integrates to 1e-11 over that
-    ///   width (small r, or a beam just under the surface, spread them over tens of units of u).
+    /// - and every panel wider than [`MAX_PANEL_U`] is split ([`split_panel`]): the algebraic
+    ///   factors vary like e^{±u} away from the peak, which one 8-point panel integrates to
+    ///   1e-11 over that width (small r, or a beam just under the surface, spread them over
+    ///   tens to hundreds of units of u).
     fn breaks(&self, beam: &Beam) -> ([f64; MAX_EDGES], usize) {
         let sigma_tr = self.diffusion.sigma_tr;
         let f = |t: f64| {
@@ -467,24 +472,35 @@ impl Pbd {
         let t_min = beam.t_min;
         // Edges in t, increasing: left branch (decreasing on [0, t_min]) from the far level
         // inward, the minimum, the right branch outward.
+        // Left: each level from the previous one outward, down to t = 0 (the last level's
+        // edge is the integral's start, 0 where f starts below it).
+        let mut left = [0.0f64; LEVELS.len()];
+        let mut n_left = 0;
+        let (mut from, f_entry) = (t_min, f(0.0));
+        for level in LEVELS {
+            if t_min > 0.0 && f_entry > level {
+                from = crossing(f, from, 0.0, level);
+                left[n_left] = from;
+                n_left += 1;
+            }
+        }
+        if n_left < LEVELS.len() {
+            left[n_left] = 0.0;
+            n_left += 1;
+        }
         let mut ts = [0.0f64; 2 * LEVELS.len() + 1];
         let mut k = 0;
-        let f_entry = f(0.0);
-        if t_min > 0.0 && f_entry > TAIL_NATS {
-            ts[k] = bisect(|t| f(t) > TAIL_NATS, 0.0, t_min);
-        }
-        k += 1;
-        for &level in LEVELS.iter().rev().skip(1) {
-            if t_min > 0.0 && f_entry > level {
-                ts[k] = bisect(|t| f(t) > level, 0.0, t_min);
-                k += 1;
-            }
+        for &t in left[..n_left].iter().rev() {
+            ts[k] = t;
+            k += 1;
         }
         ts[k] = t_min;
         k += 1;
-        // f(t) ≥ t − m, so f(t_min + m + level) ≥ level.
+        // Right, likewise outward; f(t) ≥ t − m, so f ≥ level at t_min + m + level.
+        let mut from = t_min;
         for level in LEVELS {
-            ts[k] = bisect(|t| f(t) < level, t_min, t_min + beam.m + level);
+            from = crossing(f, from, t_min + beam.m + level, level);
+            ts[k] = from;
             k += 1;
         }
         let to_u = |t: f64| ((t - beam.t_star) / beam.h).asinh();
@@ -507,19 +523,19 @@ impl Pbd {
         // Split wide panels, dropping repeated edges.
         let mut out = [0.0; MAX_EDGES];
         out[0] = merged[0];
-        let mut m = 1;
+        let mut len = 1;
         for &b in &merged[1..n] {
-            let a = out[m - 1];
+            let a = out[len - 1];
             if b <= a {
                 continue;
             }
-            m = split_panel(a, b, &mut out, m);
+            len = split_panel(a, b, &mut out, len);
         }
-        if m < 2 {
+        if len < 2 {
             out[1] = out[0];
-            m = 2;
+            len = 2;
         }
-        (out, m)
+        (out, len)
     }
 
     fn reference(&self, beam: &Beam) -> crate::quadrature::Estimate {
@@ -550,7 +566,7 @@ impl Pbd {
 /// and from the level edges (where t − t* is between ~100h and ~1) the integrand is a constant
 /// plus terms like e^{−|u − u_end|}, which each end's panels resolve and the doubling ones
 /// follow at no cost: a beam 10⁻²⁰⁰ from the exit point spreads that stretch over 460 units
-/// of u, 14 panels instead of 184.
+/// of u, 15 panels instead of 184.
 fn split_panel(a: f64, b: f64, out: &mut [f64; MAX_EDGES], mut m: usize) -> usize {
     let width = b - a;
     if width <= 4.0 * MAX_PANEL_U {
@@ -565,8 +581,8 @@ fn split_panel(a: f64, b: f64, out: &mut [f64; MAX_EDGES], mut m: usize) -> usiz
     }
     let offset = |k: usize| MAX_PANEL_U * f64::from(1u32 << k);
     // Offsets below half the width (at least 2.5 and 5), leaving room for the edges still to
-    // come; the middle panel is at most four times as wide as its neighbours.
-    let room = (MAX_EDGES - MERGED_EDGES - m) / 2;
+    // come (each merged edge may bring four).
+    let room = MAX_EDGES.saturating_sub(4 * MERGED_EDGES + m) / 2;
     let count = (0..room.min(20))
         .take_while(|&k| offset(k) < 0.5 * width)
         .count();
@@ -592,18 +608,33 @@ fn sinh_cosh(u: f64) -> (f64, f64) {
     (sinh.copysign(u), cosh)
 }
 
-/// The point where `below` switches from true to false in [lo, hi], to 2⁻¹⁶ of the bracket
-/// (panel edges need not be exact: any edge gives a valid rule).
-fn bisect(below: impl Fn(f64) -> bool, mut lo: f64, mut hi: f64) -> f64 {
+/// Where the convex `f`, below `level` at `from`, reaches it on the way to `limit` (where it is
+/// at least `level`): steps from `from` doubling from 1 until f passes the level, then bisection
+/// of the last step to 2⁻¹⁶ of it. Panel edges need not be exact (any edge gives a valid rule),
+/// but they must be near their level whatever the scale of t: a bisection of the whole bracket
+/// [t_min, t_min + m + 46] left every edge at the far end once m passed ~10⁶.
+fn crossing(f: impl Fn(f64) -> f64, from: f64, limit: f64, level: f64) -> f64 {
+    let direction = (limit - from).signum();
+    let (mut below, mut step) = (from, 1.0);
+    let mut above = limit;
+    while step < (limit - from).abs() {
+        let t = from + direction * step;
+        if f(t) >= level {
+            above = t;
+            break;
+        }
+        below = t;
+        step *= 2.0;
+    }
     for _ in 0..16 {
-        let mid = 0.5 * (lo + hi);
-        if below(mid) {
-            lo = mid;
+        let mid = 0.5 * (below + above);
+        if f(mid) < level {
+            below = mid;
         } else {
-            hi = mid;
+            above = mid;
         }
     }
-    0.5 * (lo + hi)
+    0.5 * (below + above)
 }
 
 /// S_p^MS in world units: r in mm, result in mm⁻² (S scales as σ′t²: S(r; σ′t) = σ′t² S(σ′t r; 1)).

@@ -534,3 +534,46 @@ fn a_beam_grazing_the_exit_point_grows_like_the_log_of_its_distance() {
         assert_eq!(s(0.0), f64::INFINITY);
     }
 }
+
+#[test]
+fn far_out_and_grazing_extremes_keep_their_log_accuracy() {
+    // ln S keeps its slope −σtr at r = 1e6 (panel edges found by doubling steps, not by
+    // bisecting [t_min, t_min + m + 46], which left them all at the far end from m ~ 1e6 on).
+    let p = pbd(0.9, 1.33);
+    let sigma_tr = ReducedDiffusion::new(0.9).unwrap().sigma_tr;
+    for r in [1e3, 1e6] {
+        let slope =
+            p.ln_eval(0.0, r + 1.0, 0.0, Rule::Reference) - p.ln_eval(0.0, r, 0.0, Rule::Reference);
+        // Up to the algebraic factors' own slope, about −2/r.
+        let tolerance = 3.0 / (sigma_tr * r) + 1e-4;
+        assert!(
+            (slope / -sigma_tr - 1.0).abs() < tolerance,
+            "r {r}: {slope}"
+        );
+    }
+    // A beam along the surface (η = 1, θ = 90°) far out, where S is far below f64's range: the
+    // closed-form log term below the floor keeps the quadrature's relative slope in ln(1/h).
+    let p = pbd(0.3, 1.0);
+    let ln_s = |r: f64, phi: f64| p.ln_eval(0.5 * PI, r, phi, Rule::Reference);
+    for r in [800.0, 1e6] {
+        // dS/d ln(1/h), in units of S at φ = 1e-200.
+        let reference = ln_s(r, 1e-200);
+        let slope = |a: f64, b: f64| {
+            ((ln_s(r, b) - reference).exp() - (ln_s(r, a) - reference).exp()) / (a / b).ln()
+        };
+        let quadrature = slope(1e-200, 1e-250);
+        let closed_form = slope(1e-295, 1e-305);
+        assert!(
+            quadrature > 0.0 && quadrature.is_finite(),
+            "r {r}: {quadrature}"
+        );
+        assert!(
+            (closed_form / quadrature - 1.0).abs() < 1e-6,
+            "r {r}: {closed_form} vs {quadrature}"
+        );
+        for phi in [1e-315, 5e-324, 1e-100] {
+            assert!(!p.eval(0.5 * PI, r, phi, Rule::Fast).is_nan());
+            assert!(ln_s(r, phi).is_finite(), "r {r} phi {phi}");
+        }
+    }
+}
