@@ -438,7 +438,12 @@ impl Pbd {
         if e_r == 0.0 {
             return 0.0;
         }
-        let kappa = -(-2.0 * (d_r + t)).exp_m1();
+        // κ = 1 − e^{−2(d_r + t)}, exactly 1 in f64 once the exponent passes 40.
+        let kappa = if d_r + t > 20.0 {
+            1.0
+        } else {
+            -(-2.0 * (d_r + t)).exp_m1()
+        };
         // d_r·(e^{−σ d_r}/d_r − e^{−σ d_v}/d_v) = e^{−σ d_r}·(1 − (d_r/d_v)e^{−σδ}), and
         // 1 − (d_r/d_v)e^{−σδ} = −expm1(−σδ) + e^{−σδ}·δ/d_v: two non-negative terms.
         let em = (-sigma_tr * delta).exp_m1();
@@ -610,7 +615,7 @@ fn sinh_cosh(u: f64) -> (f64, f64) {
 
 /// Where the convex `f`, below `level` at `from`, reaches it on the way to `limit` (where it is
 /// at least `level`): steps from `from` doubling from 1 until f passes the level, then bisection
-/// of the last step to 2⁻¹⁶ of it. Panel edges need not be exact (any edge gives a valid rule),
+/// of the last step to 2⁻¹⁰ of it. Panel edges need not be exact (any edge gives a valid rule),
 /// but they must be near their level whatever the scale of t: a bisection of the whole bracket
 /// [t_min, t_min + m + 46] left every edge at the far end once m passed ~10⁶.
 fn crossing(f: impl Fn(f64) -> f64, from: f64, limit: f64, level: f64) -> f64 {
@@ -626,7 +631,7 @@ fn crossing(f: impl Fn(f64) -> f64, from: f64, limit: f64, level: f64) -> f64 {
         below = t;
         step *= 2.0;
     }
-    for _ in 0..16 {
+    for _ in 0..10 {
         let mid = 0.5 * (below + above);
         if f(mid) < level {
             below = mid;
