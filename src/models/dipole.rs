@@ -4,7 +4,7 @@
 //! | parameter | unit | valid range |
 //! |---|---|---|
 //! | ρ′ reduced albedo | – | [0, 1] |
-//! | η relative index, inside over outside | – | > 0 |
+//! | η relative index, inside over outside | – | [0.75, 2.5] |
 //! | θ incidence before refraction | rad | [0, π/2]; no light enters beyond asin η when η < 1 → 0 |
 //! | r exit distance | reduced mean free paths | ≥ 0 |
 //! | result R(r) | per reduced mfp², per unit power entering | ≥ 0 |

@@ -5,7 +5,7 @@
 //! | parameter | unit | valid range |
 //! |---|---|---|
 //! | ρ′ reduced albedo (the paper's α′) | – | [0, 1]; ρ′ = 0 gives 0 (see below) |
-//! | η relative index, inside over outside | – | > 0 |
+//! | η relative index, inside over outside | – | [0.75, 2.5] |
 //! | g | – | (−1, 1); used only by the back-lit branch (unreduced σt) |
 //! | Fresnel moments | – | the model's, or the authors' fits ([`DirpoleOptions`]) |
 //! | θ incidence before refraction | rad | [0, π/2]; no light enters beyond asin η → 0 |

@@ -196,7 +196,7 @@ impl<'de> serde::Deserialize<'de> for ModelKind {
 /// | parameter | unit | valid range |
 /// |---|---|---|
 /// | ρ′ reduced albedo σ′s/σ′t | – | [0, 1] |
-/// | η relative index, inside over outside | – | > 0, finite |
+/// | η relative index, inside over outside | – | [0.75, 2.5] ([`crate::medium::validate_eta`]) |
 /// | g Henyey–Greenstein asymmetry | – | (−1, 1); only the walk and the directional dipole's back-lit branch see it |
 /// | moments | – | Fresnel moments for the boundary constants |
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

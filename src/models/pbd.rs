@@ -4,7 +4,7 @@
 //! | parameter | unit | valid range |
 //! |---|---|---|
 //! | ρ′ reduced albedo | – | [0, 1] |
-//! | η relative index | – | > 0 |
+//! | η relative index | – | [0.75, 2.5] |
 //! | θ incidence before refraction | rad | [0, π/2]; 0 beyond the critical angle |
 //! | r, φ | reduced mfp, rad (0 forward) | r ≥ 0 |
 //! | result | per reduced mfp², per unit power entering | ≥ 0; +∞ at the singular points below |

@@ -168,8 +168,8 @@ pub enum TableError {
     /// The axes stored in a file are not valid spline nodes.
     #[error("a table axis is not strictly increasing and finite")]
     Axes,
-    /// The relative index of refraction is not finite and positive.
-    #[error("eta = {0} must be finite and > 0")]
+    /// The relative index of refraction is outside the models' domain.
+    #[error("eta = {} is outside [{}, {}]", crate::error::number(*.0), crate::medium::ETA_MIN, crate::medium::ETA_MAX)]
     Eta(f64),
     /// A value is NaN or infinite.
     #[error("{name}[{index}] = {value} is not finite")]

@@ -6,7 +6,7 @@
 //! |---|---|---|
 //! | `albedo` | – | a = σs/σt (unreduced), [0, 1] |
 //! | `g` | – | Henyey–Greenstein asymmetry, (−1, 1) |
-//! | `eta` | – | η = n_inside/n_outside, > 0 |
+//! | `eta` | – | η = n_inside/n_outside, in [0.75, 2.5] |
 //! | `theta` (per photon) | radians | [0, π/2]; at most asin η when η < 1 |
 //!
 //! Geometry: the half-space z < 0, distances in mean free paths (σt = 1), the refracted beam

@@ -17,7 +17,7 @@
 //! |-------------|---------------------|------------------------------------------------|
 //! | `albedo`    | —                   | a = σs/σt ∈ [0, 1] (unreduced)                 |
 //! | `g`         | —                   | Henyey–Greenstein asymmetry, (−1, 1)           |
-//! | `eta`       | —                   | η = n_inside/n_outside > 0; η < 1 allowed      |
+//! | `eta`       | —                   | η = n_inside/n_outside in [0.75, 2.5]           |
 //! | `theta`     | radians             | [0, π/2]; at most asin η when η < 1 (no light enters beyond) |
 //! | `photons`   | —                   | ≥ 1 (standard errors need ≥ 2)                 |
 //! | `seed`      | —                   | any u64                                        |
