@@ -280,15 +280,13 @@ impl Baker {
         Ok(provenance)
     }
 
-    /// Writes the library atomically; returns its size in bytes.
+    /// Writes the library atomically; returns the bytes written (also through a device or a
+    /// FIFO, whose size on disk says nothing).
     pub fn write(&self, builder: &LibraryBuilder, output: &Path) -> Result<u64, CliError> {
         self.bar.finish_and_clear();
         builder
             .write_atomic(output, self.compression)
-            .map_err(|e| CliError::input(format!("cannot write {}: {e}", output.display())))?;
-        std::fs::metadata(output).map(|m| m.len()).map_err(|e| {
-            CliError::input(format!("cannot read the size of {}: {e}", output.display()))
-        })
+            .map_err(|e| CliError::input(format!("cannot write {}: {e}", output.display())))
     }
 
     pub fn compressed(&self) -> bool {
