@@ -3,6 +3,7 @@
 use super::CliError;
 use bssrdf_zoo::format::{FormatError, Library, Verify};
 use bssrdf_zoo::materials::{Material, Rgb};
+use bssrdf_zoo::medium::{ETA_MAX, ETA_MIN};
 use bssrdf_zoo::table::FileTable;
 use clap::{Args, ValueEnum};
 use std::path::{Path, PathBuf};
@@ -53,8 +54,8 @@ pub struct TableChoice {
     /// first).
     #[arg(long)]
     pub table: Option<usize>,
-    /// Relative index of refraction η, > 0: selects the file's table with this η (refused when
-    /// the file has none); without a file, the medium's η (default 1.33).
+    /// Relative index of refraction η in [0.75, 2.5]: selects the file's table with this η
+    /// (refused when the file has none); without a file, the medium's η (default 1.33).
     #[arg(long, allow_hyphen_values = true)]
     pub eta: Option<f64>,
     /// A material of the library: ρ′, σ′t and η come from it, distances are in mm.
@@ -93,6 +94,20 @@ fn list_etas(library: &Library) -> String {
         .join(", ")
 }
 
+/// Whether table `index` of `library` keeps albedo rows around `rho`.
+fn keeps(library: &Library, index: usize, rho: f64) -> bool {
+    let Some(record) = library.table(index) else {
+        return false;
+    };
+    let Ok(table) = FileTable::new(record) else {
+        return false;
+    };
+    table.view().is_ok_and(|view| {
+        let nodes = view.axes().rho().as_slice();
+        matches!((nodes.first(), nodes.last()), (Some(&lo), Some(&hi)) if (lo..=hi).contains(&rho))
+    })
+}
+
 impl TableChoice {
     /// Checks --eta (its domain) and that --materials comes with --material.
     pub fn check_eta(&self) -> Result<(), CliError> {
@@ -102,10 +117,8 @@ impl TableChoice {
             ));
         }
         match self.eta {
-            Some(eta) if !(eta.is_finite() && eta > 0.0) => Err(CliError::input(format!(
-                "--eta {eta} is outside the valid range: a finite number > 0"
-            ))),
-            _ => Ok(()),
+            Some(eta) => super::check_range("--eta", eta, ETA_MIN..=ETA_MAX),
+            None => Ok(()),
         }
     }
 
@@ -152,9 +165,20 @@ impl TableChoice {
                         .get(name)
                         .map_err(|e| CliError::input(e.to_string()))?
                         .clone();
-                    let index = library
+                    // Of the tables with the material's η, one whose albedo rows hold the
+                    // channel's ρ′ (a scene bake keeps several such tables), else the first.
+                    let rho = m.channel(self.channel.rgb()).rho_prime();
+                    let same: Vec<usize> = library
                         .tables()
-                        .position(|t| same_eta(t.eta(), m.eta()))
+                        .enumerate()
+                        .filter(|(_, t)| same_eta(t.eta(), m.eta()))
+                        .map(|(i, _)| i)
+                        .collect();
+                    let index = same
+                        .iter()
+                        .copied()
+                        .find(|&i| keeps(library, i, rho))
+                        .or_else(|| same.first().copied())
                         .ok_or_else(|| {
                             CliError::input(format!(
                                 "{file} has no table for material {:?} (eta = {}); its tables: {}; bake one with `bssrdf bake {}`",

@@ -106,7 +106,7 @@ fn parse_case(text: &str) -> Result<(f64, f64), CliError> {
     let (rho, theta) = text.split_once(':').ok_or_else(bad)?;
     let rho: f64 = rho.trim().parse().map_err(|_| bad())?;
     let theta: f64 = theta.trim().parse().map_err(|_| bad())?;
-    super::eval::check_range("--cases rho", rho, 0.0, 1.0)?;
-    super::eval::check_range("--cases theta", theta, 0.0, 90.0)?;
+    super::check_range("--cases rho", rho, 0.0..=1.0)?;
+    super::check_range("--cases theta", theta, 0.0..=90.0)?;
     Ok((rho, theta))
 }
