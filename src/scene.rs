@@ -30,7 +30,7 @@
 //! | `integrator` | – | `"path"` or `"particle"`, default `"path"` | path tracing samples θ and needs the `theta-cdf` section |
 //! | `material.name` | – | a library id (any spelling the library accepts), or with coefficients a new kebab-case id | the material |
 //! | `material.albedo_range` | – | in [0, 1], min ≤ max, no NaN | the reduced albedo ρ′ the material's textures reach: `[min, max]` for all channels, or three entries (r, g, b) each `[min, max]` or one value. Default: the material's own ρ′ |
-//! | `material.eta` | – | > 0 | η override for a library material; η of an inline one (default 1.33) |
+//! | `material.eta` | – | [0.75, 2.5] | η override for a library material; η of an inline one (default 1.33) |
 //! | `material.sigma_s`, `sigma_a` | mm⁻¹ | 3 values ≥ 0 | inline unreduced coefficients (both needed) |
 //! | `material.g` | – | (−1, 1), 1 or 3 values | Henyey–Greenstein g of an inline material (default 0) |
 //! | `material.reflectance`, `mfp` | –, mm | [0, 1]; > 0; 3 values each | inline artist's parameters (both needed) |

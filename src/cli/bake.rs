@@ -40,7 +40,7 @@ pub struct BakeArgs {
         "reflectance", "mfp", "name",
     ])]
     pub(super) scene: Option<PathBuf>,
-    /// η of a bare table (no material), or of the material given by --sigma-s/--sigma-a or
+    /// η in [0.75, 2.5] of a bare table (no material), or of the material given by --sigma-s/--sigma-a or
     /// --reflectance/--mfp (default 1.33 there).
     #[arg(long)]
     eta: Option<f64>,
@@ -233,7 +233,7 @@ impl Baker {
         let mut settings = json!({
             "grid": format!("{:?}", self.preset).to_lowercase(),
             "dims": [grid.rho.len(), grid.theta.len(), grid.r.len()],
-            "fresnel_moments": format!("{:?}", self.moments).to_lowercase(),
+            "fresnel_moments": self.moments.name(),
             "theta_sampling": theta_sampling,
             "anchors_cos_phi": bssrdf_zoo::gwc::ANCHOR_COS,
             "minimax_refinement": {

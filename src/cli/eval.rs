@@ -293,8 +293,8 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         (Some(c), Some(m)) if m != c.table.moments() => {
             return Err(CliError::input(format!(
                 "--fresnel-moments {} conflicts with the table, baked with {} moments",
-                moments_name(m),
-                moments_name(c.table.moments())
+                m.name(),
+                c.table.moments().name()
             )))
         }
         (Some(c), _) => c.table.moments(),
@@ -312,7 +312,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         serde_json::json!({
             "model": model_name(model),
             "eta": eta,
-            "fresnel_moments": if authors { "authors" } else { moments_name(moments) },
+            "fresnel_moments": if authors { "authors" } else { moments.name() },
             "quadrature": if model == ModelName::Pbd { Some(format!("{rule:?}").to_lowercase()) } else { None },
             "rho": p.rho,
             "theta_deg": p.theta_deg,
@@ -361,13 +361,6 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn moments_name(m: Moments) -> &'static str {
-    match m {
-        Moments::Exact => "exact",
-        Moments::Pbrt => "pbrt",
-    }
-}
-
 /// A value in JSON, always a number or null: JSON has no infinity, so the documented +∞
 /// limits (r = 0 on the diverging models) are null, with `limit` saying which.
 fn json_number(v: f64) -> serde_json::Value {
@@ -384,5 +377,29 @@ fn json_limit(v: f64) -> serde_json::Value {
         serde_json::json!(v.to_string())
     } else {
         serde_json::Value::Null
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_flags_spell_the_moments_as_moments_name() {
+        for (arg, moments) in [
+            (MomentsArg::Exact, Moments::Exact),
+            (MomentsArg::Pbrt, Moments::Pbrt),
+        ] {
+            let flag = arg.to_possible_value().map(|v| v.get_name().to_string());
+            assert_eq!(flag.as_deref(), Some(moments.name()));
+            assert_eq!(Moments::from(arg), moments);
+        }
+        for (arg, moments) in [
+            (EvalMomentsArg::Exact, Moments::Exact),
+            (EvalMomentsArg::Pbrt, Moments::Pbrt),
+        ] {
+            let flag = arg.to_possible_value().map(|v| v.get_name().to_string());
+            assert_eq!(flag.as_deref(), Some(moments.name()));
+        }
     }
 }

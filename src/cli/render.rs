@@ -75,7 +75,7 @@ pub struct RenderArgs {
     /// Absorption coefficients σa per channel, mm⁻¹.
     #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_s")]
     sigma_a: Option<[f64; 3]>,
-    /// Relative index of refraction η with --sigma-s [default: 1.33].
+    /// Relative index of refraction η in [0.75, 2.5] with --sigma-s [default: 1.33].
     #[arg(long, requires = "sigma_s")]
     eta: Option<f64>,
     /// Henyey–Greenstein g of every channel with --sigma-s [default: 0].

@@ -17,7 +17,7 @@ pub struct WalkArgs {
     /// Henyey–Greenstein g, in (−1, 1).
     #[arg(long, default_value_t = 0.0)]
     g: f64,
-    /// Relative index of refraction η (medium over outside).
+    /// Relative index of refraction η (medium over outside), in [0.75, 2.5].
     #[arg(long, default_value_t = 1.33)]
     eta: f64,
     /// Incidence angle θ before refraction, degrees in [0, 90).

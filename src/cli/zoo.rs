@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 #[derive(Debug, Args)]
 pub struct ZooArgs {
-    /// Relative index of refraction η.
+    /// Relative index of refraction η, in [0.75, 2.5].
     #[arg(long, default_value_t = 1.33)]
     eta: f64,
     /// Henyey–Greenstein g of the walk (the diffusion models see only ρ′).
