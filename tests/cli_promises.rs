@@ -654,6 +654,7 @@ fn render_refuses_flags_it_would_ignore() {
         2,
         "--materials adds files to look --material up in",
     );
+    fails_with(&with(&["--sigma-a", "1,1,1"]), 2, "cannot be used with");
     fails_with(
         &with(&["--no-preview", "--decades", "3"]),
         2,
@@ -701,4 +702,51 @@ fn render_refuses_flags_it_would_ignore() {
         2,
         "--materials adds files to look material names up in",
     );
+}
+
+#[test]
+fn channel_needs_a_material() {
+    let dir = bare();
+    let d = dir.path();
+    for args in [
+        &[
+            "eval",
+            "--model",
+            "pbd",
+            "--rho",
+            "0.5",
+            "--channel",
+            "g",
+            "--theta",
+            "0",
+            "--r",
+            "1",
+        ][..],
+        &[
+            "eval",
+            "t.bssrdf",
+            "--rho",
+            "0.5",
+            "--channel",
+            "g",
+            "--theta",
+            "0",
+            "--r",
+            "1",
+        ],
+        &[
+            "sample",
+            "t.bssrdf",
+            "--rho",
+            "0.5",
+            "--channel",
+            "b",
+            "-n",
+            "1",
+        ],
+    ] {
+        let o = bssrdf(d, args);
+        fails_with(&o, 2, "--channel picks a colour channel of --material");
+        assert!(o.stdout.is_empty());
+    }
 }

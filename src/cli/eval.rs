@@ -272,7 +272,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
     let (eta, material) = match (&chosen, &named, &table) {
         (Some(c), _, Some(t)) => (t.eta(), c.material.as_ref().map(|(_, rho, st)| (*rho, *st))),
         (_, Some(m), _) => {
-            let ch = m.channel(args.choice.channel.rgb());
+            let ch = m.channel(args.choice.channel());
             (m.eta(), Some((ch.rho_prime(), ch.sigma_t_prime())))
         }
         _ => (args.choice.eta.unwrap_or(1.33), None),

@@ -61,9 +61,9 @@ pub struct TableChoice {
     /// A material of the library: ρ′, σ′t and η come from it, distances are in mm.
     #[arg(long)]
     pub material: Option<String>,
-    /// The material's colour channel.
-    #[arg(long, value_enum, default_value = "r", requires = "material")]
-    pub channel: Channel,
+    /// The material's colour channel [default: r] (only with --material).
+    #[arg(long, value_enum)]
+    channel: Option<Channel>,
     /// Extra material files (TOML file or folder) for --material.
     #[arg(long, value_name = "PATH")]
     pub materials: Option<PathBuf>,
@@ -109,11 +109,22 @@ fn keeps(library: &Library, index: usize, rho: f64) -> bool {
 }
 
 impl TableChoice {
-    /// Checks --eta (its domain) and that --materials comes with --material.
+    /// The colour channel of --material (red unless --channel says otherwise).
+    pub fn channel(&self) -> Rgb {
+        self.channel.unwrap_or(Channel::R).rgb()
+    }
+
+    /// Checks --eta (its domain) and that --materials and --channel come with --material.
     pub fn check_eta(&self) -> Result<(), CliError> {
         if self.materials.is_some() && self.material.is_none() {
             return Err(CliError::input(
                 "--materials adds files to look --material up in; give --material NAME, or drop --materials",
+            ));
+        }
+        // clap's `requires` lets this pass when --rho (which conflicts with --material) is given.
+        if self.channel.is_some() && self.material.is_none() {
+            return Err(CliError::input(
+                "--channel picks a colour channel of --material; give --material NAME, or drop --channel",
             ));
         }
         match self.eta {
@@ -154,7 +165,7 @@ impl TableChoice {
             Some(name) => {
                 // A material stored in the file first, else the named-material library.
                 if let Some(m) = library.material(name) {
-                    let c = self.channel.rgb().index();
+                    let c = self.channel().index();
                     let found =
                         Material::from_coefficients(&m.name, m.sigma_s, m.sigma_a, m.g, m.eta)
                             .map_err(|e| CliError::input(e.to_string()))?;
@@ -167,7 +178,7 @@ impl TableChoice {
                         .clone();
                     // Of the tables with the material's η, one whose albedo rows hold the
                     // channel's ρ′ (a scene bake keeps several such tables), else the first.
-                    let rho = m.channel(self.channel.rgb()).rho_prime();
+                    let rho = m.channel(self.channel()).rho_prime();
                     let same: Vec<usize> = library
                         .tables()
                         .enumerate()
@@ -245,7 +256,7 @@ impl TableChoice {
         }
         let table = FileTable::new(record).map_err(|e| CliError::input(e.to_string()))?;
         let material = material.map(|(m, _)| {
-            let ch = m.channel(self.channel.rgb());
+            let ch = m.channel(self.channel());
             let (rho, st) = (ch.rho_prime(), ch.sigma_t_prime());
             (m, rho, st)
         });

@@ -73,7 +73,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_a")]
     sigma_s: Option<[f64; 3]>,
     /// Absorption coefficients σa per channel, mm⁻¹.
-    #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_s")]
+    #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_s",
+          conflicts_with_all = ["material", "preset"])]
     sigma_a: Option<[f64; 3]>,
     /// Relative index of refraction η in [0.75, 2.5] with --sigma-s [default: 1.33].
     #[arg(long, requires = "sigma_s")]
