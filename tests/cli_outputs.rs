@@ -302,3 +302,37 @@ fn man_pages_are_written_by_the_safe_writer() {
         "bssrdf-eval.1: it is a folder, not a regular file",
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn zoo_plots_are_written_by_the_safe_writer() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("plots")).unwrap();
+    std::os::unix::fs::symlink("../pareto-kept.svg", d.join("plots/pareto.svg")).unwrap();
+    let zoo = [
+        "zoo",
+        "--photons",
+        "1000",
+        "--cases",
+        "0.5:0",
+        "--models",
+        "dipole",
+        "-q",
+        "--plot",
+        "plots",
+    ];
+    ok(&bssrdf(d, &zoo));
+    let link = std::fs::symlink_metadata(d.join("plots/pareto.svg")).unwrap();
+    assert!(link.file_type().is_symlink(), "the link was replaced");
+    assert!(std::fs::read_to_string(d.join("pareto-kept.svg"))
+        .unwrap()
+        .starts_with("<svg"));
+    std::fs::remove_file(d.join("plots/profiles-rho0.5-theta0.svg")).unwrap();
+    std::fs::create_dir(d.join("plots/profiles-rho0.5-theta0.svg")).unwrap();
+    fails_with(
+        &bssrdf(d, &zoo),
+        2,
+        "profiles-rho0.5-theta0.svg: it is a folder, not a regular file",
+    );
+}
