@@ -313,7 +313,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
             "model": model_name(model),
             "eta": eta,
             "fresnel_moments": if authors { "authors" } else { moments.name() },
-            "quadrature": if model == ModelName::Pbd { Some(format!("{rule:?}").to_lowercase()) } else { None },
+            "quadrature": (model == ModelName::Pbd).then_some(rule_name(rule)),
             "rho": p.rho,
             "theta_deg": p.theta_deg,
             "r": p.r,
@@ -361,6 +361,14 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The quadrature as `--quadrature` names it.
+fn rule_name(rule: Rule) -> &'static str {
+    match rule {
+        Rule::Reference => "reference",
+        Rule::Fast => "fast",
+    }
+}
+
 /// A value in JSON, always a number or null: JSON has no infinity, so the documented +∞
 /// limits (r = 0 on the diverging models) are null, with `limit` saying which.
 fn json_number(v: f64) -> serde_json::Value {
@@ -400,6 +408,13 @@ mod tests {
         ] {
             let flag = arg.to_possible_value().map(|v| v.get_name().to_string());
             assert_eq!(flag.as_deref(), Some(moments.name()));
+        }
+        for (arg, rule) in [
+            (QuadratureArg::Reference, Rule::Reference),
+            (QuadratureArg::Fast, Rule::Fast),
+        ] {
+            let flag = arg.to_possible_value().map(|v| v.get_name().to_string());
+            assert_eq!(flag.as_deref(), Some(rule_name(rule)));
         }
     }
 }
