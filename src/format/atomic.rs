@@ -39,7 +39,12 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
     match fs::metadata(path) {
         Ok(meta) if is_stream(&meta.file_type()) => write_through(path, bytes, false),
         Ok(meta) if meta.is_file() && through_fd => write_through(path, bytes, true),
-        Ok(meta) if meta.is_file() => replace(&target, bytes, Some(&meta)),
+        Ok(meta) if meta.is_file() => {
+            // The kernel's own resolution of an existing file (exact where ".." meets a
+            // linked folder); the link-by-link one for a file still to be created.
+            let target = fs::canonicalize(path).unwrap_or(target);
+            replace(&target, bytes, Some(&meta))
+        }
         Ok(meta) => Err(FormatError::io(
             "write",
             path,
@@ -295,6 +300,35 @@ mod tests {
             err.to_string().contains("more than 40 symbolic links"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn descriptor_folders_are_recognised() {
+        for fd in [
+            "/dev/fd/1",
+            "/proc/self/fd/1",
+            "/proc/42/fd/3",
+            "/proc/1/task/7/fd/0",
+        ] {
+            assert!(in_fd_folder(Path::new(fd)), "{fd}");
+        }
+        for plain in ["/dev/stdout", "/proc/self/status", "/tmp/fd/1", "fd/1", "/"] {
+            assert!(!in_fd_folder(Path::new(plain)), "{plain}");
+        }
+    }
+
+    #[test]
+    fn a_link_through_a_linked_folder_replaces_the_file_the_kernel_finds() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        fs::create_dir_all(d.join("real/sub")).unwrap();
+        fs::write(d.join("real/x.bin"), b"old").unwrap();
+        std::os::unix::fs::symlink("real/sub", d.join("alias")).unwrap();
+        // alias/link -> ../x.bin: the kernel goes to real/x.bin; joining text gives d/x.bin.
+        std::os::unix::fs::symlink("../x.bin", d.join("real/sub/link")).unwrap();
+        write_file_atomic(&d.join("alias/link"), b"new").unwrap();
+        assert_eq!(fs::read(d.join("real/x.bin")).unwrap(), b"new");
+        assert!(!d.join("x.bin").exists());
     }
 
     #[test]
