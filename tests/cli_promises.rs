@@ -654,7 +654,14 @@ fn render_refuses_flags_it_would_ignore() {
         2,
         "--materials adds files to look --material up in",
     );
-    fails_with(&with(&["--sigma-a", "1,1,1"]), 2, "cannot be used with");
+    for extra in [
+        &["--sigma-a", "1,1,1"][..],
+        &["--eta", "1.5"],
+        &["--g", "0.3"],
+        &["--eta", "1.5", "--no-preview"],
+    ] {
+        fails_with(&with(extra), 2, "cannot be used with");
+    }
     fails_with(
         &with(&["--no-preview", "--decades", "3"]),
         2,

@@ -77,10 +77,10 @@ pub struct RenderArgs {
           conflicts_with_all = ["material", "preset"])]
     sigma_a: Option<[f64; 3]>,
     /// Relative index of refraction η in [0.75, 2.5] with --sigma-s [default: 1.33].
-    #[arg(long, requires = "sigma_s")]
+    #[arg(long, requires = "sigma_s", conflicts_with_all = ["material", "preset"])]
     eta: Option<f64>,
     /// Henyey–Greenstein g of every channel with --sigma-s [default: 0].
-    #[arg(long, requires = "sigma_s")]
+    #[arg(long, requires = "sigma_s", conflicts_with_all = ["material", "preset"])]
     g: Option<f64>,
     /// Extra material files (TOML file or folder) for --material.
     #[arg(long, value_name = "PATH")]
@@ -258,10 +258,22 @@ fn config(args: &RenderArgs, model: ModelArg) -> Result<Config, CliError> {
     Ok(config)
 }
 
-/// Refuses --materials without --material, and --grid and --orders where no model of the run
-/// uses them (the rest of the combinations clap refuses; its `requires` lets --materials pass
-/// with --preset, a member of --material's group).
+/// Refuses --materials without --material, --sigma-a, --eta and --g without --sigma-s, and
+/// --grid and --orders where no model of the run uses them (the rest of the combinations clap
+/// refuses; its `requires` does not fire when the required flag is in a group with one given).
 fn check_used(args: &RenderArgs) -> Result<(), CliError> {
+    let coefficients = [
+        ("--sigma-a", args.sigma_a.is_some()),
+        ("--eta", args.eta.is_some()),
+        ("--g", args.g.is_some()),
+    ];
+    if let Some((flag, _)) = coefficients.iter().find(|(_, on)| *on) {
+        if args.sigma_s.is_none() {
+            return Err(CliError::input(format!(
+                "{flag} describes a medium given by --sigma-s/--sigma-a; give those, or drop {flag}"
+            )));
+        }
+    }
     if args.materials.is_some() && args.material.is_none() {
         return Err(CliError::input(
             "--materials adds files to look --material up in; give --material NAME, or drop --materials",
