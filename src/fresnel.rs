@@ -33,6 +33,15 @@ pub enum Moments {
 }
 
 impl Moments {
+    /// The name on the command line and in JSON and provenance (`--fresnel-moments exact`):
+    /// the one spelling of these moments everywhere.
+    pub fn name(self) -> &'static str {
+        match self {
+            Moments::Exact => "exact",
+            Moments::Pbrt => "pbrt",
+        }
+    }
+
     /// (F₁, F₂) for relative index η (> 0).
     pub fn evaluate(self, eta: f64) -> (f64, f64) {
         match self {

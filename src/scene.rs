@@ -30,7 +30,7 @@
 //! | `integrator` | – | `"path"` or `"particle"`, default `"path"` | path tracing samples θ and needs the `theta-cdf` section |
 //! | `material.name` | – | a library id (any spelling the library accepts), or with coefficients a new kebab-case id | the material |
 //! | `material.albedo_range` | – | in [0, 1], min ≤ max, no NaN | the reduced albedo ρ′ the material's textures reach: `[min, max]` for all channels, or three entries (r, g, b) each `[min, max]` or one value. Default: the material's own ρ′ |
-//! | `material.eta` | – | > 0 | η override for a library material; η of an inline one (default 1.33) |
+//! | `material.eta` | – | [0.75, 2.5] | η override for a library material; η of an inline one (default 1.33) |
 //! | `material.sigma_s`, `sigma_a` | mm⁻¹ | 3 values ≥ 0 | inline unreduced coefficients (both needed) |
 //! | `material.g` | – | (−1, 1), 1 or 3 values | Henyey–Greenstein g of an inline material (default 0) |
 //! | `material.reflectance`, `mfp` | –, mm | [0, 1]; > 0; 3 values each | inline artist's parameters (both needed) |
@@ -445,13 +445,8 @@ fn resolve(
         .as_ref()
         .map(|v| channels(name, "g", v, true))
         .transpose()?;
-    if let Some(bytes) = entry.source.as_ref().map(String::len) {
-        if bytes > MAX_SOURCE_BYTES {
-            return Err(SceneError::SourceTooLong {
-                material: owned(),
-                bytes,
-            });
-        }
+    if let Some(source) = &entry.source {
+        check_source(name, source)?;
     }
     let coefficients = sigma_s.is_some() || sigma_a.is_some();
     let diffuse = reflectance.is_some() || mfp.is_some();
@@ -540,6 +535,9 @@ fn resolve(
         };
         (m, Origin::Library, source, [false; 3])
     };
+    // A library material's source (from a --materials file, plus the η note) obeys the same
+    // limit as the manifest's own.
+    check_source(name, &source)?;
     let id = material.id().to_string();
     let (ranges, declared) = match &entry.albedo_range {
         Some(v) => (albedo_ranges(&id, v)?, true),
@@ -679,11 +677,25 @@ fn show(v: &Value) -> String {
     }
 }
 
-/// The longest prefix of `text` of at most `max` bytes that ends on a character boundary.
 /// Most bytes of a material's `source` in a library file (format-spec.md, material records).
 pub const MAX_SOURCE_BYTES: usize = 256;
 
-/// The generated sources are short; a user's longer one is refused before this.
+/// Refuses a `source` longer than a library file keeps ([`MAX_SOURCE_BYTES`]): the one check
+/// of scene manifests and of `--materials` files at bake, so no source is ever cut silently.
+pub fn check_source(material: &str, source: &str) -> Result<(), SceneError> {
+    let bytes = source.len();
+    if bytes > MAX_SOURCE_BYTES {
+        return Err(SceneError::SourceTooLong {
+            material: material.to_string(),
+            bytes,
+        });
+    }
+    Ok(())
+}
+
+/// The longest prefix of `text` of at most `max` bytes that ends on a character boundary. The
+/// generated sources are short and a user's longer one is refused by [`check_source`] before
+/// this; it only guards the format's limit.
 fn truncate(text: &str, max: usize) -> String {
     let mut end = text.len().min(max);
     while !text.is_char_boundary(end) {

@@ -1,221 +1,13 @@
 //! End-to-end tests of the command line's promises (issue 18): no pass on nothing checked, no
-//! flag accepted and ignored, no conflicting inputs, no device or input overwritten, one set
-//! of CSV columns, negative numbers, every value outside its domain refused with exit 2.
+//! flag accepted and ignored, no conflicting inputs, one set of CSV columns, negative numbers,
+//! every value outside its domain refused with exit 2. The output-file rules are in
+//! `cli_outputs.rs`.
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Output};
 
 mod cli_common;
-use cli_common::{bssrdf, ok, text};
-
-fn fails_with(o: &Output, code: i32, needle: &str) {
-    assert_eq!(o.status.code(), Some(code), "stderr: {}", text(&o.stderr));
-    assert!(
-        text(&o.stderr).contains(needle),
-        "{needle:?} not in {}",
-        text(&o.stderr)
-    );
-    assert!(!text(&o.stderr).contains("panicked"));
-}
-
-/// Runs `bssrdf ARGS` in `dir` with `stdin` on its standard input.
-fn with_stdin(dir: &Path, args: &[&str], stdin: &str) -> Output {
-    use std::io::Write;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_bssrdf"))
-        .current_dir(dir)
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    let mut input = child.stdin.take().expect("stdin is piped");
-    input
-        .write_all(stdin.as_bytes())
-        .expect("stdin takes the input");
-    drop(input);
-    child.wait_with_output().expect("the binary ends")
-}
-
-/// A coarse bare table at η = 1.33 as `t.bssrdf` in a fresh folder.
-fn bare() -> tempfile::TempDir {
-    let dir = tempfile::tempdir().unwrap();
-    ok(&bssrdf(
-        dir.path(),
-        &[
-            "bake", "--eta", "1.33", "--grid", "coarse", "-q", "-o", "t.bssrdf",
-        ],
-    ));
-    dir
-}
-
-// ---- Outputs: devices, links, modes, stale temporaries, inputs ----
-
-#[cfg(unix)]
-#[test]
-fn devices_are_written_through_never_replaced() {
-    use std::os::unix::fs::FileTypeExt;
-    let dir = bare();
-    let d = dir.path();
-    // /dev/full: the write fails, the error names the device, the node stays a device.
-    for args in [
-        vec!["pack", "t.bssrdf", "-o", "/dev/full"],
-        vec!["unpack", "t.bssrdf", "-o", "/dev/full"],
-        vec![
-            "bake",
-            "--eta",
-            "1.33",
-            "--grid",
-            "coarse",
-            "-q",
-            "-o",
-            "/dev/full",
-        ],
-        vec![
-            "walk",
-            "--albedo",
-            "0.5",
-            "--photons",
-            "100",
-            "--profile",
-            "/dev/full",
-        ],
-    ] {
-        fails_with(&bssrdf(d, &args), 2, "/dev/full");
-        let kind = std::fs::metadata("/dev/full").unwrap().file_type();
-        assert!(kind.is_char_device(), "{args:?} replaced /dev/full");
-    }
-    // render: the EXR is written through with --no-preview; a preview named after the device
-    // is refused.
-    let render = [
-        "render",
-        "--preset",
-        "figure-10",
-        "--theta",
-        "0",
-        "--photons",
-        "100",
-        "--size",
-        "4,4",
-        "-q",
-        "-o",
-    ];
-    fails_with(
-        &bssrdf(d, &[&render[..], &["/dev/full", "--no-preview"]].concat()),
-        2,
-        "/dev/full",
-    );
-    fails_with(
-        &bssrdf(d, &[&render[..], &["/dev/null"]].concat()),
-        2,
-        "-o /dev/null is not a regular file",
-    );
-    ok(&bssrdf(
-        d,
-        &[&render[..], &["/dev/null", "--no-preview"]].concat(),
-    ));
-    assert!(!Path::new("/dev/null.png").exists());
-    ok(&bssrdf(d, &["pack", "t.bssrdf", "-o", "/dev/null"]));
-    assert!(std::fs::metadata("/dev/null")
-        .unwrap()
-        .file_type()
-        .is_char_device());
-    // A folder is refused with its name.
-    std::fs::create_dir(d.join("folder")).unwrap();
-    fails_with(
-        &bssrdf(d, &["pack", "t.bssrdf", "-o", "folder"]),
-        2,
-        "folder: it is a folder, not a regular file",
-    );
-}
-
-#[cfg(unix)]
-#[test]
-fn links_are_followed_and_modes_kept() {
-    use std::os::unix::fs::PermissionsExt;
-    let dir = bare();
-    let d = dir.path();
-    std::os::unix::fs::symlink("t.bssrdf", d.join("link.bssrdf")).unwrap();
-    std::fs::set_permissions(d.join("t.bssrdf"), std::fs::Permissions::from_mode(0o640)).unwrap();
-    ok(&bssrdf(d, &["pack", "link.bssrdf"]));
-    let link = std::fs::symlink_metadata(d.join("link.bssrdf")).unwrap();
-    assert!(link.file_type().is_symlink(), "the link was replaced");
-    let target = std::fs::metadata(d.join("t.bssrdf")).unwrap();
-    assert_eq!(target.permissions().mode() & 0o777, 0o640);
-    let inspect = ok(&bssrdf(d, &["inspect", "t.bssrdf"]));
-    assert!(inspect.contains("zstd"), "{inspect}");
-}
-
-#[test]
-fn stale_temporaries_of_dead_writers_are_removed() {
-    let dir = bare();
-    let d = dir.path();
-    // A PID above Linux's maximum (2^22) never runs; this process runs.
-    let dead = d.join(".t.bssrdf.4194305.0.tmp");
-    let alive = d.join(format!(".t.bssrdf.{}.0.tmp", std::process::id()));
-    let other = d.join(".u.bssrdf.4194305.0.tmp");
-    for p in [&dead, &alive, &other] {
-        std::fs::write(p, b"partial").unwrap();
-    }
-    ok(&bssrdf(
-        d,
-        &[
-            "bake", "--eta", "1.33", "--grid", "coarse", "-q", "-o", "t.bssrdf",
-        ],
-    ));
-    if Path::new("/proc/self").exists() {
-        assert!(!dead.exists(), "the dead writer's file stayed");
-    }
-    assert!(alive.exists(), "a running writer's file was removed");
-    assert!(other.exists(), "another target's file was removed");
-}
-
-#[test]
-fn outputs_never_overwrite_inputs_or_each_other() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    let render = [
-        "render",
-        "--preset",
-        "figure-10",
-        "--theta",
-        "0",
-        "--photons",
-        "200",
-        "--size",
-        "4,4",
-        "-q",
-    ];
-    let with = |extra: &[&str]| -> Vec<String> {
-        render.iter().chain(extra).map(|s| s.to_string()).collect()
-    };
-    let run = |args: Vec<String>| {
-        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
-        bssrdf(d, &refs)
-    };
-    fails_with(
-        &run(with(&["-o", "x.png"])),
-        2,
-        "-o x.png and the PNG preview of -o x.png are the same file",
-    );
-    assert!(!d.join("x.png").exists());
-    ok(&run(with(&["-o", "a.exr"])));
-    let before = std::fs::read(d.join("a.exr")).unwrap();
-    fails_with(
-        &bssrdf(d, &["render", "--diff", "a.exr", "a.exr", "-o", "a.exr"]),
-        2,
-        "-o a.exr is the input --diff a.exr",
-    );
-    assert_eq!(std::fs::read(d.join("a.exr")).unwrap(), before);
-    let scene = "[integrator]\nkind = \"path\"\n";
-    std::fs::write(d.join("s.toml"), scene).unwrap();
-    fails_with(
-        &bssrdf(d, &["bake", "--scene", "s.toml", "-o", "s.toml"]),
-        2,
-        "-o s.toml is the input --scene s.toml",
-    );
-    assert_eq!(std::fs::read_to_string(d.join("s.toml")).unwrap(), scene);
-}
+use cli_common::{bare, bssrdf, fails_with, ok, text, with_stdin};
 
 // ---- validate: a case without points is skipped, a run that checked nothing fails ----
 
@@ -814,5 +606,154 @@ fn files_are_read_into_memory_unless_mmap() {
             2,
             "dir.bssrdf is a folder, not a library file",
         );
+    }
+}
+
+// ---- Flags that nothing would read are refused ----
+
+#[test]
+fn render_refuses_flags_it_would_ignore() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let diff = ["render", "--diff", "a.exr", "b.exr", "-o", "d.exr"];
+    for extra in [
+        &["--theta", "3"][..],
+        &["--model", "pbd"],
+        &["--photons", "10"],
+        &["--size", "4,4"],
+        &["--extent", "2"],
+        &["--cone", "2"],
+        &["--seed", "1"],
+        &["--grid", "coarse"],
+        &["--orders", "multiple"],
+        &["--threads", "1"],
+        &["--decades", "3"],
+        &["--materials", "m.toml"],
+    ] {
+        let o = bssrdf(d, &[&diff[..], extra].concat());
+        fails_with(&o, 2, "cannot be used with");
+        assert!(text(&o.stderr).contains(extra[0]), "{extra:?}");
+    }
+    let render = [
+        "render",
+        "--preset",
+        "figure-10",
+        "--theta",
+        "0",
+        "--photons",
+        "10",
+        "--size",
+        "4,4",
+        "-q",
+        "-o",
+        "x.exr",
+    ];
+    let with = |extra: &[&str]| bssrdf(d, &[&render[..], extra].concat());
+    fails_with(
+        &with(&["--materials", "m.toml"]),
+        2,
+        "--materials adds files to look --material up in",
+    );
+    for extra in [
+        &["--sigma-a", "1,1,1"][..],
+        &["--eta", "1.5"],
+        &["--g", "0.3"],
+        &["--eta", "1.5", "--no-preview"],
+    ] {
+        fails_with(&with(extra), 2, "cannot be used with");
+    }
+    fails_with(
+        &with(&["--no-preview", "--decades", "3"]),
+        2,
+        "cannot be used with",
+    );
+    fails_with(
+        &with(&["--orders", "multiple"]),
+        2,
+        "--orders applies to the mc model only",
+    );
+    fails_with(
+        &with(&["--model", "mc", "--grid", "coarse"]),
+        2,
+        "--grid applies to the table models",
+    );
+    assert!(!d.join("x.exr").exists());
+    // Used: --orders with mc compared, --grid with a table model.
+    ok(&with(&[
+        "--compare",
+        "mc",
+        "--orders",
+        "multiple",
+        "--grid",
+        "coarse",
+    ]));
+    // bake: --materials with nothing named from it.
+    std::fs::write(
+        d.join("m.toml"),
+        "id = \"mine\"\nname = \"Mine\"\neta = 1.3\ncoefficients = \"reduced\"\nsigma_s = [1.0, 1.0, 1.0]\nsigma_a = [0.1, 0.1, 0.1]\ng = [0.0, 0.0, 0.0]\n",
+    )
+    .unwrap();
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "bake",
+                "--eta",
+                "1.33",
+                "--materials",
+                "m.toml",
+                "-o",
+                "t.bssrdf",
+            ],
+        ),
+        2,
+        "--materials adds files to look material names up in",
+    );
+}
+
+#[test]
+fn channel_needs_a_material() {
+    let dir = bare();
+    let d = dir.path();
+    for args in [
+        &[
+            "eval",
+            "--model",
+            "pbd",
+            "--rho",
+            "0.5",
+            "--channel",
+            "g",
+            "--theta",
+            "0",
+            "--r",
+            "1",
+        ][..],
+        &[
+            "eval",
+            "t.bssrdf",
+            "--rho",
+            "0.5",
+            "--channel",
+            "g",
+            "--theta",
+            "0",
+            "--r",
+            "1",
+        ],
+        &[
+            "sample",
+            "t.bssrdf",
+            "--rho",
+            "0.5",
+            "--channel",
+            "b",
+            "-n",
+            "1",
+        ],
+    ] {
+        let o = bssrdf(d, args);
+        fails_with(&o, 2, "--channel picks a colour channel of --material");
+        assert!(o.stdout.is_empty());
     }
 }

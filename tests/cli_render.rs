@@ -120,7 +120,7 @@ fn bad_input_exits_2_and_names_the_value() {
     fails_with(&with(&["--theta", "6", "--size", "0,5"]), "0x5");
     fails_with(
         &with(&["--theta", "6", "--size", "5"]),
-        "\"5\" is not a size",
+        "expected 2 comma-separated numbers W,H",
     );
     fails_with(&with(&["--theta", "6", "--extent", "-2"]), "extent = -2");
     let zero = [

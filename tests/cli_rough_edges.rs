@@ -217,7 +217,10 @@ fn json_uses_command_line_names_and_one_shape() {
     ));
     let meta = &render["render"]["meta"];
     assert_eq!(meta["photons"], 200);
-    assert_eq!(meta["theta_deg"], 60);
+    // Each key has one type: whole numbers stay u64, the angles are numbers (60, not
+    // 59.99999999999999), text stays text.
+    assert_eq!(meta["theta_deg"].as_f64(), Some(60.0), "{meta}");
+    assert!(meta["seed"].is_u64(), "{meta}");
     assert!(meta["eta"].is_f64(), "{meta}");
     assert!(meta["model"].is_string());
 }
@@ -384,7 +387,7 @@ fn no_nan_and_no_negative_value_from_any_model() {
             fails_with(
                 &eval(model, &["--eta", eta, "--r", "1"]),
                 2,
-                &format!("eta = {eta} is outside [0.75, 2.5]"),
+                &format!("--eta {eta} is outside the valid range: [0.75, 2.5]"),
             );
         }
     }

@@ -40,7 +40,7 @@ pub struct BakeArgs {
         "reflectance", "mfp", "name",
     ])]
     pub(super) scene: Option<PathBuf>,
-    /// η of a bare table (no material), or of the material given by --sigma-s/--sigma-a or
+    /// η in [0.75, 2.5] of a bare table (no material), or of the material given by --sigma-s/--sigma-a or
     /// --reflectance/--mfp (default 1.33 there).
     #[arg(long)]
     eta: Option<f64>,
@@ -102,18 +102,12 @@ pub struct BakeArgs {
 
 /// Parses "R,G,B": exactly three comma-separated numbers.
 fn parse_rgb(text: &str) -> Result<[f64; 3], String> {
-    let values = numbers(text)?;
-    <[f64; 3]>::try_from(values.as_slice()).map_err(|_| {
-        format!(
-            "expected 3 comma-separated numbers (R,G,B), got {}",
-            values.len()
-        )
-    })
+    super::values::exactly(text, "R,G,B")
 }
 
 /// Parses "G" (every channel) or "R,G,B".
 fn parse_g(text: &str) -> Result<[f64; 3], String> {
-    match numbers(text)?.as_slice() {
+    match super::values::list::<f64>(text)?.as_slice() {
         [g] => Ok([*g; 3]),
         [r, g, b] => Ok([*r, *g, *b]),
         other => Err(format!(
@@ -121,16 +115,6 @@ fn parse_g(text: &str) -> Result<[f64; 3], String> {
             other.len()
         )),
     }
-}
-
-fn numbers(text: &str) -> Result<Vec<f64>, String> {
-    text.split(',')
-        .map(|t| {
-            t.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("{:?} is not a number", t.trim()))
-        })
-        .collect()
 }
 
 /// Points per case of the accuracy check run at bake and stored in the provenance.
@@ -249,7 +233,7 @@ impl Baker {
         let mut settings = json!({
             "grid": format!("{:?}", self.preset).to_lowercase(),
             "dims": [grid.rho.len(), grid.theta.len(), grid.r.len()],
-            "fresnel_moments": format!("{:?}", self.moments).to_lowercase(),
+            "fresnel_moments": self.moments.name(),
             "theta_sampling": theta_sampling,
             "anchors_cos_phi": bssrdf_zoo::gwc::ANCHOR_COS,
             "minimax_refinement": {
@@ -280,15 +264,13 @@ impl Baker {
         Ok(provenance)
     }
 
-    /// Writes the library atomically; returns its size in bytes.
+    /// Writes the library atomically; returns the bytes written (also through a device or a
+    /// FIFO, whose size on disk says nothing).
     pub fn write(&self, builder: &LibraryBuilder, output: &Path) -> Result<u64, CliError> {
         self.bar.finish_and_clear();
         builder
             .write_atomic(output, self.compression)
-            .map_err(|e| CliError::input(format!("cannot write {}: {e}", output.display())))?;
-        std::fs::metadata(output).map(|m| m.len()).map_err(|e| {
-            CliError::input(format!("cannot read the size of {}: {e}", output.display()))
-        })
+            .map_err(|e| CliError::input(format!("cannot write {}: {e}", output.display())))
     }
 
     pub fn compressed(&self) -> bool {
@@ -341,11 +323,11 @@ fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<Custom>, 
         return Ok(None);
     }
     let eta = args.eta.unwrap_or(DEFAULT_ETA);
-    if !(eta.is_finite() && eta > 0.0) {
-        return Err(CliError::input(format!(
-            "--eta {eta}: the relative index of refraction must be a finite number > 0"
-        )));
-    }
+    super::check_range(
+        "--eta",
+        eta,
+        bssrdf_zoo::medium::ETA_MIN..=bssrdf_zoo::medium::ETA_MAX,
+    )?;
     let name = args.name.clone().unwrap_or_else(|| "custom".to_string());
     if library.get(&name).is_ok() {
         return Err(CliError::input(format!(
@@ -377,15 +359,12 @@ fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<Custom>, 
     }
 }
 
-/// The file's record of a material with every channel on one table, no albedo range.
+/// The file's record of a material with every channel on one table, no albedo range. Its
+/// `source` was checked by [`bssrdf_zoo::scene::check_source`] when the material was named.
 pub(super) fn record(m: &Material, source: &str, table: u32) -> format::Material {
-    let mut end = source.len().min(256);
-    while !source.is_char_boundary(end) {
-        end -= 1;
-    }
     format::Material {
         name: m.id().to_string(),
-        source: source[..end].to_string(),
+        source: source.to_string(),
         sigma_s: m.sigma_s(),
         sigma_a: m.sigma_a(),
         g: m.g(),
@@ -409,11 +388,21 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
             let m = library
                 .get(name)
                 .map_err(|e| CliError::input(e.to_string()))?;
-            let source = m.source().map(|s| s.coefficients().to_string());
-            Ok((m.clone(), source.unwrap_or_default()))
+            let source = m
+                .source()
+                .map(|s| s.coefficients().to_string())
+                .unwrap_or_default();
+            bssrdf_zoo::scene::check_source(name, &source)
+                .map_err(|e| CliError::input(e.to_string()))?;
+            Ok((m.clone(), source))
         })
         .collect::<Result<_, CliError>>()?;
     let custom = custom(&args, &library)?;
+    if args.materials.is_some() && materials.is_empty() && custom.is_none() {
+        return Err(CliError::input(
+            "--materials adds files to look material names up in; name a MATERIAL from them, or drop --materials",
+        ));
+    }
     let mut etas: Vec<f64> = materials.iter().map(|(m, _)| m.eta()).collect();
     etas.extend(custom.as_ref().map(Custom::eta));
     match (etas.is_empty(), args.eta, &custom) {

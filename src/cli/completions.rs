@@ -82,6 +82,12 @@ fn main_page() -> Result<Vec<u8>, CliError> {
     Ok(page)
 }
 
+/// Writes one page into `dir` through the safe writer (no torn page, no device replaced).
+fn write_page(dir: &std::path::Path, name: &str, bytes: &[u8]) -> Result<(), CliError> {
+    bssrdf_zoo::format::write_file_atomic(&dir.join(name), bytes)
+        .map_err(|e| CliError::input(format!("cannot write man pages to {}: {e}", dir.display())))
+}
+
 pub fn man(args: ManArgs) -> Result<ExitCode, CliError> {
     let page = main_page()?;
     match args.dir {
@@ -90,9 +96,16 @@ pub fn man(args: ManArgs) -> Result<ExitCode, CliError> {
                 CliError::input(format!("cannot write man pages to {}: {e}", dir.display()))
             };
             std::fs::create_dir_all(&dir).map_err(fail)?;
-            clap_mangen::generate_to(Cli::command(), &dir).map_err(fail)?;
-            // clap's own bssrdf.1 lacks the exit codes: replace it.
-            std::fs::write(dir.join("bssrdf.1"), &page).map_err(fail)?;
+            let mut cmd = Cli::command().disable_help_subcommand(true);
+            cmd.build();
+            // clap's own bssrdf.1 lacks the exit codes: ours replaces it.
+            write_page(&dir, "bssrdf.1", &page)?;
+            for sub in cmd.get_subcommands().filter(|s| !s.is_hide_set()) {
+                let man = clap_mangen::Man::new(sub.clone());
+                let mut bytes = Vec::new();
+                man.render(&mut bytes).map_err(fail)?;
+                write_page(&dir, &man.get_filename(), &bytes)?;
+            }
         }
         None => {
             let mut out = std::io::stdout().lock();

@@ -433,11 +433,7 @@ pub fn run(args: DiffArgs) -> Result<ExitCode, CliError> {
         ("tolerance", args.tolerance),
         ("abs-tolerance", args.abs_tolerance),
     ] {
-        if !(value.is_finite() && value >= 0.0) {
-            return Err(CliError::input(format!(
-                "--{name} {value}: must be a finite number >= 0"
-            )));
-        }
+        super::check_range(&format!("--{name}"), value, 0.0..)?;
     }
     let a = super::library::open(&args.a, args.mmap)?;
     let b = super::library::open(&args.b, args.mmap)?;

@@ -5,7 +5,8 @@
 //! back: `bssrdf sample FILE --rho 0.9 | bssrdf eval FILE --points -`.
 
 use super::points::Point;
-use super::CliError;
+use super::values::check_kept;
+use super::{check_range, CliError};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
@@ -142,11 +143,18 @@ impl Evaluator<'_> {
     /// (flags or CSV columns).
     fn check(&self, p: &Point, names: [&str; 4]) -> Result<(), CliError> {
         if self.material.is_none() {
-            check_range(names[0], p.rho, 0.0, 1.0)?;
+            check_range(names[0], p.rho, 0.0..=1.0)?;
         }
-        check_range(names[1], p.theta_deg, 0.0, 90.0)?;
+        check_range(names[1], p.theta_deg, 0.0..=90.0)?;
         check_r(names[2], p.r)?;
-        check_range(names[3], p.phi_deg, f64::NEG_INFINITY, f64::INFINITY)
+        check_range(names[3], p.phi_deg, ..)?;
+        match (self.model, &self.table) {
+            (ModelName::Table | ModelName::Perpendicular, Some(t)) => match self.material {
+                Some((rho, _)) => check_kept("the material's rho'", rho, t),
+                None => check_kept(names[0], p.rho, t),
+            },
+            _ => Ok(()),
+        }
     }
 
     fn value(&self, p: &Point) -> Result<f64, CliError> {
@@ -174,15 +182,22 @@ impl Evaluator<'_> {
             (ModelName::Pbd, _) => Pbd::new(rho, self.boundary)?.eval(theta, r_opt, phi, self.rule),
             (ModelName::Table, Some(t)) => t
                 .eval(rho, theta, r_opt, phi)
-                .ok_or_else(|| outside(rho, t))?,
+                .ok_or_else(|| kept_error(rho, t))?,
             (ModelName::Perpendicular, Some(t)) => t
                 .eval_perpendicular(rho, r_opt)
-                .ok_or_else(|| outside(rho, t))?,
+                .ok_or_else(|| kept_error(rho, t))?,
             (_, None) => return Err(CliError::input("the table models need a library FILE")),
             (_, Some(_)) => unreachable_model(self.model)?,
         };
         Ok(reduced * scale * scale)
     }
+}
+
+/// The refusal of a ρ′ that [`Evaluator::check`] let through but the table did not take.
+fn kept_error(rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
+    check_kept("rho", rho, table)
+        .err()
+        .unwrap_or_else(|| CliError::input(format!("rho {}: no value", super::show(rho))))
 }
 
 /// Every model is handled above; kept as an error rather than a panic.
@@ -200,38 +215,12 @@ fn model_name(model: ModelName) -> String {
         .map_or_else(|| format!("{model:?}"), |v| v.get_name().to_string())
 }
 
-fn outside(rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
-    let nodes = table.axes().rho().as_slice();
-    CliError::input(format!(
-        "rho {rho} is outside the albedo range this table keeps, [{}, {}]: the table is never extrapolated",
-        nodes[0],
-        nodes[nodes.len() - 1]
-    ))
-}
-
 /// r is a finite number ≥ 0; every positive r, subnormals included, has a finite value. At
 /// r = 0 each model gives its limit: +∞ where it diverges (pbd like ln(1/r), burley like 1/r;
-/// JSON writes "inf"), and the table models the value at which they cap that growth, 10⁻⁹
+/// in JSON `"value": null, "limit": "inf"`), and the table models the value at which they cap that growth, 10⁻⁹
 /// times the first radial node (finite, documented in `TableRef::eval`).
 fn check_r(name: &str, r: f64) -> Result<(), CliError> {
-    check_range(name, r, 0.0, f64::INFINITY)
-}
-
-/// Refuses `value` outside [min, max] (and NaN and ±∞ always); `name` is how the input calls
-/// it (`--rho`, `column rho`).
-pub fn check_range(name: &str, value: f64, min: f64, max: f64) -> Result<(), CliError> {
-    if value.is_finite() && value >= min && value <= max {
-        return Ok(());
-    }
-    let domain = match (min.is_finite(), max.is_finite()) {
-        (false, false) => "any finite number".to_string(),
-        (true, false) => format!("a finite number >= {min}"),
-        _ => format!("[{min}, {max}]"),
-    };
-    Err(CliError::input(format!(
-        "{name} {} is outside the valid range: {domain}",
-        super::show(value)
-    )))
+    check_range(name, r, 0.0..)
 }
 
 pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
@@ -283,7 +272,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
     let (eta, material) = match (&chosen, &named, &table) {
         (Some(c), _, Some(t)) => (t.eta(), c.material.as_ref().map(|(_, rho, st)| (*rho, *st))),
         (_, Some(m), _) => {
-            let ch = m.channel(args.choice.channel.rgb());
+            let ch = m.channel(args.choice.channel());
             (m.eta(), Some((ch.rho_prime(), ch.sigma_t_prime())))
         }
         _ => (args.choice.eta.unwrap_or(1.33), None),
@@ -304,8 +293,8 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         (Some(c), Some(m)) if m != c.table.moments() => {
             return Err(CliError::input(format!(
                 "--fresnel-moments {} conflicts with the table, baked with {} moments",
-                moments_name(m),
-                moments_name(c.table.moments())
+                m.name(),
+                c.table.moments().name()
             )))
         }
         (Some(c), _) => c.table.moments(),
@@ -323,14 +312,15 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         serde_json::json!({
             "model": model_name(model),
             "eta": eta,
-            "fresnel_moments": if authors { "authors" } else { moments_name(moments) },
-            "quadrature": if model == ModelName::Pbd { Some(format!("{rule:?}").to_lowercase()) } else { None },
+            "fresnel_moments": if authors { "authors" } else { moments.name() },
+            "quadrature": (model == ModelName::Pbd).then_some(rule_name(rule)),
             "rho": p.rho,
             "theta_deg": p.theta_deg,
             "r": p.r,
             "r_unit": if material.is_some() { "mm" } else { "reduced mfp" },
             "phi_deg": p.phi_deg,
             "value": json_number(value),
+            "limit": json_limit(value),
         })
     };
     let stdout = std::io::stdout();
@@ -371,18 +361,60 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn moments_name(m: Moments) -> &'static str {
-    match m {
-        Moments::Exact => "exact",
-        Moments::Pbrt => "pbrt",
+/// The quadrature as `--quadrature` names it.
+fn rule_name(rule: Rule) -> &'static str {
+    match rule {
+        Rule::Reference => "reference",
+        Rule::Fast => "fast",
     }
 }
 
-/// JSON has no infinity: the documented +∞ limits are written as the string "inf".
+/// A value in JSON, always a number or null: JSON has no infinity, so the documented +∞
+/// limits (r = 0 on the diverging models) are null, with `limit` saying which.
 fn json_number(v: f64) -> serde_json::Value {
     if v.is_finite() {
         serde_json::json!(v)
     } else {
+        serde_json::Value::Null
+    }
+}
+
+/// `"inf"` (or `"-inf"`) where [`json_number`] wrote null for an infinite value; null otherwise.
+fn json_limit(v: f64) -> serde_json::Value {
+    if v.is_infinite() {
         serde_json::json!(v.to_string())
+    } else {
+        serde_json::Value::Null
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_flags_spell_the_moments_as_moments_name() {
+        for (arg, moments) in [
+            (MomentsArg::Exact, Moments::Exact),
+            (MomentsArg::Pbrt, Moments::Pbrt),
+        ] {
+            let flag = arg.to_possible_value().map(|v| v.get_name().to_string());
+            assert_eq!(flag.as_deref(), Some(moments.name()));
+            assert_eq!(Moments::from(arg), moments);
+        }
+        for (arg, moments) in [
+            (EvalMomentsArg::Exact, Moments::Exact),
+            (EvalMomentsArg::Pbrt, Moments::Pbrt),
+        ] {
+            let flag = arg.to_possible_value().map(|v| v.get_name().to_string());
+            assert_eq!(flag.as_deref(), Some(moments.name()));
+        }
+        for (arg, rule) in [
+            (QuadratureArg::Reference, Rule::Reference),
+            (QuadratureArg::Fast, Rule::Fast),
+        ] {
+            let flag = arg.to_possible_value().map(|v| v.get_name().to_string());
+            assert_eq!(flag.as_deref(), Some(rule_name(rule)));
+        }
     }
 }

@@ -6,6 +6,7 @@
 use super::CliError;
 use bssrdf_zoo::format::spec::required_features;
 use bssrdf_zoo::format::{AxisKind, Codec, FresnelMoments, SectionKind};
+use bssrdf_zoo::fresnel::Moments;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
@@ -48,12 +49,9 @@ fn codec_name(codec: Codec) -> &'static str {
     }
 }
 
-/// As `--fresnel-moments` names them.
+/// As `--fresnel-moments` names them ([`Moments::name`]).
 pub(super) fn fresnel_name(m: FresnelMoments) -> &'static str {
-    match m {
-        FresnelMoments::Exact => "exact",
-        FresnelMoments::PbrtPolynomial => "pbrt",
-    }
+    Moments::from(m).name()
 }
 
 fn section_name(kind: u32) -> String {

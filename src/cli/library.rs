@@ -3,6 +3,7 @@
 use super::CliError;
 use bssrdf_zoo::format::{FormatError, Library, Verify};
 use bssrdf_zoo::materials::{Material, Rgb};
+use bssrdf_zoo::medium::{ETA_MAX, ETA_MIN};
 use bssrdf_zoo::table::FileTable;
 use clap::{Args, ValueEnum};
 use std::path::{Path, PathBuf};
@@ -53,16 +54,16 @@ pub struct TableChoice {
     /// first).
     #[arg(long)]
     pub table: Option<usize>,
-    /// Relative index of refraction η, > 0: selects the file's table with this η (refused when
-    /// the file has none); without a file, the medium's η (default 1.33).
+    /// Relative index of refraction η in [0.75, 2.5]: selects the file's table with this η
+    /// (refused when the file has none); without a file, the medium's η (default 1.33).
     #[arg(long, allow_hyphen_values = true)]
     pub eta: Option<f64>,
     /// A material of the library: ρ′, σ′t and η come from it, distances are in mm.
     #[arg(long)]
     pub material: Option<String>,
-    /// The material's colour channel.
-    #[arg(long, value_enum, default_value = "r", requires = "material")]
-    pub channel: Channel,
+    /// The material's colour channel [default: r] (only with --material).
+    #[arg(long, value_enum)]
+    channel: Option<Channel>,
     /// Extra material files (TOML file or folder) for --material.
     #[arg(long, value_name = "PATH")]
     pub materials: Option<PathBuf>,
@@ -93,19 +94,42 @@ fn list_etas(library: &Library) -> String {
         .join(", ")
 }
 
+/// Whether table `index` of `library` keeps albedo rows around `rho`.
+fn keeps(library: &Library, index: usize, rho: f64) -> bool {
+    let Some(record) = library.table(index) else {
+        return false;
+    };
+    let Ok(table) = FileTable::new(record) else {
+        return false;
+    };
+    table.view().is_ok_and(|view| {
+        let nodes = view.axes().rho().as_slice();
+        matches!((nodes.first(), nodes.last()), (Some(&lo), Some(&hi)) if (lo..=hi).contains(&rho))
+    })
+}
+
 impl TableChoice {
-    /// Checks --eta (its domain) and that --materials comes with --material.
+    /// The colour channel of --material (red unless --channel says otherwise).
+    pub fn channel(&self) -> Rgb {
+        self.channel.unwrap_or(Channel::R).rgb()
+    }
+
+    /// Checks --eta (its domain) and that --materials and --channel come with --material.
     pub fn check_eta(&self) -> Result<(), CliError> {
         if self.materials.is_some() && self.material.is_none() {
             return Err(CliError::input(
                 "--materials adds files to look --material up in; give --material NAME, or drop --materials",
             ));
         }
+        // clap's `requires` lets this pass when --rho (which conflicts with --material) is given.
+        if self.channel.is_some() && self.material.is_none() {
+            return Err(CliError::input(
+                "--channel picks a colour channel of --material; give --material NAME, or drop --channel",
+            ));
+        }
         match self.eta {
-            Some(eta) if !(eta.is_finite() && eta > 0.0) => Err(CliError::input(format!(
-                "--eta {eta} is outside the valid range: a finite number > 0"
-            ))),
-            _ => Ok(()),
+            Some(eta) => super::check_range("--eta", eta, ETA_MIN..=ETA_MAX),
+            None => Ok(()),
         }
     }
 
@@ -141,7 +165,7 @@ impl TableChoice {
             Some(name) => {
                 // A material stored in the file first, else the named-material library.
                 if let Some(m) = library.material(name) {
-                    let c = self.channel.rgb().index();
+                    let c = self.channel().index();
                     let found =
                         Material::from_coefficients(&m.name, m.sigma_s, m.sigma_a, m.g, m.eta)
                             .map_err(|e| CliError::input(e.to_string()))?;
@@ -152,9 +176,20 @@ impl TableChoice {
                         .get(name)
                         .map_err(|e| CliError::input(e.to_string()))?
                         .clone();
-                    let index = library
+                    // Of the tables with the material's η, one whose albedo rows hold the
+                    // channel's ρ′ (a scene bake keeps several such tables), else the first.
+                    let rho = m.channel(self.channel()).rho_prime();
+                    let same: Vec<usize> = library
                         .tables()
-                        .position(|t| same_eta(t.eta(), m.eta()))
+                        .enumerate()
+                        .filter(|(_, t)| same_eta(t.eta(), m.eta()))
+                        .map(|(i, _)| i)
+                        .collect();
+                    let index = same
+                        .iter()
+                        .copied()
+                        .find(|&i| keeps(library, i, rho))
+                        .or_else(|| same.first().copied())
                         .ok_or_else(|| {
                             CliError::input(format!(
                                 "{file} has no table for material {:?} (eta = {}); its tables: {}; bake one with `bssrdf bake {}`",
@@ -221,7 +256,7 @@ impl TableChoice {
         }
         let table = FileTable::new(record).map_err(|e| CliError::input(e.to_string()))?;
         let material = material.map(|(m, _)| {
-            let ch = m.channel(self.channel.rgb());
+            let ch = m.channel(self.channel());
             let (rho, st) = (ch.rho_prime(), ch.sigma_t_prime());
             (m, rho, st)
         });

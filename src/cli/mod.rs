@@ -15,6 +15,7 @@ mod progress;
 mod render;
 mod sample;
 mod validate;
+mod values;
 mod walk;
 mod zoo;
 
@@ -105,15 +106,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     }
 }
 
-/// A number as people write it: shortest round-trip form, exponent notation when it is very
-/// large or very small (1e308, not 309 digits).
-pub fn show(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && !(1e-5..1e16).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
-    }
-}
+pub use values::{check_range, show};
 
 /// Most threads a --threads may ask for: far more than any machine this runs on has cores,
 /// and few enough that spawning them cannot exhaust the system.

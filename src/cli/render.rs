@@ -9,8 +9,8 @@ use bssrdf_zoo::render::{
 };
 use bssrdf_zoo::table::GridPreset;
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::{IsTerminal, Write};
+use std::io::Write;
+use std::ops::Bound;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -73,13 +73,14 @@ pub struct RenderArgs {
     #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_a")]
     sigma_s: Option<[f64; 3]>,
     /// Absorption coefficients σa per channel, mm⁻¹.
-    #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_s")]
+    #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_s",
+          conflicts_with_all = ["material", "preset"])]
     sigma_a: Option<[f64; 3]>,
-    /// Relative index of refraction η with --sigma-s [default: 1.33].
-    #[arg(long, requires = "sigma_s")]
+    /// Relative index of refraction η in [0.75, 2.5] with --sigma-s [default: 1.33].
+    #[arg(long, requires = "sigma_s", conflicts_with_all = ["material", "preset"])]
     eta: Option<f64>,
     /// Henyey–Greenstein g of every channel with --sigma-s [default: 0].
-    #[arg(long, requires = "sigma_s")]
+    #[arg(long, requires = "sigma_s", conflicts_with_all = ["material", "preset"])]
     g: Option<f64>,
     /// Extra material files (TOML file or folder) for --material.
     #[arg(long, value_name = "PATH")]
@@ -109,14 +110,24 @@ pub struct RenderArgs {
     /// Seed of the per-photon streams (the picture does not depend on the thread count).
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Grid of the table baked for the material's η.
-    #[arg(long, value_enum, default_value = "default")]
-    grid: GridArg,
-    /// What the mc model puts in the picture (its statistics keep both).
-    #[arg(long, value_enum, default_value = "all")]
-    orders: OrdersArg,
+    /// Grid of the table baked for the material's η (not with --model mc alone) [default:
+    /// default].
+    #[arg(long, value_enum)]
+    grid: Option<GridArg>,
+    /// What the mc model puts in the picture (its statistics keep both; only with mc as
+    /// --model or --compare) [default: all].
+    #[arg(long, value_enum)]
+    orders: Option<OrdersArg>,
     /// Instead of rendering: the signed luminance difference A − B of two renders.
-    #[arg(long, num_args = 2, value_names = ["A.exr", "B.exr"], conflicts_with_all = ["medium", "compare"])]
+    #[arg(
+        long,
+        num_args = 2,
+        value_names = ["A.exr", "B.exr"],
+        conflicts_with_all = [
+            "medium", "compare", "theta", "model", "photons", "size", "extent", "cone", "seed",
+            "grid", "orders", "threads", "decades", "materials",
+        ]
+    )]
     diff: Option<Vec<PathBuf>>,
     /// Output EXR (a PNG preview is written beside it).
     #[arg(short, long, value_name = "OUT.exr")]
@@ -125,7 +136,7 @@ pub struct RenderArgs {
     #[arg(long)]
     no_preview: bool,
     /// Decades of exitance below the brightest pixel that the PNG preview shows (log scale).
-    #[arg(long, default_value_t = render::png::DECADES)]
+    #[arg(long, default_value_t = render::png::DECADES, conflicts_with = "no_preview")]
     decades: f64,
     /// Threads, in [1, 1024] (default: all cores).
     #[arg(long)]
@@ -140,20 +151,12 @@ pub struct RenderArgs {
 
 /// `R,G,B` as three numbers (clap reports the error with exit code 2).
 fn rgb(s: &str) -> Result<[f64; 3], String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("{s:?} is not three numbers R,G,B: {e}"))?;
-    <[f64; 3]>::try_from(v).map_err(|v| format!("{s:?} has {} numbers; R,G,B needs 3", v.len()))
+    super::values::exactly(s, "R,G,B")
 }
 
-/// `W,H` as two whole numbers.
+/// `W,H` as two whole numbers of pixels.
 fn size(s: &str) -> Result<(usize, usize), String> {
-    let bad = || format!("{s:?} is not a size W,H in pixels");
-    let (w, h) = s.split_once(',').ok_or_else(bad)?;
-    let w = w.trim().parse().map_err(|_| bad())?;
-    let h = h.trim().parse().map_err(|_| bad())?;
+    let [w, h] = super::values::exactly::<usize, 2>(s, "W,H (whole numbers of pixels)")?;
     Ok((w, h))
 }
 
@@ -162,16 +165,16 @@ fn input(e: impl std::fmt::Display) -> CliError {
 }
 
 pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
-    if !(args.decades.is_finite() && args.decades > 0.0) {
-        return Err(CliError::input(format!(
-            "--decades {} must be a number > 0",
-            args.decades
-        )));
-    }
+    super::check_range(
+        "--decades",
+        args.decades,
+        (Bound::Excluded(0.0), Bound::Unbounded),
+    )?;
     check_outputs(&args)?;
     if let Some(files) = &args.diff {
         return run_diff(&args, files);
     }
+    check_used(&args)?;
     let material = material(&args)?;
     let config = config(&args, args.model)?;
     let stdout = std::io::stdout();
@@ -230,17 +233,8 @@ fn material(args: &RenderArgs) -> Result<Material, CliError> {
 
 fn config(args: &RenderArgs, model: ModelArg) -> Result<Config, CliError> {
     let theta = args.theta.unwrap_or(0.0);
-    if !(0.0..90.0).contains(&theta) {
-        return Err(CliError::input(format!(
-            "--theta {theta} is outside [0, 90) degrees"
-        )));
-    }
-    if !(0.0..90.0).contains(&args.cone) {
-        return Err(CliError::input(format!(
-            "--cone {} is outside [0, 90) degrees",
-            args.cone
-        )));
-    }
+    super::check_range("--theta", theta, 0.0..90.0)?;
+    super::check_range("--cone", args.cone, 0.0..90.0)?;
     let config = Config {
         model: model.into(),
         theta: theta.to_radians(),
@@ -250,18 +244,54 @@ fn config(args: &RenderArgs, model: ModelArg) -> Result<Config, CliError> {
         width: args.size.0,
         height: args.size.1,
         extent: args.extent,
-        grid: match args.grid {
+        grid: match args.grid.unwrap_or(GridArg::Default) {
             GridArg::Coarse => GridPreset::Coarse,
             GridArg::Default => GridPreset::Default,
             GridArg::Fine => GridPreset::Fine,
         },
-        orders: match args.orders {
+        orders: match args.orders.unwrap_or(OrdersArg::All) {
             OrdersArg::All => Orders::All,
             OrdersArg::Multiple => Orders::Multiple,
         },
     };
     config.validate().map_err(input)?;
     Ok(config)
+}
+
+/// Refuses --materials without --material, --sigma-a, --eta and --g without --sigma-s, and
+/// --grid and --orders where no model of the run uses them (the rest of the combinations clap
+/// refuses; its `requires` does not fire when the required flag is in a group with one given).
+fn check_used(args: &RenderArgs) -> Result<(), CliError> {
+    let coefficients = [
+        ("--sigma-a", args.sigma_a.is_some()),
+        ("--eta", args.eta.is_some()),
+        ("--g", args.g.is_some()),
+    ];
+    if let Some((flag, _)) = coefficients.iter().find(|(_, on)| *on) {
+        if args.sigma_s.is_none() {
+            return Err(CliError::input(format!(
+                "{flag} describes a medium given by --sigma-s/--sigma-a; give those, or drop {flag}"
+            )));
+        }
+    }
+    if args.materials.is_some() && args.material.is_none() {
+        return Err(CliError::input(
+            "--materials adds files to look --material up in; give --material NAME, or drop --materials",
+        ));
+    }
+    let models: Vec<ModelArg> = std::iter::once(args.model).chain(args.compare).collect();
+    let mc = models.contains(&ModelArg::Mc);
+    if args.orders.is_some() && !mc {
+        return Err(CliError::input(
+            "--orders applies to the mc model only (--model mc or --compare mc); the other models picture multiple scattering",
+        ));
+    }
+    if args.grid.is_some() && models.iter().all(|&m| m == ModelArg::Mc) {
+        return Err(CliError::input(
+            "--grid applies to the table models; the mc model bakes no table",
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses a run whose outputs (the EXRs and their PNG previews) would overwrite one another
@@ -333,18 +363,8 @@ fn render_one(
 ) -> Result<(Timed, Vec<PathBuf>), CliError> {
     let work = || -> Result<Timed, CliError> {
         let renderer = Renderer::new(config, material).map_err(input)?;
-        let bar = if args.quiet || !std::io::stderr().is_terminal() {
-            ProgressBar::hidden()
-        } else {
-            ProgressBar::new(config.photons)
-        };
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{prefix} {bar:30} {human_pos}/{human_len} photons, {per_sec:0}, eta {eta}",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        bar.set_prefix(config.model.name());
+        let bar = super::progress::bar(config.photons, "photons", args.quiet);
+        bar.set_message(config.model.name());
         let start = Instant::now();
         let result = renderer.run(&|n| bar.inc(n));
         bar.finish_and_clear();
@@ -487,7 +507,10 @@ fn summary_json(timed: &Timed, files: &[PathBuf]) -> serde_json::Value {
         .picture
         .meta()
         .iter()
-        .map(|(k, v)| (k.trim_start_matches("bssrdf:").to_string(), meta_value(v)))
+        .map(|(k, v)| {
+            let key = k.trim_start_matches(render::META_PREFIX);
+            (key.to_string(), meta_value(key, v))
+        })
         .collect();
     serde_json::json!({
         "meta": meta,
@@ -514,14 +537,37 @@ fn print_diff(out: &mut impl Write, d: &Difference, files: &[PathBuf]) -> std::i
     writeln!(out, "wrote {}", names(files))
 }
 
-/// A picture's metadata value in JSON: numbers as numbers, text as text.
-fn meta_value(text: &str) -> serde_json::Value {
-    if let Ok(n) = text.parse::<i64>() {
-        return serde_json::json!(n);
+/// How the JSON summary types each metadata key of a render: fixed per key, never guessed
+/// from the text (a material id "1e3" stays a string; a u64 seed stays exact).
+#[derive(Clone, Copy)]
+enum MetaKind {
+    Count,
+    Number,
+    Text,
+}
+
+fn meta_kind(key: &str) -> MetaKind {
+    match key {
+        "photons" | "seed" => MetaKind::Count,
+        "theta_deg" | "cone_deg" | "extent_mm" | "eta" | "reflected_at_entry" | "centroid_x_mm" => {
+            MetaKind::Number
+        }
+        _ => MetaKind::Text,
     }
-    match text.parse::<f64>() {
-        Ok(v) if v.is_finite() => serde_json::json!(v),
-        _ => serde_json::json!(text),
+}
+
+/// A picture's metadata value in JSON, typed by its key ([`meta_kind`]); a number the text
+/// does not hold (never written by this program) is null.
+fn meta_value(key: &str, text: &str) -> serde_json::Value {
+    match meta_kind(key) {
+        MetaKind::Count => text
+            .parse::<u64>()
+            .map_or(serde_json::Value::Null, |n| serde_json::json!(n)),
+        MetaKind::Number => match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => serde_json::json!(v),
+            _ => serde_json::Value::Null,
+        },
+        MetaKind::Text => serde_json::json!(text),
     }
 }
 

@@ -51,9 +51,16 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
         Some((_, rho, st)) => (*rho, *st),
         None => (args.rho.unwrap_or_default(), 1.0),
     };
-    super::eval::check_range("--rho", rho, 0.0, 1.0)?;
+    let rho_name = if chosen.material.is_some() {
+        "the material's rho'"
+    } else {
+        "--rho"
+    };
+    super::check_range(rho_name, rho, 0.0..=1.0)?;
     let theta_deg = args.theta.unwrap_or(0.0);
-    super::eval::check_range("--theta", theta_deg, 0.0, 90.0)?;
+    super::check_range("--theta", theta_deg, 0.0..=90.0)?;
+    // Both modes: nothing is written before ρ′ is known to be inside the kept rows.
+    super::values::check_kept(rho_name, rho, &view)?;
     let mut rng = SplitMix64::new(args.seed);
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
@@ -92,8 +99,6 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
         }
     } else {
         let theta = theta_deg.to_radians();
-        view.effective_albedo(rho, theta)
-            .ok_or_else(|| outside(rho, &view))?;
         writeln!(out, "rho,theta_deg,{r_column},phi_deg,pdf")?;
         for _ in 0..args.count {
             match view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
@@ -110,15 +115,6 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
-}
-
-fn outside(rho: f64, view: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
-    let nodes = view.axes().rho().as_slice();
-    CliError::input(format!(
-        "rho {rho} is outside the albedo range this table keeps, [{}, {}]",
-        nodes[0],
-        nodes[nodes.len() - 1]
-    ))
 }
 
 fn no_sample(rho: f64, theta: Option<f64>) -> Result<ExitCode, CliError> {

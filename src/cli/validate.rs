@@ -68,11 +68,7 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         )));
     }
     if let Some(p) = args.max_mean_error {
-        if !(p.is_finite() && p >= 0.0) {
-            return Err(CliError::input(format!(
-                "--max-mean-error {p} must be a finite percentage >= 0"
-            )));
-        }
+        super::check_range("--max-mean-error", p, 0.0..)?;
     }
     let library = library::open(&args.file, args.choice.mmap)?;
     let chosen = args.choice.resolve(&library, &args.file)?;

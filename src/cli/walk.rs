@@ -17,7 +17,7 @@ pub struct WalkArgs {
     /// Henyey–Greenstein g, in (−1, 1).
     #[arg(long, default_value_t = 0.0)]
     g: f64,
-    /// Relative index of refraction η (medium over outside).
+    /// Relative index of refraction η (medium over outside), in [0.75, 2.5].
     #[arg(long, default_value_t = 1.33)]
     eta: f64,
     /// Incidence angle θ before refraction, degrees in [0, 90).
@@ -52,29 +52,11 @@ pub struct WalkArgs {
 
 /// Parses "R_MIN,R_MAX,NR,NPHI": exactly four comma-separated numbers.
 fn parse_bins(text: &str) -> Result<[f64; 4], String> {
-    let values = text
-        .split(',')
-        .map(|t| {
-            t.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("{:?} is not a number", t.trim()))
-        })
-        .collect::<Result<Vec<f64>, String>>()?;
-    <[f64; 4]>::try_from(values.as_slice()).map_err(|_| {
-        format!(
-            "expected 4 comma-separated numbers R_MIN,R_MAX,NR,NPHI, got {}",
-            values.len()
-        )
-    })
+    super::values::exactly(text, "R_MIN,R_MAX,NR,NPHI")
 }
 
 pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
-    if !(0.0..90.0).contains(&args.theta) {
-        return Err(CliError::input(format!(
-            "--theta {} is outside [0, 90) degrees",
-            args.theta
-        )));
-    }
+    super::check_range("--theta", args.theta, 0.0..90.0)?;
     if args.photons < 2 {
         return Err(CliError::input(format!(
             "--photons {} is outside the valid range: at least 2 (a standard error needs two)",
@@ -93,7 +75,8 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
                 Ok(v as usize)
             } else {
                 Err(CliError::input(format!(
-                    "--bins {name} = {v} must be a whole number in [1, 1e6]"
+                    "--bins {name} = {} must be a whole number in [1, 1e6]",
+                    super::show(v)
                 )))
             }
         };

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 #[derive(Debug, Args)]
 pub struct ZooArgs {
-    /// Relative index of refraction η.
+    /// Relative index of refraction η, in [0.75, 2.5].
     #[arg(long, default_value_t = 1.33)]
     eta: f64,
     /// Henyey–Greenstein g of the walk (the diffusion models see only ρ′).
@@ -106,7 +106,7 @@ fn parse_case(text: &str) -> Result<(f64, f64), CliError> {
     let (rho, theta) = text.split_once(':').ok_or_else(bad)?;
     let rho: f64 = rho.trim().parse().map_err(|_| bad())?;
     let theta: f64 = theta.trim().parse().map_err(|_| bad())?;
-    super::eval::check_range("--cases rho", rho, 0.0, 1.0)?;
-    super::eval::check_range("--cases theta", theta, 0.0, 90.0)?;
+    super::check_range("--cases rho", rho, 0.0..=1.0)?;
+    super::check_range("--cases theta", theta, 0.0..=90.0)?;
     Ok((rho, theta))
 }

@@ -1,49 +1,83 @@
 //! Writing an output file without tearing it and without replacing what is not a file.
 //!
-//! [`write_file_atomic`] decides by what the path names:
-//! - a symbolic link is followed (link by link, at most [`MAX_LINKS`]) to the path it names,
-//!   and that path is written; the link itself stays;
-//! - a regular file, or nothing yet, is replaced atomically: a temporary file in the same
-//!   folder, synced, given the old file's permissions, renamed over the target, the folder
-//!   synced. Killed at any moment, this leaves the old file or the new one at the path, and
-//!   at worst a stray `.NAME.PID.N.tmp` beside it, which the next write of NAME removes once
-//!   process PID is gone;
-//! - a character device or a FIFO (`/dev/null`, `/dev/stdout`, a named pipe) is written
-//!   through in place: such a node is never replaced by a regular file;
+//! [`write_file_atomic`] decides by what the path names, as the kernel resolves it
+//! (`fs::metadata` follows every link, including `/proc`'s magic ones):
+//! - a character device or a FIFO (`/dev/null`, `/dev/stdout` on a pipe, a named pipe) is
+//!   written through in place: such a node is never replaced by a regular file;
+//! - a path whose links pass through a file-descriptor folder (`/proc/*/fd`, `/dev/fd`, so
+//!   `/dev/stdout`, `/dev/fd/3`) names an already open file: it is written through too,
+//!   appending (so `bake -o /dev/stdout > f` fills `f` and nothing is renamed over it);
+//! - a regular file, or nothing yet, reached through ordinary symbolic links (followed link
+//!   by link, at most [`MAX_LINKS`]; the links themselves stay), is replaced atomically: a
+//!   temporary file in the same folder created with mode 0600, given the old file's
+//!   permissions and (best effort) owner, synced, renamed over the target, the folder synced.
+//!   A new file's temporary gets the usual mode (0666 less the umask), which it keeps. Killed
+//!   at any moment, this leaves the old file or the new one at the path, and at worst a stray
+//!   `.NAME.PID.N.tmp` beside it, which a later write of NAME removes once process PID is gone
+//!   and the file is older than [`STALE_AFTER`] (a PID from another PID namespace may look
+//!   dead while its writer runs);
 //! - anything else (a folder, a block device, a socket) is refused.
 
-use std::fs::{self, File, OpenOptions, Permissions};
+use std::fs::{self, File, OpenOptions};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+use std::time::{Duration, SystemTime};
 
 use super::error::{FormatError, FormatResult};
 
 /// How many symbolic links are followed before giving up (Linux's own limit).
 pub const MAX_LINKS: usize = 40;
 
+/// How old a dead writer's temporary file must be before a later write removes it.
+pub const STALE_AFTER: Duration = Duration::from_secs(3600);
+
 /// Writes `bytes` to `path` as the module documentation describes.
 pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
-    let target = follow_links(path)?;
-    match fs::metadata(&target) {
-        Ok(meta) if meta.is_file() => replace(&target, bytes, Some(meta.permissions())),
-        Ok(meta) if is_stream(&meta.file_type()) => write_through(&target, bytes),
+    let (target, through_fd) = follow_links(path)?;
+    // The kernel's view: it follows /proc's magic links (/dev/stdout -> /proc/self/fd/1 ->
+    // "pipe:[N]"), whose text names no path.
+    match fs::metadata(path) {
+        Ok(meta) if is_stream(&meta.file_type()) => write_through(path, bytes, false),
+        Ok(meta) if meta.is_file() && through_fd => write_through(path, bytes, true),
+        Ok(meta) if meta.is_file() => {
+            // The kernel's own resolution of an existing file (exact where ".." meets a
+            // linked folder); the link-by-link one for a file still to be created.
+            let target = fs::canonicalize(path).unwrap_or(target);
+            replace(&target, bytes, Some(&meta))
+        }
         Ok(meta) => Err(FormatError::io(
             "write",
-            &target,
+            path,
             io::Error::other(format!(
                 "it is {}, not a regular file",
                 describe(&meta.file_type())
             )),
         )),
-        Err(e) if e.kind() == io::ErrorKind::NotFound => replace(&target, bytes, None),
-        Err(e) => Err(FormatError::io("inspect", &target, e)),
+        Err(e) if e.kind() == io::ErrorKind::NotFound && !through_fd => {
+            replace(&target, bytes, None)
+        }
+        Err(e) => Err(FormatError::io("inspect", path, e)),
     }
 }
 
-/// The path a chain of symbolic links ends at (which may not exist yet).
-fn follow_links(path: &Path) -> FormatResult<PathBuf> {
+/// Whether `path` lies in a folder of open file descriptors (`/proc/PID/fd`, `/proc/self/fd`,
+/// `/proc/PID/task/TID/fd`, `/dev/fd`): its "link" is an open file, not a path.
+fn in_fd_folder(path: &Path) -> bool {
+    let Some(dir) = path.parent() else {
+        return false;
+    };
+    dir == Path::new("/dev/fd")
+        || (dir.starts_with("/proc") && dir.file_name().is_some_and(|n| n == "fd"))
+}
+
+/// The path a chain of symbolic links ends at (which may not exist yet), and whether the
+/// chain passes through a file-descriptor folder (then that path means nothing on its own).
+fn follow_links(path: &Path) -> FormatResult<(PathBuf, bool)> {
     let mut current = path.to_path_buf();
     for _ in 0..MAX_LINKS {
+        if in_fd_folder(&current) {
+            return Ok((current, true));
+        }
         match fs::symlink_metadata(&current) {
             Ok(meta) if meta.file_type().is_symlink() => {
                 let link = fs::read_link(&current)
@@ -53,7 +87,7 @@ fn follow_links(path: &Path) -> FormatResult<PathBuf> {
                     _ => link,
                 };
             }
-            _ => return Ok(current),
+            _ => return Ok((current, false)),
         }
     }
     Err(FormatError::io(
@@ -92,10 +126,12 @@ fn describe(kind: &fs::FileType) -> &'static str {
     }
 }
 
-/// Writes into an existing device or FIFO without creating or truncating anything.
-fn write_through(target: &Path, bytes: &[u8]) -> FormatResult<()> {
+/// Writes into an existing device, FIFO or open file without creating or truncating anything
+/// (appending to a regular file).
+fn write_through(target: &Path, bytes: &[u8], append: bool) -> FormatResult<()> {
     let mut file = OpenOptions::new()
         .write(true)
+        .append(append)
         .open(target)
         .map_err(|e| FormatError::io("open", target, e))?;
     file.write_all(bytes)
@@ -104,7 +140,7 @@ fn write_through(target: &Path, bytes: &[u8]) -> FormatResult<()> {
 }
 
 /// Replaces the regular file `target` (or creates it) through a synced temporary file.
-fn replace(target: &Path, bytes: &[u8], permissions: Option<Permissions>) -> FormatResult<()> {
+fn replace(target: &Path, bytes: &[u8], old: Option<&fs::Metadata>) -> FormatResult<()> {
     let name = target
         .file_name()
         .ok_or_else(|| {
@@ -121,12 +157,14 @@ fn replace(target: &Path, bytes: &[u8], permissions: Option<Permissions>) -> For
         _ => PathBuf::from("."),
     };
     remove_stale_temps(&dir, &name);
-    let (mut file, tmp) = create_temp(&dir, &name)?;
+    let (mut file, tmp) = create_temp(&dir, &name, old.is_some())?;
     let result = (|| {
         file.write_all(bytes)
             .map_err(|e| FormatError::io("write", &tmp, e))?;
-        if let Some(p) = permissions {
-            file.set_permissions(p)
+        // Owner first, then the mode: a write or chown clears set-id bits.
+        if let Some(meta) = old {
+            take_owner(&file, meta);
+            file.set_permissions(meta.permissions())
                 .map_err(|e| FormatError::io("set the permissions of", &tmp, e))?;
         }
         file.sync_all()
@@ -146,12 +184,34 @@ fn temp_name(name: &str, pid: u32, attempt: u32) -> String {
     format!(".{name}.{pid}.{attempt}.tmp")
 }
 
-fn create_temp(dir: &Path, name: &str) -> FormatResult<(File, PathBuf)> {
+/// Gives the temporary `file` the owner and group of the file it replaces. Best effort: only
+/// root may give a file away, and a failure leaves the writer's own ids.
+#[cfg(unix)]
+fn take_owner(file: &File, old: &fs::Metadata) {
+    use std::os::unix::fs::MetadataExt;
+    let _ = std::os::unix::fs::fchown(file, Some(old.uid()), Some(old.gid()));
+}
+
+#[cfg(not(unix))]
+fn take_owner(_file: &File, _old: &fs::Metadata) {}
+
+/// Creates a fresh temporary file in `dir`; `private`: with mode 0600, so that nobody reads
+/// the new content before it has the permissions of the file it replaces.
+fn create_temp(dir: &Path, name: &str, private: bool) -> FormatResult<(File, PathBuf)> {
     let pid = std::process::id();
     let mut last = None;
     for attempt in 0..1000u32 {
         let tmp = dir.join(temp_name(name, pid, attempt));
-        match OpenOptions::new().write(true).create_new(true).open(&tmp) {
+        let mut options = OpenOptions::new();
+        options.write(true).create_new(true);
+        #[cfg(unix)]
+        if private {
+            use std::os::unix::fs::OpenOptionsExt;
+            options.mode(0o600);
+        }
+        #[cfg(not(unix))]
+        let _ = private;
+        match options.open(&tmp) {
             Ok(file) => return Ok((file, tmp)),
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last = Some(e),
             Err(e) => return Err(FormatError::io("create", &tmp, e)),
@@ -162,7 +222,8 @@ fn create_temp(dir: &Path, name: &str) -> FormatResult<(File, PathBuf)> {
 }
 
 /// Removes the `.NAME.PID.N.tmp` files that writers of `name` killed before their rename left
-/// in `dir`: only those whose process PID no longer runs. Best effort; errors are ignored.
+/// in `dir`: only those whose process PID no longer runs and that were last written more than
+/// [`STALE_AFTER`] ago. Best effort; errors are ignored.
 fn remove_stale_temps(dir: &Path, name: &str) {
     let Ok(entries) = fs::read_dir(dir) else {
         return;
@@ -183,7 +244,13 @@ fn remove_stale_temps(dir: &Path, name: &str) {
         let (Ok(pid), Ok(_)) = (pid.parse::<u32>(), attempt.parse::<u32>()) else {
             continue;
         };
-        if process_is_gone(pid) {
+        let old = entry
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| SystemTime::now().duration_since(t).ok())
+            .is_some_and(|age| age > STALE_AFTER);
+        if old && process_is_gone(pid) {
             let _ = fs::remove_file(entry.path());
         }
     }
@@ -236,6 +303,35 @@ mod tests {
     }
 
     #[test]
+    fn descriptor_folders_are_recognised() {
+        for fd in [
+            "/dev/fd/1",
+            "/proc/self/fd/1",
+            "/proc/42/fd/3",
+            "/proc/1/task/7/fd/0",
+        ] {
+            assert!(in_fd_folder(Path::new(fd)), "{fd}");
+        }
+        for plain in ["/dev/stdout", "/proc/self/status", "/tmp/fd/1", "fd/1", "/"] {
+            assert!(!in_fd_folder(Path::new(plain)), "{plain}");
+        }
+    }
+
+    #[test]
+    fn a_link_through_a_linked_folder_replaces_the_file_the_kernel_finds() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        fs::create_dir_all(d.join("real/sub")).unwrap();
+        fs::write(d.join("real/x.bin"), b"old").unwrap();
+        std::os::unix::fs::symlink("real/sub", d.join("alias")).unwrap();
+        // alias/link -> ../x.bin: the kernel goes to real/x.bin; joining text gives d/x.bin.
+        std::os::unix::fs::symlink("../x.bin", d.join("real/sub/link")).unwrap();
+        write_file_atomic(&d.join("alias/link"), b"new").unwrap();
+        assert_eq!(fs::read(d.join("real/x.bin")).unwrap(), b"new");
+        assert!(!d.join("x.bin").exists());
+    }
+
+    #[test]
     fn stale_temporaries_are_parsed_strictly() {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
@@ -247,8 +343,19 @@ mod tests {
         ] {
             fs::write(d.join(name), b"").unwrap();
         }
+        // A dead PID: removed only once the file is older than STALE_AFTER (the PID may be
+        // another namespace's, whose writer still runs).
         fs::write(d.join(".t.bin.4194305.7.tmp"), b"").unwrap();
+        fs::write(d.join(".t.bin.4194305.8.tmp"), b"").unwrap();
+        let old = SystemTime::now() - STALE_AFTER - Duration::from_secs(60);
+        File::options()
+            .write(true)
+            .open(d.join(".t.bin.4194305.7.tmp"))
+            .unwrap()
+            .set_modified(old)
+            .unwrap();
         write_file_atomic(&d.join("t.bin"), b"new").unwrap();
+        assert!(d.join(".t.bin.4194305.8.tmp").exists());
         assert!(d.join(".t.bin.x.0.tmp").exists());
         assert!(d.join(".t.bin.4194305.tmp").exists());
         assert!(d.join(".t.binx.4194305.0.tmp").exists());

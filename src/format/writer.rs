@@ -387,13 +387,16 @@ impl LibraryBuilder {
     /// Writes the file atomically: a temporary file in the target's folder, synced, renamed
     /// over `path`, then the folder synced. Killed at any moment, it leaves either the old
     /// file or the new one at `path` (and at worst a stray `.NAME.*.tmp` file beside it).
+    /// A device or FIFO is written through instead ([`write_file_atomic`]). Returns the number
+    /// of bytes written.
     pub fn write_atomic(
         &self,
         path: impl AsRef<Path>,
         compression: Compression,
-    ) -> FormatResult<()> {
+    ) -> FormatResult<u64> {
         let bytes = self.to_bytes(compression)?;
-        write_file_atomic(path.as_ref(), &bytes)
+        write_file_atomic(path.as_ref(), &bytes)?;
+        Ok(bytes.len() as u64)
     }
 }
 

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 
 /// Runs `bssrdf ARGS` in `dir`.
 pub fn bssrdf(dir: &Path, args: &[&str]) -> Output {
@@ -23,4 +23,46 @@ pub fn text(bytes: &[u8]) -> String {
 pub fn ok(o: &Output) -> String {
     assert!(o.status.success(), "{:?}: {}", o.status, text(&o.stderr));
     text(&o.stdout)
+}
+
+/// Asserts exit `code` and `needle` in stderr, and no panic.
+pub fn fails_with(o: &Output, code: i32, needle: &str) {
+    assert_eq!(o.status.code(), Some(code), "stderr: {}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains(needle),
+        "{needle:?} not in {}",
+        text(&o.stderr)
+    );
+    assert!(!text(&o.stderr).contains("panicked"));
+}
+
+/// Runs `bssrdf ARGS` in `dir` with `stdin` on its standard input.
+pub fn with_stdin(dir: &Path, args: &[&str], stdin: &str) -> Output {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bssrdf"))
+        .current_dir(dir)
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let mut input = child.stdin.take().expect("stdin is piped");
+    input
+        .write_all(stdin.as_bytes())
+        .expect("stdin takes the input");
+    drop(input);
+    child.wait_with_output().expect("the binary ends")
+}
+
+/// A coarse bare table at η = 1.33 as `t.bssrdf` in a fresh folder.
+pub fn bare() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    ok(&bssrdf(
+        dir.path(),
+        &[
+            "bake", "--eta", "1.33", "--grid", "coarse", "-q", "-o", "t.bssrdf",
+        ],
+    ));
+    dir
 }

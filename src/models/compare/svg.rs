@@ -29,15 +29,20 @@ pub fn write_svgs(report: &CompareReport, dir: &Path) -> io::Result<Vec<PathBuf>
     std::fs::create_dir_all(dir)?;
     let mut written = Vec::new();
     let path = dir.join("pareto.svg");
-    std::fs::write(&path, pareto(report))?;
+    write(&path, pareto(report))?;
     written.push(path);
     for case in &report.cases {
         let name = format!("profiles-rho{}-theta{}.svg", case.rho, case.theta_deg);
         let path = dir.join(name);
-        std::fs::write(&path, profiles(report, case))?;
+        write(&path, profiles(report, case))?;
         written.push(path);
     }
     Ok(written)
+}
+
+/// Writes one figure through the library's safe writer (never tears or replaces a non-file).
+fn write(path: &Path, svg: String) -> io::Result<()> {
+    crate::format::write_file_atomic(path, svg.as_bytes()).map_err(io::Error::other)
 }
 
 /// A plot axis mapping data to pixels.

@@ -1,0 +1,81 @@
+//! Numbers on the command line: how messages print them, the one range check, the one parser of
+//! comma-separated lists, and the one refusal of a ρ′ outside a table's kept albedo rows.
+
+use super::CliError;
+use bssrdf_zoo::table::TableRef;
+use std::ops::{Bound, RangeBounds};
+use std::str::FromStr;
+
+/// A number in a message: the library's one formatter ([`bssrdf_zoo::error::number`]), the
+/// shortest of plain and exponent form (1e308, not 309 digits; 1e-9, not 0.000000001).
+pub fn show(v: f64) -> String {
+    bssrdf_zoo::error::number(v)
+}
+
+/// Refuses `value` outside `range` (and NaN and ±∞ always); `name` is how the input calls it
+/// (`--rho`, `column rho`): "--theta 95 is outside the valid range: [0, 90]".
+pub fn check_range(name: &str, value: f64, range: impl RangeBounds<f64>) -> Result<(), CliError> {
+    if value.is_finite() && range.contains(&value) {
+        return Ok(());
+    }
+    let domain = match (range.start_bound(), range.end_bound()) {
+        (Bound::Unbounded, Bound::Unbounded) => "any finite number".to_string(),
+        (Bound::Included(a), Bound::Unbounded) => format!("a finite number >= {}", show(*a)),
+        (Bound::Excluded(a), Bound::Unbounded) => format!("a finite number > {}", show(*a)),
+        (start, end) => {
+            let (open, a) = match start {
+                Bound::Included(a) => ("[", show(*a)),
+                Bound::Excluded(a) => ("(", show(*a)),
+                Bound::Unbounded => ("(", "-inf".to_string()),
+            };
+            let (b, close) = match end {
+                Bound::Included(b) => (show(*b), "]"),
+                Bound::Excluded(b) => (show(*b), ")"),
+                Bound::Unbounded => ("inf".to_string(), ")"),
+            };
+            format!("{open}{a}, {b}{close}")
+        }
+    };
+    Err(CliError::input(format!(
+        "{name} {} is outside the valid range: {domain}",
+        show(value)
+    )))
+}
+
+/// Every item of a comma-separated list, parsed as `T` ("x" is not a number).
+pub fn list<T: FromStr>(text: &str) -> Result<Vec<T>, String> {
+    text.split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<T>()
+                .map_err(|_| format!("{:?} is not a number", t.trim()))
+        })
+        .collect()
+}
+
+/// Exactly `N` comma-separated values, `shape` naming them ("R,G,B"); clap reports the error
+/// with exit code 2.
+pub fn exactly<T: FromStr, const N: usize>(text: &str, shape: &str) -> Result<[T; N], String> {
+    let values = list::<T>(text)?;
+    let count = values.len();
+    <[T; N]>::try_from(values)
+        .map_err(|_| format!("expected {N} comma-separated numbers {shape}, got {count}"))
+}
+
+/// Refuses a ρ′ outside the albedo rows `table` keeps: the table is never extrapolated.
+/// `name` says where ρ′ came from (`--rho`, `column rho`, `--material skin1`).
+pub fn check_kept(name: &str, rho: f64, table: &TableRef<'_>) -> Result<(), CliError> {
+    let nodes = table.axes().rho().as_slice();
+    let (Some(&lo), Some(&hi)) = (nodes.first(), nodes.last()) else {
+        return Err(CliError::input("the table has no albedo rows"));
+    };
+    if (lo..=hi).contains(&rho) {
+        return Ok(());
+    }
+    Err(CliError::input(format!(
+        "{name} {} is outside the albedo range this table keeps, [{}, {}]: the table is never extrapolated",
+        show(rho),
+        show(lo),
+        show(hi)
+    )))
+}
