@@ -43,8 +43,8 @@
 //! - [`Rule::Reference`]: adaptive Gauss–Kronrod in u to 10⁻¹⁰ relative (error estimate
 //!   returned). Held to 10⁻⁸ (measured: 9e-12 at most) by an independent quadrature over
 //!   50,000 random points of the domain (`tests/pbd.rs`).
-//! - [`Rule::Fast`]: a fixed composite 8-point Gauss–Legendre rule in u for baking: within 1.5e-7
-//!   of the reference on every bake grid and 3.4e-8 over the domain (`examples/quadrature_error.rs`).
+//! - [`Rule::Fast`]: a fixed composite 8-point Gauss–Legendre rule in u for baking: within 1.6e-7
+//!   of the reference on every bake grid and 5.9e-8 over the domain (`examples/quadrature_error.rs`).
 //!
 //! Below r = 10⁻¹² both use the small-r expansion S(r) = S(10⁻¹²) + k ln(10⁻¹²/r), with
 //! k = ρ′² C_E cos θ′/π ([`Pbd::log_slope`]); its error is O(r ln r) relative.
