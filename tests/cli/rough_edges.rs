@@ -4,8 +4,7 @@
 use std::path::Path;
 use std::process::Output;
 
-mod cli_common;
-use cli_common::{bssrdf, ok, text};
+use crate::cli_common::{bssrdf, ok, text};
 
 fn fails_with(o: &Output, code: i32, needle: &str) {
     assert_eq!(o.status.code(), Some(code), "stderr: {}", text(&o.stderr));
@@ -316,7 +315,7 @@ fn r_zero_is_each_models_limit_and_tiny_r_is_finite() {
 /// folder: every command succeeds.
 #[test]
 fn readme_quick_start_runs_as_printed() {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     let start = readme
         .find("`cargo install --path .`")
         .expect("the README says how to install");

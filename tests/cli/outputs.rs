@@ -4,8 +4,7 @@
 
 use std::path::Path;
 
-mod cli_common;
-use cli_common::{bare, bssrdf, fails_with, ok};
+use crate::cli_common::{bare, bssrdf, fails_with, ok};
 
 // ---- Outputs: devices, links, modes, stale temporaries, inputs ----
 

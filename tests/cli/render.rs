@@ -3,8 +3,7 @@
 
 use std::process::Output;
 
-mod cli_common;
-use cli_common::{bssrdf, ok};
+use crate::cli_common::{bssrdf, ok};
 
 fn fails_with(o: &Output, needle: &str) {
     let err = String::from_utf8_lossy(&o.stderr);

@@ -1,13 +1,12 @@
 //! End-to-end tests of the command line's promises (issue 18): no pass on nothing checked, no
 //! flag accepted and ignored, no conflicting inputs, one set of CSV columns, negative numbers,
 //! every value outside its domain refused with exit 2. The output-file rules are in
-//! `cli_outputs.rs`.
+//! `outputs.rs`.
 
 use std::path::Path;
 use std::process::{Command, Output};
 
-mod cli_common;
-use cli_common::{bare, bssrdf, fails_with, ok, text, with_stdin};
+use crate::cli_common::{bare, bssrdf, fails_with, ok, text, with_stdin};
 
 // ---- validate: a case without points is skipped, a run that checked nothing fails ----
 

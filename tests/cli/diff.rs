@@ -6,8 +6,7 @@ use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
 use std::process::Output;
 
-mod cli_common;
-use cli_common::{bssrdf, text};
+use crate::cli_common::{bssrdf, text};
 
 fn code(o: &Output) -> Option<i32> {
     assert!(!text(&o.stderr).contains("panicked"), "{}", text(&o.stderr));

@@ -1,0 +1,14 @@
+//! End-to-end tests of the `bssrdf` command line: one test binary, a module per area.
+
+#[path = "../cli_common/mod.rs"]
+mod cli_common;
+
+mod basics;
+mod diff;
+mod files;
+mod outputs;
+mod promises;
+mod render;
+mod rough_edges;
+mod scene;
+mod values;
