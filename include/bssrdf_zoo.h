@@ -6,7 +6,7 @@
  *
  * Build and link: `cargo build --release` makes target/release/libbssrdf_zoo.a (static;
  * link also -lpthread -ldl -lm on Linux) and libbssrdf_zoo.so (shared). Declarations here are
- * checked against the Rust exports by tests/capi_header.rs.
+ * checked against the Rust exports by tests/capi/header.rs.
  *
  * Units: coefficients in mm^-1, distances in mm, S and densities per mm^2, angles in radians.
  * theta is the incidence angle from the normal BEFORE refraction, in [0, pi/2]. The exit point

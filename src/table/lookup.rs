@@ -243,7 +243,7 @@ impl<'a> TableRef<'a> {
         // Accumulated in f32, like the stored values, so the 12-wide window vectorises. The
         // rounding is ~1e-7 of the largest term; where the Catmull-Rom terms nearly cancel (steep
         // tails) that is up to ~5e-5 of the result, still below the table's interpolation error.
-        // The summation order is part of the results (pinned by tests/table_pinned.rs).
+        // The summation order is part of the results (pinned by tests/table/pinned.rs).
         let mut acc = [0.0f32; WINDOW];
         let n = s.len.min(16);
         // Rows in groups of 4 (the slice pads to a multiple of 4): unrolled, less loop overhead

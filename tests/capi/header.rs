@@ -2,12 +2,12 @@
 //! functions with the same parameter and return types (Rust types mapped to C ones), the same
 //! structs with the same fields in the same order, the same opaque types, and the same
 //! constants with the same values. Every exported function must be `#[no_mangle]`. The C test
-//! (`tests/capi_c.rs`) then compiles against the header with `-Wall -Werror` and links.
+//! (`tests/capi/c_program.rs`) then compiles against the header with `-Wall -Werror` and links.
 
 use std::collections::BTreeMap;
 
-const HEADER: &str = include_str!("../include/bssrdf_zoo.h");
-const RUST: &str = include_str!("../src/capi.rs");
+const HEADER: &str = include_str!("../../include/bssrdf_zoo.h");
+const RUST: &str = include_str!("../../src/capi.rs");
 
 /// A signature as C spells its types with the spaces removed: return type, parameter types.
 type Signature = (String, Vec<String>);

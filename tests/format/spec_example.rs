@@ -2,9 +2,7 @@
 //! also committed as `tests/data/valid/spec-example.bssrdf`.
 //!
 //! To regenerate the hexdump in the spec after a deliberate format change, run
-//! `BSSRDF_REGEN_SPEC=1 cargo test --test format_spec_example` and review the diff.
-
-mod common;
+//! `BSSRDF_REGEN_SPEC=1 cargo test --test format spec_example` and review the diff.
 
 use std::path::Path;
 
@@ -57,7 +55,7 @@ fn manifest(path: &str) -> std::path::PathBuf {
 
 #[test]
 fn spec_example_bytes_match_the_writer() {
-    let bytes = common::spec_example_builder()
+    let bytes = crate::common::spec_example_builder()
         .to_bytes(Compression::None)
         .unwrap();
     let dump = hexdump(&bytes);

@@ -2,10 +2,9 @@
 //! on photon beam diffusion as designed, recovers GWC profiles, is never worse than its start
 //! at the samples, and falls back cleanly, without NaN, on degenerate inputs.
 
-mod gwc_common;
-
 use std::f64::consts::PI;
 
+use crate::gwc_common::{SplitMix64, UniformRange};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::{
     fit_three_anchors, floor_bound, refine_minimax, FitBranch, Gwc, MinimaxFit, ANCHOR_COS,
@@ -14,7 +13,6 @@ use bssrdf_zoo::gwc::{
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::Error;
-use gwc_common::{SplitMix64, UniformRange};
 
 /// The seven azimuths the bake refines over: the anchors and 0, 38°, 96°, π.
 fn seven_azimuths() -> [f64; 7] {

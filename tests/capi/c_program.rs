@@ -6,7 +6,7 @@
 //!
 //! How the static library is built: `cargo test` compiles the crate's `staticlib` (the crate
 //! type is in Cargo.toml) but keeps it in `deps/` under a name another profile may overwrite.
-//! So this test asks Cargo for it: `$CARGO build --lib --test capi_c --profile P
+//! So this test asks Cargo for it: `$CARGO build --lib --test capi --profile P
 //! --message-format=json` with the profile and target folder of the running test (`test`
 //! under `target/debug`, `release` under `target/release`), and takes the `.a` path from
 //! Cargo's report. Naming this test target makes the build resolve features exactly as

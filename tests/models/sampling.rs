@@ -2,14 +2,12 @@
 //! (false-failure rate 1e-6, Wilson–Hilferty critical value), and `sample`'s density equal to
 //! `pdf` at the drawn point.
 
-mod models_common;
-
+use crate::models_common::{chi2_critical, model, Rng};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::models::burley::{Burley, BurleyFit, BurleyOptions, SurfaceAlbedo};
 use bssrdf_zoo::models::mc::McModel;
 use bssrdf_zoo::models::{Model, ModelKind, Params};
 use bssrdf_zoo::quadrature::adaptive;
-use models_common::{chi2_critical, model, Rng};
 use std::f64::consts::PI;
 
 /// Draws per test.
@@ -161,7 +159,7 @@ fn monte_carlo_sampler_matches_its_pdf() {
     let m = model(ModelKind::MonteCarlo, 0.8, 1.33, theta, 20_000).unwrap();
     let mc = McModel::run(
         &Params::new(0.8, 1.33, Moments::Exact).unwrap(),
-        &models_common::options(1.33, theta, 20_000).mc,
+        &crate::models_common::options(1.33, theta, 20_000).mc,
     )
     .unwrap();
     let r = mc.r_edges().to_vec();

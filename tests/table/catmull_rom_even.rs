@@ -4,10 +4,8 @@
 //! with the chord rule away from the last two segments, better reproduction of data even about
 //! the last node, exact integration, and the sampling triad (round trips and chi-square).
 
-mod catmull_rom_common;
-
+use crate::catmull_rom_common::{chi_square, simpson, uneven_nodes, SplitMix64, EXACT, SOLVED};
 use bssrdf_zoo::catmull_rom::{End, Nodes};
-use catmull_rom_common::{chi_square, simpson, uneven_nodes, SplitMix64, EXACT, SOLVED};
 use std::f64::consts::FRAC_PI_2;
 
 /// The table's default θ axis: 0°, 10°, …, 90°, in radians.

@@ -73,7 +73,7 @@ fn rejects_a_bad_case_by_name() {
 /// The full default comparison (η = 1.33, g = 0, ρ′ ∈ {0.5, 0.9, 0.99} × θ ∈ {0°, 60°, 89°}).
 /// Prints the Markdown table and writes the plots to `target/compare/`.
 #[test]
-#[ignore = "minutes: 9 walks of 10^6 photons each; cargo test --release --test compare -- --ignored --nocapture"]
+#[ignore = "minutes: 9 walks of 10^6 photons each; cargo test --release --test models compare -- --ignored --nocapture"]
 fn full_default_comparison() {
     let config = CompareConfig::default();
     let report = run(&config).unwrap();

@@ -4,17 +4,15 @@
 //!
 //! The files are generated here from the tiny library of `common`. After a deliberate format
 //! change, regenerate and review them with
-//! `BSSRDF_REGEN_VECTORS=1 cargo test --test format_conformance`.
-
-mod common;
+//! `BSSRDF_REGEN_VECTORS=1 cargo test --test format conformance`.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
+use crate::common::{kind, synthetic_table, tiny_builder, Raw, Sec, ENTRY, HEADER};
 use bssrdf_zoo::format::{
     pack, AxisKind, Compression, Library, LibraryBuilder, SectionKind, Verify,
 };
-use common::{kind, synthetic_table, tiny_builder, Raw, Sec, ENTRY, HEADER};
 
 fn data_dir(sub: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -523,7 +521,7 @@ fn every_error_a_file_can_cause_has_a_vector() {
         "invalid-input",
         "rewrite-newer-minor",
     ];
-    let source = include_str!("../src/format/error.rs");
+    let source = include_str!("../../src/format/error.rs");
     let mut seen = 0;
     for line in source.lines() {
         let Some(rest) = line.trim().strip_prefix("FormatError::") else {

@@ -1,15 +1,13 @@
 //! Tests of the three-anchor GWC fit: exactness on GWC and non-GWC profiles, the report's
 //! misprinted β, every degenerate branch, and robustness on extreme inputs.
 
-mod gwc_common;
-
 use std::f64::consts::{PI, TAU};
 
+use crate::gwc_common::{SplitMix64, UniformRange};
 use bssrdf_zoo::gwc::{
     fit_anchors, fit_three_anchors, FitBranch, Gwc, GwcFit, ANCHOR_COS, C_MAX_FIT,
 };
 use bssrdf_zoo::Error;
-use gwc_common::{SplitMix64, UniformRange};
 
 /// Relative tolerance at anchors the fit must pass through.
 const ANCHOR_TOL: f64 = 1e-12;

@@ -2,8 +2,6 @@
 //! (chi-square), normalisation, the report's accuracy protocol and its figure 9 (fast forms),
 //! stability at the extremes, world units.
 
-mod catmull_rom_common;
-
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::{fit_three_anchors, FitBranch, Gwc, ANCHOR_COS};
 use bssrdf_zoo::medium::Boundary;
@@ -751,7 +749,7 @@ fn theta_axis_ends_flat_exactly_at_grazing_incidence() {
         let spline = |x: f64| axes.theta().evaluate(rho_eff, x).unwrap();
         let simpson: f64 = theta
             .windows(2)
-            .map(|w| catmull_rom_common::simpson(spline, w[0], w[1], 2))
+            .map(|w| crate::catmull_rom_common::simpson(spline, w[0], w[1], 2))
             .sum();
         assert!((total - simpson).abs() <= 1e-12 * total, "row {i}");
     }

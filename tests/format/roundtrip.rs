@@ -2,13 +2,11 @@
 //! reading path; equal content gives equal bytes; pack and unpack are lossless; writes are
 //! atomic with respect to readers of the old file.
 
-mod common;
-
+use crate::common::{material, synthetic_table, tiny_builder, with_signed_floor, Raw};
 use bssrdf_zoo::format::{
     pack, unpack, AxisKind, Codec, Compression, Dtype, ExtraSection, Library, LibraryBuilder,
     SectionKind, TableData, Verify,
 };
-use common::{material, synthetic_table, tiny_builder, with_signed_floor, Raw};
 
 fn bits(values: &[f32]) -> Vec<u32> {
     values.iter().map(|v| v.to_bits()).collect()
@@ -379,7 +377,7 @@ fn negative_floor_without_the_bit_is_rejected_naming_the_node() {
 
 /// Sets node (i, j, k) = (1, 2, 3) of a 2×3×5 table's `gwc-params` in a file and fixes the CRCs.
 fn set_node(raw: &mut Raw, node: [f32; 3]) {
-    let d = raw.data(common::kind::GWC, 0) + ((3 + 2) * 5 + 3) * 12;
+    let d = raw.data(crate::common::kind::GWC, 0) + ((3 + 2) * 5 + 3) * 12;
     for (p, v) in node.into_iter().enumerate() {
         raw.set_f32(d + 4 * p, v);
     }
@@ -489,7 +487,10 @@ fn killed_writer_leaves_the_old_or_the_new_file() {
     let mut seen = 0;
     for delay_ms in [5u64, 13, 29, 41, 67, 150] {
         let mut child = std::process::Command::new(std::env::current_exe().unwrap())
-            .args(["--exact", "killed_writer_leaves_the_old_or_the_new_file"])
+            .args([
+                "--exact",
+                "roundtrip::killed_writer_leaves_the_old_or_the_new_file",
+            ])
             .env(CHILD, &path)
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())

@@ -2,14 +2,12 @@
 //! integration, sampler ↔ pdf ↔ CDF consistency (chi-square, round trips, analytic inverses),
 //! inversion, and edge cases.
 
-mod catmull_rom_common;
-
-use bssrdf_zoo::catmull_rom::{End, Nodes};
-use bssrdf_zoo::Error;
-use catmull_rom_common::{
+use crate::catmull_rom_common::{
     chi_square, geometric_radii, integrated, radial_profile, simpson, uneven_nodes, SplitMix64,
     EXACT, SOLVED,
 };
+use bssrdf_zoo::catmull_rom::{End, Nodes};
+use bssrdf_zoo::Error;
 
 #[test]
 fn nodes_are_validated() {

@@ -2,8 +2,7 @@
 //! documented +∞), even in φ, zero where no light enters, scaling with σ′t in world units,
 //! totals against the plane integral of `eval`, and constructor rejections naming the value.
 
-mod models_common;
-
+use crate::models_common::{model, options, table_for};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Medium;
 use bssrdf_zoo::models::burley::{BurleyFit, BurleyOptions, SurfaceAlbedo};
@@ -11,7 +10,6 @@ use bssrdf_zoo::models::dirpole::{Dirpole, DirpoleOptions};
 use bssrdf_zoo::models::table::{Mode, TableModel, TableSource};
 use bssrdf_zoo::models::{build, integrate_total, Model, ModelKind, Options, Params, World};
 use bssrdf_zoo::table::{bake, Grid};
-use models_common::{model, options, table_for};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -230,7 +228,7 @@ fn constructors_reject_bad_values_and_name_them() {
 
     let narrow = Grid {
         rho: vec![0.6, 0.7, 0.8, 0.9],
-        ..models_common::small_grid()
+        ..crate::models_common::small_grid()
     };
     let (t, _) = bake(1.33, Moments::Exact, &narrow, false).unwrap();
     let shared = TableSource::Shared(Arc::new(t));

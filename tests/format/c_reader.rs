@@ -3,13 +3,11 @@
 //! files the Rust writer made, and must print the same value bits and reject damaged files.
 //! Without a C compiler the tests pass after saying they skipped.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::common::{material, synthetic_table, with_signed_floor};
 use bssrdf_zoo::format::{Compression, Library, LibraryBuilder, SectionKind, Verify};
-use common::{material, synthetic_table, with_signed_floor};
 
 /// Compiles the C reader into `dir`, or `None` (with a message) if no compiler works.
 fn compile(dir: &Path) -> Option<PathBuf> {

@@ -2,18 +2,18 @@
 //! or give an error. (The cargo-fuzz target in `fuzz/` explores further; this runs in the
 //! normal suite, with proptest's fixed default seed handling and case counts.)
 
-mod common;
-
 use bssrdf_zoo::format::{Compression, Library, Verify};
 use proptest::prelude::*;
 
 fn valid_files() -> Vec<Vec<u8>> {
     vec![
-        common::tiny_builder().to_bytes(Compression::None).unwrap(),
-        common::tiny_builder()
+        crate::common::tiny_builder()
+            .to_bytes(Compression::None)
+            .unwrap(),
+        crate::common::tiny_builder()
             .to_bytes(Compression::Zstd { level: 1 })
             .unwrap(),
-        common::spec_example_builder()
+        crate::common::spec_example_builder()
             .to_bytes(Compression::None)
             .unwrap(),
     ]
@@ -134,7 +134,7 @@ proptest! {
         damages in prop::collection::vec(damage(), 1..4),
         fix_crcs in any::<bool>(),
     ) {
-        let mut raw = common::Raw::new(valid_files()[file].clone());
+        let mut raw = crate::common::Raw::new(valid_files()[file].clone());
         for d in &damages {
             apply(&mut raw.bytes, d);
         }

@@ -1,13 +1,11 @@
 //! Tests of the General Wrapped Cauchy model: the wrapped Cauchy triad, the GWC profile's
 //! evaluation, density, distribution and sampler.
 
-mod gwc_common;
-
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use crate::gwc_common::{chi2_critical_1e6, integrate, SplitMix64, UniformRange};
 use bssrdf_zoo::gwc::{cdf_wc, floor_bound, inv_cdf_wc, lobe_cap, pdf_wc, Gwc, C_LIMIT};
 use bssrdf_zoo::Error;
-use gwc_common::{chi2_critical_1e6, integrate, SplitMix64, UniformRange};
 
 /// Quadrature tolerance, and the tolerance quadrature results are held to.
 const QUAD_TOL: f64 = 1e-11;

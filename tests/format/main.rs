@@ -1,0 +1,11 @@
+//! The format tests: one test binary, a module per area.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod c_reader;
+mod conformance;
+mod corruption;
+mod proptest;
+mod roundtrip;
+mod spec_example;

@@ -1,0 +1,10 @@
+//! The table tests: one test binary, a module per area.
+
+#[path = "../catmull_rom_common/mod.rs"]
+mod catmull_rom_common;
+
+mod catmull_rom;
+mod catmull_rom_even;
+mod lookup;
+mod pinned;
+mod subset;
