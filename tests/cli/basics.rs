@@ -1,37 +1,24 @@
 //! End-to-end tests of the `bssrdf` command: success, --json shape, and each error path.
 
+use crate::cli_common::{text, with_stdin};
 use std::io::Write;
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
+/// Runs `bssrdf ARGS` in the test's own folder.
 fn bssrdf(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bssrdf"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
+    crate::cli_common::bssrdf(Path::new("."), args)
 }
 
 fn bssrdf_with_stdin(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_bssrdf"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(stdin.as_bytes())
-        .unwrap();
-    child.wait_with_output().unwrap()
+    with_stdin(Path::new("."), args, stdin)
 }
 
 fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
+    text(&o.stdout)
 }
 fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    text(&o.stderr)
 }
 
 #[test]

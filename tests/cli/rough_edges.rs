@@ -4,17 +4,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::cli_common::{bssrdf, ok, text};
-
-fn fails_with(o: &Output, code: i32, needle: &str) {
-    assert_eq!(o.status.code(), Some(code), "stderr: {}", text(&o.stderr));
-    assert!(
-        text(&o.stderr).contains(needle),
-        "{needle:?} not in {}",
-        text(&o.stderr)
-    );
-    assert!(!text(&o.stderr).contains("panicked"));
-}
+use crate::cli_common::{bssrdf, fails_with, ok, text};
 
 fn json(o: &Output) -> serde_json::Value {
     serde_json::from_str(&ok(o)).expect("stdout is JSON")
