@@ -577,3 +577,19 @@ fn far_out_and_grazing_extremes_keep_their_log_accuracy() {
         }
     }
 }
+
+#[test]
+fn a_beam_a_hair_below_grazing_is_finite() {
+    // θ = 90° − 1.7e-9 rad at η = 1: sin θ rounds to 1, but cos θ′ = 1.7e-9, so S at φ = 0 is
+    // large and finite, growing like ln(1/cos θ′) toward 90° (where it is +∞).
+    let p = pbd(0.9, 1.0);
+    let mut last = 0.0;
+    for deg in [89.999, 89.99999, 89.9999999] {
+        let v = p.eval(f64::to_radians(deg), 0.5, 0.0, Rule::Reference);
+        assert!(v.is_finite() && v > last, "{deg}: {v}");
+        let truth = oracle::ln_pbd(0.9, 1.0, f64::to_radians(deg), 0.5, 0.0).exp();
+        assert!((v / truth - 1.0).abs() < 1e-8, "{deg}: {v} vs {truth}");
+        last = v;
+    }
+    assert_eq!(p.eval(0.5 * PI, 0.5, 0.0, Rule::Reference), f64::INFINITY);
+}

@@ -22,11 +22,14 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 /// ln S_p^MS(r, φ; θ) in reduced units for reduced albedo ρ′ and relative index η (−∞ where S = 0).
 pub fn ln_pbd(rho: f64, eta: f64, theta: f64, r: f64, phi: f64) -> f64 {
-    let sin_t = theta.sin() / eta;
-    if sin_t > 1.0 || rho == 0.0 {
+    // cos θ′ from cos θ: 1 − sin²θ′ rounds to 0 within 1e-8 of grazing at η = 1.
+    // The f64 nearest π/2 is 90° exactly.
+    let cos_i = if theta == FRAC_PI_2 { 0.0 } else { theta.cos() };
+    let cos_t2 = (eta * eta - 1.0 + cos_i * cos_i) / (eta * eta);
+    if cos_t2 < 0.0 || rho == 0.0 {
         return f64::NEG_INFINITY;
     }
-    let cos_t = (1.0 - sin_t * sin_t).sqrt();
+    let (sin_t, cos_t) = (theta.sin() / eta, cos_t2.sqrt());
     let (f1, f2) = (fresnel_moment(1, eta), fresnel_moment(2, eta));
     let d = (2.0 - rho) / 3.0;
     let sigma = ((1.0 - rho) / d).sqrt();
