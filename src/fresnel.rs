@@ -51,6 +51,25 @@ impl Moments {
     }
 }
 
+/// cos θ′ of light refracted into a medium of relative index η at incidence θ (radians, from
+/// the normal); `None` where no light enters (θ outside [0, π/2], NaN, or sin θ > η).
+///
+/// From cos²θ′ = ((η − 1)(η + 1) + cos²θ)/η², not 1 − sin²θ′: near η = 1 and θ = 90° that would
+/// round sin θ to 1 and make every θ within 1e-8 of 90° exactly grazing. The f64 nearest π/2
+/// stands for 90° exactly (its cosine would be 6e-17).
+pub fn refracted_cos(theta: f64, eta: f64) -> Option<f64> {
+    if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&theta) {
+        return None;
+    }
+    let cos_i = if theta == std::f64::consts::FRAC_PI_2 {
+        0.0
+    } else {
+        theta.cos()
+    };
+    let cos2 = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i) / (eta * eta);
+    (cos2 >= 0.0).then(|| cos2.sqrt())
+}
+
 /// Unpolarised Fresnel reflectance for incidence cosine `cos_i` ∈ [0, 1] and relative index
 /// `eta` = n_far / n_near (> 0). Returns 1 beyond the critical angle. Inputs outside the domain
 /// are clamped (cosine to [0, 1]); a non-positive or NaN `eta` gives 1 (nothing transmitted).

@@ -247,21 +247,12 @@ impl Pbd {
         rho * rho * self.boundary.c_e() * cos_t / PI
     }
 
-    /// (sin θ′, cos θ′) of the refracted beam; `None` where no light enters (θ outside
-    /// [0, π/2], NaN, or beyond the critical angle, sin θ > η).
-    ///
-    /// cos²θ′ = ((η − 1)(η + 1) + cos²θ)/η², not 1 − sin²θ′: near η = 1 and θ = 90° that would
-    /// round sin θ to 1 and make every θ within 1e-8 of 90° exactly grazing (S = +∞ at φ = 0
-    /// where it is finite). θ = π/2 itself is taken as exactly 90°.
+    /// (sin θ′, cos θ′) of the refracted beam; `None` where no light enters
+    /// ([`crate::fresnel::refracted_cos`]).
     fn refract(&self, theta: f64) -> Option<(f64, f64)> {
-        if !(0.0..=0.5 * PI).contains(&theta) {
-            return None;
-        }
         let eta = self.boundary.eta();
-        // The f64 nearest π/2 stands for 90° exactly (its cosine would be 6e-17).
-        let cos_i = if theta == 0.5 * PI { 0.0 } else { theta.cos() };
-        let cos2 = ((eta - 1.0) * (eta + 1.0) + cos_i * cos_i) / (eta * eta);
-        (cos2 >= 0.0).then(|| ((theta.sin() / eta).min(1.0), cos2.sqrt()))
+        let cos_t = crate::fresnel::refracted_cos(theta, eta)?;
+        Some(((theta.sin() / eta).min(1.0), cos_t))
     }
 
     fn evaluate(&self, theta: f64, r: f64, phi: f64, rule: Rule) -> Evaluated {

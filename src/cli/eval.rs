@@ -164,9 +164,14 @@ impl Evaluator<'_> {
         };
         let (theta, phi, r_opt) = (
             p.theta_deg.to_radians(),
-            p.phi_deg.to_radians(),
+            super::values::azimuth_radians(p.phi_deg),
             p.r * scale,
         );
+        // Where no light enters (η < 1 beyond the critical angle) every model gives 0 (the
+        // tables would interpolate toward their zero nodes, the walk cannot normalise).
+        if bssrdf_zoo::fresnel::refracted_cos(theta, self.boundary.eta()).is_none() {
+            return Ok(0.0);
+        }
         if let Some(kind) = self.model.zoo_kind() {
             let params =
                 bssrdf_zoo::models::Params::new(rho, self.boundary.eta(), self.boundary.moments())?;

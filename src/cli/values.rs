@@ -12,6 +12,19 @@ pub fn show(v: f64) -> String {
     bssrdf_zoo::error::number(v)
 }
 
+/// An azimuth in degrees as radians, reduced to [−180°, 180°] first: whole turns are exact in
+/// degrees but not after multiplying by π/180 (360° would become sin φ = −2.4e-16, not 0).
+pub fn azimuth_radians(phi_deg: f64) -> f64 {
+    // fmod is exact, and so is the shift by 360 of a value in (180, 360) (Sterbenz).
+    let mut reduced = phi_deg % 360.0;
+    if reduced > 180.0 {
+        reduced -= 360.0;
+    } else if reduced < -180.0 {
+        reduced += 360.0;
+    }
+    reduced.to_radians()
+}
+
 /// Refuses `value` outside `range` (and NaN and ±∞ always); `name` is how the input calls it
 /// (`--rho`, `column rho`): "--theta 95 is outside the valid range: [0, 90]".
 pub fn check_range(name: &str, value: f64, range: impl RangeBounds<f64>) -> Result<(), CliError> {

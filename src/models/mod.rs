@@ -42,7 +42,7 @@ use crate::fresnel::Moments;
 use crate::medium::Medium;
 use crate::quadrature::adaptive;
 use crate::walk::Component;
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::PI;
 use std::fmt;
 use std::str::FromStr;
 
@@ -307,14 +307,7 @@ pub fn build(kind: ModelKind, params: &Params, options: &Options) -> Result<Box<
 /// cos θ′ of the refracted beam, or `None` where no light enters: θ outside [0, π/2] or NaN,
 /// or sin θ > η (η < 1 beyond the critical angle).
 pub fn entering(theta: f64, eta: f64) -> Option<f64> {
-    if !(0.0..=FRAC_PI_2).contains(&theta) {
-        return None;
-    }
-    let sin_t = theta.sin() / eta;
-    if sin_t.is_nan() || sin_t > 1.0 {
-        return None;
-    }
-    Some((1.0 - sin_t * sin_t).max(0.0).sqrt())
+    crate::fresnel::refracted_cos(theta, eta)
 }
 
 /// ∫∫ R dA by nested adaptive quadrature: φ over [0, π] (R is even), r over [0, ∞) mapped by

@@ -404,3 +404,53 @@ fn no_nan_and_no_negative_value_from_any_model() {
     );
     assert!(!d.join("x.bssrdf").exists());
 }
+
+/// Found by trying the tool as a new user: whole turns of φ give the same value, every model
+/// gives 0 where no light enters, and a beam a hair below grazing is finite.
+#[test]
+fn azimuths_turn_whole_and_no_light_means_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let eval = |args: &[&str]| -> f64 { ok(&bssrdf(d, args)).trim().parse().unwrap() };
+    let point = [
+        "eval", "--model", "pbd", "--eta", "1.3", "--rho", "0.9", "--theta", "60", "--r", "0.5",
+    ];
+    let at = |phi: &str| eval(&[&point[..], &["--phi", phi]].concat());
+    let forward = at("0");
+    for phi in [
+        "360",
+        "-360",
+        "720",
+        "405323966463344640",
+        "1e300",
+        "-1e-20",
+    ] {
+        assert_eq!(at(phi), forward, "--phi {phi}");
+    }
+    ok(&bssrdf(
+        d,
+        &[
+            "bake", "--eta", "0.75", "--grid", "coarse", "-q", "-o", "d.bssrdf",
+        ],
+    ));
+    for model in ["table", "perpendicular", "pbd", "dipole", "mc"] {
+        let v = eval(&[
+            "eval", "d.bssrdf", "--model", model, "--rho", "0.9", "--theta", "60", "--r", "1",
+        ]);
+        assert_eq!(v, 0.0, "{model}");
+    }
+    let grazing = eval(&[
+        "eval",
+        "--model",
+        "pbd",
+        "--eta",
+        "1",
+        "--rho",
+        "0.9",
+        "--theta",
+        "89.9999999",
+        "--r",
+        "0.5",
+    ]);
+    assert!(grazing.is_finite() && grazing > 1e6, "{grazing}");
+}
