@@ -69,57 +69,67 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
     } else {
         "r"
     };
-    if args.path_tracing {
-        if !view.has_theta_sampling() {
-            return Err(CliError::input(format!(
-                "{} was baked without the theta-sampling table (--no-theta-sampling): path tracing needs it",
-                args.file.display()
-            )));
-        }
-        writeln!(out, "rho,theta_deg,{r_column},phi_deg,phi_prime_deg,pdf")?;
-        for _ in 0..args.count {
+    if args.path_tracing && !view.has_theta_sampling() {
+        return Err(CliError::input(format!(
+            "{} was baked without the theta-sampling table (--no-theta-sampling): path tracing needs it",
+            args.file.display()
+        )));
+    }
+    // One CSV row per draw; `None` where nothing can be drawn.
+    let theta = theta_deg.to_radians();
+    let draw = |rng: &mut SplitMix64| -> Option<String> {
+        if args.path_tracing {
             let u = [
                 rng.next_f64(),
                 rng.next_f64(),
                 rng.next_f64(),
                 rng.next_f64(),
             ];
-            match view.sample_path(rho, u) {
-                Some(s) => writeln!(
-                    out,
-                    "{rho},{},{},{},{},{:e}",
-                    s.theta.to_degrees(),
-                    s.r / scale,
-                    s.phi.to_degrees(),
-                    s.phi_prime.to_degrees(),
-                    s.pdf * scale * scale
-                )?,
-                None => return no_sample(rho, None),
-            }
+            let s = view.sample_path(rho, u)?;
+            Some(format!(
+                "{rho},{},{},{},{},{:e}",
+                s.theta.to_degrees(),
+                s.r / scale,
+                s.phi.to_degrees(),
+                s.phi_prime.to_degrees(),
+                s.pdf * scale * scale
+            ))
+        } else {
+            let s = view.sample(rho, theta, rng.next_f64(), rng.next_f64())?;
+            Some(format!(
+                "{rho},{theta_deg},{},{},{:e}",
+                s.r / scale,
+                s.phi.to_degrees(),
+                s.pdf_area * scale * scale
+            ))
         }
+    };
+    let refuse = || no_sample(rho, (!args.path_tracing).then_some(theta_deg));
+    // The first draw before the header: a run that cannot sample writes nothing.
+    let first = match args.count {
+        0 => None,
+        _ => Some(draw(&mut rng).ok_or_else(refuse)?),
+    };
+    if args.path_tracing {
+        writeln!(out, "rho,theta_deg,{r_column},phi_deg,phi_prime_deg,pdf")?;
     } else {
-        let theta = theta_deg.to_radians();
         writeln!(out, "rho,theta_deg,{r_column},phi_deg,pdf")?;
-        for _ in 0..args.count {
-            match view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
-                Some(s) => writeln!(
-                    out,
-                    "{rho},{theta_deg},{},{},{:e}",
-                    s.r / scale,
-                    s.phi.to_degrees(),
-                    s.pdf_area * scale * scale
-                )?,
-                None => return no_sample(rho, Some(theta_deg)),
-            }
-        }
+    }
+    if let Some(row) = first {
+        writeln!(out, "{row}")?;
+    }
+    for _ in 1..args.count {
+        let row = draw(&mut rng).ok_or_else(refuse)?;
+        writeln!(out, "{row}")?;
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
 }
 
-fn no_sample(rho: f64, theta: Option<f64>) -> Result<ExitCode, CliError> {
-    Err(CliError::input(match theta {
+fn no_sample(rho: f64, theta: Option<f64>) -> CliError {
+    let rho = super::show(rho);
+    CliError::input(match theta {
         Some(t) => format!("no light leaves at rho {rho}, theta {t}: nothing to sample (rho = 0, or beyond the critical angle)"),
         None => format!("no light leaves at rho {rho}: nothing to sample"),
-    }))
+    })
 }

@@ -454,3 +454,17 @@ fn azimuths_turn_whole_and_no_light_means_zero() {
     ]);
     assert!(grazing.is_finite() && grazing > 1e6, "{grazing}");
 }
+
+/// A sample run that cannot draw writes nothing on stdout (not a header alone).
+#[test]
+fn a_sample_that_cannot_draw_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    bare(d);
+    for extra in [&[][..], &["--path-tracing"][..]] {
+        let args = [&["sample", "t.bssrdf", "--rho", "0", "-n", "3"][..], extra].concat();
+        let o = bssrdf(d, &args);
+        fails_with(&o, 2, "no light leaves at rho 0");
+        assert!(o.stdout.is_empty(), "{}", text(&o.stdout));
+    }
+}
