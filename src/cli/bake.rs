@@ -190,7 +190,12 @@ impl Baker {
                 bar.set_position(base + k as u64)
             })
         })?
-        .map_err(|e| CliError::input(format!("cannot bake the table for eta = {eta}: {e}")))?;
+        .map_err(|e| {
+            CliError::input(format!(
+                "cannot bake the table for eta = {}: {e}",
+                super::show(eta)
+            ))
+        })?;
         self.seconds += report.seconds;
         Ok(table)
     }
@@ -268,9 +273,15 @@ impl Baker {
     /// FIFO, whose size on disk says nothing).
     pub fn write(&self, builder: &LibraryBuilder, output: &Path) -> Result<u64, CliError> {
         self.bar.finish_and_clear();
-        builder
-            .write_atomic(output, self.compression)
-            .map_err(|e| CliError::input(format!("cannot write {}: {e}", output.display())))
+        builder.write_atomic(output, self.compression).map_err(|e| {
+            // The writer's own errors name the file already.
+            let message = e.to_string();
+            if message.contains(&output.display().to_string()) {
+                CliError::input(message)
+            } else {
+                CliError::input(format!("cannot write {}: {message}", output.display()))
+            }
+        })
     }
 
     pub fn compressed(&self) -> bool {

@@ -322,7 +322,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
             "rho": p.rho,
             "theta_deg": p.theta_deg,
             "r": p.r,
-            "r_unit": if material.is_some() { "mm" } else { "reduced mfp" },
+            "r_unit": if material.is_some() { "mm" } else { "reduced-mfp" },
             "phi_deg": p.phi_deg,
             "value": json_number(value),
             "limit": json_limit(value),

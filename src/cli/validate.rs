@@ -28,8 +28,8 @@ pub struct ValidateArgs {
     /// Seed of the point stream.
     #[arg(long, default_value_t = 7)]
     seed: u64,
-    /// Bound on every case's mean relative error, in per cent, a finite number ≥ 0 (default:
-    /// the report's figures).
+    /// Bound on every case's mean relative error, in per cent, in [0, 10000] (default: the
+    /// report's figures).
     #[arg(long, value_name = "PERCENT")]
     max_mean_error: Option<f64>,
     /// One JSON object instead of the table.
@@ -68,7 +68,7 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         )));
     }
     if let Some(p) = args.max_mean_error {
-        super::check_range("--max-mean-error", p, 0.0..)?;
+        super::check_range("--max-mean-error", p, 0.0..=1e4)?;
     }
     let library = library::open(&args.file, args.choice.mmap)?;
     let chosen = args.choice.resolve(&library, &args.file)?;

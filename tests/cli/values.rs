@@ -27,7 +27,7 @@ fn large_values_print_short_and_eta_has_its_domain() {
         ),
         (
             vec!["validate", "t.bssrdf", "--max-mean-error", "-1e308"],
-            "--max-mean-error -1e308 is outside the valid range: a finite number >= 0",
+            "--max-mean-error -1e308 is outside the valid range: [0, 1e4]",
         ),
         (
             vec![
