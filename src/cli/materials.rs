@@ -78,38 +78,32 @@ pub fn run(args: MaterialsArgs) -> Result<ExitCode, CliError> {
             "g (R G B)",
         ];
         let w: Vec<usize> = titles.iter().enumerate().map(|(k, t)| col(k, t)).collect();
-        writeln!(
-            out,
-            "{:<width$}  {:>w0$}  {:<w1$}  {:<w2$}  {:<w3$}  {:<w4$}  source",
-            "id",
-            titles[0],
-            titles[1],
-            titles[2],
-            titles[3],
-            titles[4],
-            w0 = w[0],
-            w1 = w[1],
-            w2 = w[2],
-            w3 = w[3],
-            w4 = w[4],
-        )?;
-        for (m, r) in library.iter().zip(&rows) {
+        // One line: the id, eta right-aligned, the other columns left-aligned, then the source.
+        let mut line = |id: &str, cells: [&str; 6]| {
             writeln!(
                 out,
-                "{:<width$}  {:>w0$}  {:<w1$}  {:<w2$}  {:<w3$}  {:<w4$}  {}",
-                m.id(),
-                r[0],
-                r[1],
-                r[2],
-                r[3],
-                r[4],
-                r[5],
+                "{id:<width$}  {:>w0$}  {:<w1$}  {:<w2$}  {:<w3$}  {:<w4$}  {}",
+                cells[0],
+                cells[1],
+                cells[2],
+                cells[3],
+                cells[4],
+                cells[5],
                 w0 = w[0],
                 w1 = w[1],
                 w2 = w[2],
                 w3 = w[3],
                 w4 = w[4],
-            )?;
+            )
+        };
+        line(
+            "id",
+            [
+                titles[0], titles[1], titles[2], titles[3], titles[4], "source",
+            ],
+        )?;
+        for (m, r) in library.iter().zip(&rows) {
+            line(m.id(), std::array::from_fn(|k| r[k].as_str()))?;
         }
     }
     out.flush()?;
