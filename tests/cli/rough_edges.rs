@@ -4,19 +4,10 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::cli_common::{bssrdf, fails_with, ok, text};
+use crate::cli_common::{bare, bssrdf, fails_with, ok, text};
 
 fn json(o: &Output) -> serde_json::Value {
     serde_json::from_str(&ok(o)).expect("stdout is JSON")
-}
-
-fn bare(dir: &Path) {
-    ok(&bssrdf(
-        dir,
-        &[
-            "bake", "--eta", "1.33", "--grid", "coarse", "-q", "-o", "t.bssrdf",
-        ],
-    ));
 }
 
 #[test]
@@ -129,9 +120,8 @@ fn names_and_sources_are_checked() {
 
 #[test]
 fn json_uses_command_line_names_and_one_shape() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = bare();
     let d = dir.path();
-    bare(d);
     let inspect = json(&bssrdf(d, &["inspect", "t.bssrdf", "--json"]));
     assert_eq!(inspect["tables"][0]["model"], "pbd-angular");
     assert_eq!(inspect["tables"][0]["fresnel_moments"], "exact");
@@ -275,9 +265,8 @@ fn dirpole_authors_fits_are_reachable() {
 
 #[test]
 fn r_zero_is_each_models_limit_and_tiny_r_is_finite() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = bare();
     let d = dir.path();
-    bare(d);
     let at = |model: &str, r: &str| {
         bssrdf(
             d,
@@ -458,9 +447,8 @@ fn azimuths_turn_whole_and_no_light_means_zero() {
 /// A sample run that cannot draw writes nothing on stdout (not a header alone).
 #[test]
 fn a_sample_that_cannot_draw_writes_nothing() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = bare();
     let d = dir.path();
-    bare(d);
     for extra in [&[][..], &["--path-tracing"][..]] {
         let args = [&["sample", "t.bssrdf", "--rho", "0", "-n", "3"][..], extra].concat();
         let o = bssrdf(d, &args);
