@@ -86,6 +86,10 @@ pub struct BakeArgs {
     /// Record the bake's wall-clock time in the provenance (the file then differs run to run).
     #[arg(long)]
     record_bake_time: bool,
+    /// Write the library even where the bake's own check finds a table above its error bound
+    /// (docs/accuracy.md); the regions above it are still named on stderr.
+    #[arg(long)]
+    pub(super) accept_error: bool,
     /// Extra material files (TOML file or folder).
     #[arg(long, value_name = "PATH")]
     pub(super) materials: Option<PathBuf>,
@@ -117,9 +121,6 @@ fn parse_g(text: &str) -> Result<[f64; 3], String> {
     }
 }
 
-/// Points per case of the accuracy check run at bake and stored in the provenance.
-const BAKE_CHECK_SAMPLES: usize = 400;
-
 /// What every bake shares: grid, moments, threads, the progress bar, and how to write.
 pub(super) struct Baker {
     pub grid: Grid,
@@ -130,6 +131,8 @@ pub(super) struct Baker {
     compression: Compression,
     record_bake_time: bool,
     pub seconds: f64,
+    /// What the bake's check found above its bound, one line per region.
+    failures: Vec<String>,
 }
 
 impl Baker {
@@ -166,6 +169,7 @@ impl Baker {
             },
             record_bake_time: args.record_bake_time,
             seconds: 0.0,
+            failures: Vec::new(),
         }
     }
 
@@ -210,21 +214,57 @@ impl Baker {
         }
     }
 
-    /// The table-2 protocol at the albedos `rhos` (θ = 0°, 60°, 89°), a few hundred points per
-    /// case: the accuracy stored in the provenance.
-    pub fn check(&self, table: &AngularTable, rhos: &[f64]) -> Result<Value, CliError> {
-        let cases: Vec<(f64, f64)> = [0.0, 60.0, 89.0]
-            .iter()
-            .flat_map(|&theta| rhos.iter().map(move |&rho| (rho, theta)))
-            .collect();
-        let rows = table::validate(&table.view(), self.moments, &cases, BAKE_CHECK_SAMPLES, 1)?;
-        let per_case: Vec<_> = rows
-            .iter()
-            .map(|r| json!({"rho": r.rho, "theta_deg": r.theta_deg, "mean_rel_error": r.mean_rel_error, "max_rel_error": r.max_rel_error}))
-            .collect();
-        Ok(
-            json!({"eta": table.eta(), "samples_per_case": BAKE_CHECK_SAMPLES, "seed": 1, "cases": per_case}),
-        )
+    /// The bake's own check of `table` ([`table::check`]): the accuracy stored in the
+    /// provenance. Regions above the bound are kept for [`Baker::verdict`].
+    pub fn check(&mut self, table: &AngularTable) -> Result<Value, CliError> {
+        let moments = self.moments;
+        let bounds = match self.preset {
+            GridPreset::Coarse => table::CHECK_COARSE_BOUNDS,
+            GridPreset::Default | GridPreset::Fine => table::CHECK_BOUNDS,
+        };
+        let result = super::with_threads(self.threads, || {
+            table::check(&table.view(), moments, bounds)
+        })??;
+        for r in result.failures() {
+            self.failures.push(format!(
+                "  eta {}, rho {}-{}, theta {}-{} deg: mean {:.3} % over {} points (bound {} %), coverage max {:.3} % over {} points (bound {} %), {} silent zero(s)",
+                super::show(result.eta),
+                super::show(r.rho[0]),
+                super::show(r.rho[1]),
+                super::show(round3(r.theta_deg[0])),
+                super::show(round3(r.theta_deg[1])),
+                100.0 * r.mean_rel_error,
+                r.points,
+                super::show(100.0 * result.bounds.mean_rel_error),
+                100.0 * r.coverage_max_rel_error,
+                r.coverage_points,
+                super::show(100.0 * result.bounds.coverage_rel_error),
+                r.silent_zeros,
+            ));
+        }
+        serde_json::to_value(&result).map_err(|e| CliError::input(e.to_string()))
+    }
+
+    /// After every table's check: an error (exit 1) naming the regions above the bound, unless
+    /// `accept` (`--accept-error`), which only reports them on stderr (not with `quiet`).
+    pub fn verdict(&self, accept: bool, quiet: bool) -> Result<(), CliError> {
+        if self.failures.is_empty() {
+            return Ok(());
+        }
+        let regions = self.failures.join("\n");
+        if accept {
+            if !quiet {
+                self.bar.suspend(|| {
+                    eprintln!("warning: written with --accept-error; the bake's check found these regions above its bound:\n{regions}")
+                });
+            }
+            Ok(())
+        } else {
+            self.bar.finish_and_clear();
+            Err(CliError::Check(format!(
+                "the bake's check found these regions above its bound (docs/accuracy.md), so nothing was written:\n{regions}\n--accept-error writes the file anyway"
+            )))
+        }
     }
 
     /// The provenance of a bake; `scene` adds the scene's plan to the settings.
@@ -287,6 +327,11 @@ impl Baker {
     pub fn compressed(&self) -> bool {
         self.compression != Compression::None
     }
+}
+
+/// `x` rounded to 3 decimals, for band edges such as the critical angle 48.590329…°.
+fn round3(x: f64) -> f64 {
+    (x * 1000.0).round() / 1000.0
 }
 
 /// Refuses an output that is one of the bake's inputs (the scene, the material files).
@@ -459,7 +504,7 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
     for (k, &eta) in etas.iter().enumerate() {
         let label = format!("table {}/{} (eta {eta})", k + 1, etas.len());
         let table = baker.bake(eta, 0..n_rho, theta_sampling, label)?;
-        accuracy.push(baker.check(&table, &[0.5, 0.9, 0.99])?);
+        accuracy.push(baker.check(&table)?);
         let index = builder
             .add_table(table.to_table_data())
             .map_err(format_error)?;
@@ -497,6 +542,7 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
         }));
     }
     builder.set_provenance(baker.provenance(theta_sampling, None, accuracy)?);
+    baker.verdict(args.accept_error, args.quiet)?;
     let bytes = baker.write(&builder, &output)?;
     let summary = Summary {
         output: &output,

@@ -5,7 +5,7 @@
 
 use super::CliError;
 use bssrdf_zoo::format::spec::required_features;
-use bssrdf_zoo::format::{AxisKind, Codec, FresnelMoments, SectionKind};
+use bssrdf_zoo::format::{AxisKind, Codec, FresnelMoments, SectionKind, KEY_ACCURACY};
 use bssrdf_zoo::fresnel::Moments;
 use clap::Args;
 use std::io::Write;
@@ -198,6 +198,13 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     if let Some(p) = library.provenance() {
         writeln!(out, "provenance:")?;
         for (key, value) in p.fields() {
+            if let Some(lines) = (key == KEY_ACCURACY).then(|| check_lines(value)).flatten() {
+                writeln!(out, "  {key}: the bake's check, per table and region")?;
+                for line in lines {
+                    writeln!(out, "    {}", escape(&line))?;
+                }
+                continue;
+            }
             // Objects and arrays pretty-printed, indented under their key.
             let pretty = serde_json::to_string_pretty(value).unwrap_or_else(|_| value.to_string());
             let mut lines = pretty.lines();
@@ -214,4 +221,66 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The bake's check (`table::check`) as stored under `accuracy`, a line per region: `None`
+/// for anything else (files of earlier versions stored other figures there; those print as
+/// JSON).
+fn check_lines(accuracy: &serde_json::Value) -> Option<Vec<String>> {
+    let mut lines = Vec::new();
+    for table in accuracy.get("tables")?.as_array()? {
+        let eta = table.get("eta")?.as_f64()?;
+        let bounds = table.get("bounds")?;
+        let mean_bound = bounds.get("mean_rel_error")?.as_f64()?;
+        let coverage_bound = bounds.get("coverage_rel_error")?.as_f64()?;
+        lines.push(format!(
+            "eta {eta}: bound mean {} %, coverage {} %",
+            100.0 * mean_bound,
+            100.0 * coverage_bound
+        ));
+        lines.push(format!(
+            "  {:>11} {:>11} {:>6} {:>8} {:>8} {:>8} {:>8}  {:>5} {:>8} {:>5}",
+            "rho",
+            "theta deg",
+            "points",
+            "mean %",
+            "p99 %",
+            "max %",
+            ">1 %",
+            "cover",
+            "max %",
+            "zeros"
+        ));
+        for r in table.get("regions")?.as_array()? {
+            let f = |key: &str| r.get(key).and_then(serde_json::Value::as_f64);
+            let pair = |key: &str| -> Option<String> {
+                let v = r.get(key)?.as_array()?;
+                Some(format!("{}-{}", v.first()?.as_f64()?, v.get(1)?.as_f64()?))
+            };
+            let (mean, cover_max, zeros) = (
+                f("mean_rel_error")?,
+                f("coverage_max_rel_error")?,
+                f("silent_zeros")?,
+            );
+            let pass = f("points")? > 0.0
+                && mean <= mean_bound
+                && cover_max <= coverage_bound
+                && zeros == 0.0;
+            lines.push(format!(
+                "  {:>11} {:>11} {:>6} {:>8.3} {:>8.3} {:>8.3} {:>8.4}  {:>5} {:>8.3} {:>5}  {}",
+                pair("rho")?,
+                pair("theta_deg")?,
+                f("points")?,
+                100.0 * mean,
+                100.0 * f("p99_rel_error")?,
+                100.0 * f("max_rel_error")?,
+                f("fraction_above_1pct")?,
+                f("coverage_points")?,
+                100.0 * cover_max,
+                zeros,
+                if pass { "ok" } else { "ABOVE BOUND" }
+            ));
+        }
+    }
+    Some(lines)
 }

@@ -75,6 +75,8 @@ pub struct TableChoice {
 
 /// What a lookup needs from the choice: the table, and for a material its channel's ρ′ and σ′t.
 pub struct Chosen<'a> {
+    /// Index of the table in the file.
+    pub index: usize,
     pub table: FileTable<'a>,
     pub material: Option<(Material, f64, f64)>,
 }
@@ -260,6 +262,10 @@ impl TableChoice {
             let (rho, st) = (ch.rho_prime(), ch.sigma_t_prime());
             (m, rho, st)
         });
-        Ok(Chosen { table, material })
+        Ok(Chosen {
+            index,
+            table,
+            material,
+        })
     }
 }

@@ -150,6 +150,8 @@ pub enum CliError {
     Library(bssrdf_zoo::Error),
     /// Reading or writing failed.
     Io(std::io::Error),
+    /// A check failed (the bake's own accuracy check): exit code 1.
+    Check(String),
 }
 
 impl CliError {
@@ -162,6 +164,7 @@ impl CliError {
         match self {
             CliError::Input(_) | CliError::Library(_) => 2,
             CliError::Io(_) => 2,
+            CliError::Check(_) => 1,
         }
     }
 
@@ -174,7 +177,7 @@ impl CliError {
 impl fmt::Display for CliError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            CliError::Input(m) => f.write_str(m),
+            CliError::Input(m) | CliError::Check(m) => f.write_str(m),
             CliError::Library(e) => write!(f, "{e}"),
             // Every file a command writes maps its errors to Input with the file's name; what is
             // left is the standard streams.

@@ -1,4 +1,6 @@
-//! `bssrdf validate FILE`: the report's table-2 protocol on a table, error against run time.
+//! `bssrdf validate FILE`: the report's table-2 protocol on every table of a file, each
+//! against its own η (or on the one --table, --eta or --material names), error against run
+//! time.
 //!
 //! Each case is `ok`, `FAIL` (its mean error exceeds its bound: the report's figure, or
 //! --max-mean-error) or `skipped` (no point could be checked: ρ′ outside the albedo rows the
@@ -8,7 +10,7 @@
 
 use super::library::{self, TableChoice};
 use super::CliError;
-use bssrdf_zoo::table::{validate, ValidationRow, REPORT_TABLE_2};
+use bssrdf_zoo::table::{validate, FileTable, ValidationRow, REPORT_TABLE_2};
 use clap::Args;
 use serde_json::json;
 use std::io::Write;
@@ -71,30 +73,52 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         super::check_range("--max-mean-error", p, 0.0..=1e4)?;
     }
     let library = library::open(&args.file, args.choice.mmap)?;
-    let chosen = args.choice.resolve(&library, &args.file)?;
-    let view = chosen
-        .table
-        .view()
-        .map_err(|e| CliError::input(e.to_string()))?;
-    let bar = super::progress::bar(REPORT_TABLE_2.len() as u64, "cases", args.quiet);
+    // Every table, each against its own eta, unless the choice names one.
+    let choice = &args.choice;
+    let tables: Vec<(usize, FileTable<'_>)> =
+        if choice.table.is_none() && choice.eta.is_none() && choice.material.is_none() {
+            library
+                .tables()
+                .enumerate()
+                .map(|(i, record)| {
+                    FileTable::new(record)
+                        .map(|t| (i, t))
+                        .map_err(|e| CliError::input(format!("table {i}: {e}")))
+                })
+                .collect::<Result<_, _>>()?
+        } else {
+            let chosen = choice.resolve(&library, &args.file)?;
+            vec![(chosen.index, chosen.table)]
+        };
+    let cases = REPORT_TABLE_2.len();
+    let bar = super::progress::bar((cases * tables.len()) as u64, "cases", args.quiet);
     bar.set_message("validating");
-    let mut rows = Vec::with_capacity(REPORT_TABLE_2.len());
-    // One case at a time for the bar; case k keeps the seed seed + k it has in a single call.
-    for (k, case) in REPORT_TABLE_2.iter().enumerate() {
-        let seed = args.seed.wrapping_add(k as u64);
-        let row = validate(
-            &view,
-            chosen.table.moments(),
-            &[(case.0, case.1)],
-            args.samples,
-            seed,
-        )?;
-        rows.extend(row);
-        bar.inc(1);
+    let mut checked_tables = Vec::with_capacity(tables.len());
+    for (index, table) in &tables {
+        let view = table.view().map_err(|e| CliError::input(e.to_string()))?;
+        let mut rows = Vec::with_capacity(cases);
+        // One case at a time for the bar; case k keeps the seed seed + k it has in a single call.
+        for (k, case) in REPORT_TABLE_2.iter().enumerate() {
+            let seed = args.seed.wrapping_add(k as u64);
+            let row = validate(
+                &view,
+                table.moments(),
+                &[(case.0, case.1)],
+                args.samples,
+                seed,
+            )?;
+            rows.extend(row);
+            bar.inc(1);
+        }
+        let kept = view.axes().rho().as_slice();
+        checked_tables.push(Checked {
+            index: *index,
+            eta: view.eta(),
+            kept: (kept[0], kept[kept.len() - 1]),
+            rows,
+        });
     }
     bar.finish_and_clear();
-    let kept = view.axes().rho().as_slice();
-    let (lo, hi) = (kept[0], kept[kept.len() - 1]);
     let bound = |row: &ValidationRow| {
         args.max_mean_error
             .map(|p| p / 100.0)
@@ -110,104 +134,123 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             Status::Fail
         }
     };
-    let reason = |row: &ValidationRow| {
+    let reason = |t: &Checked, row: &ValidationRow| {
+        let (lo, hi) = t.kept;
         if row.rho < lo || row.rho > hi {
             format!("rho outside the albedo rows this table keeps, [{lo}, {hi}]")
         } else {
             "no light leaves: no point to check".to_string()
         }
     };
-    let count = |s: Status| rows.iter().filter(|r| status(r) == s).count();
-    let (checked, failed, skipped) = (
-        rows.len() - count(Status::Skipped),
-        count(Status::Fail),
-        count(Status::Skipped),
-    );
+    let count = |rows: &[ValidationRow], s: Status| rows.iter().filter(|r| status(r) == s).count();
+    let tally = |rows: &[ValidationRow]| {
+        let (failed, skipped) = (count(rows, Status::Fail), count(rows, Status::Skipped));
+        (rows.len() - skipped, failed, skipped)
+    };
+    let all_rows: Vec<ValidationRow> = checked_tables
+        .iter()
+        .flat_map(|t| t.rows.iter().cloned())
+        .collect();
+    let (checked, failed, skipped) = tally(&all_rows);
     let pass = checked > 0 && failed == 0;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if args.json {
-        let cases: Vec<_> = rows
+        let row_json = |t: &Checked, r: &ValidationRow| {
+            let s = status(r);
+            let measured = |v: f64| if s == Status::Skipped { None } else { Some(v) };
+            json!({
+                "table": t.index,
+                "eta": t.eta,
+                "rho": r.rho,
+                "theta_deg": r.theta_deg,
+                "status": s.name(),
+                "skip_reason": (s == Status::Skipped).then(|| reason(t, r)),
+                "samples": r.samples,
+                "mean_rel_error": measured(r.mean_rel_error),
+                "p99_rel_error": measured(r.p99_rel_error),
+                "max_rel_error": measured(r.max_rel_error),
+                "fraction_above_1pct": measured(r.fraction_above_1pct),
+                "table_ns": measured(r.table_ns),
+                "reference_ns": measured(r.reference_ns),
+                "bound_mean_rel_error": bound(r).is_finite().then(|| bound(r)),
+            })
+        };
+        let per_table: Vec<_> = checked_tables
             .iter()
-            .map(|r| {
-                let s = status(r);
-                let measured = |v: f64| if s == Status::Skipped { None } else { Some(v) };
+            .map(|t| {
+                let (checked, failed, skipped) = tally(&t.rows);
                 json!({
-                    "rho": r.rho,
-                    "theta_deg": r.theta_deg,
-                    "status": s.name(),
-                    "skip_reason": (s == Status::Skipped).then(|| reason(r)),
-                    "samples": r.samples,
-                    "mean_rel_error": measured(r.mean_rel_error),
-                    "p99_rel_error": measured(r.p99_rel_error),
-                    "max_rel_error": measured(r.max_rel_error),
-                    "fraction_above_1pct": measured(r.fraction_above_1pct),
-                    "table_ns": measured(r.table_ns),
-                    "reference_ns": measured(r.reference_ns),
-                    "bound_mean_rel_error": bound(r).is_finite().then(|| bound(r)),
+                    "table": t.index, "eta": t.eta, "checked": checked, "failed": failed,
+                    "skipped": skipped, "pass": checked > 0 && failed == 0,
                 })
             })
             .collect();
+        let rows: Vec<_> = checked_tables
+            .iter()
+            .flat_map(|t| t.rows.iter().map(move |r| (t, r)))
+            .map(|(t, r)| row_json(t, r))
+            .collect();
         let json = json!({
             "file": args.file.display().to_string(),
-            "eta": view.eta(),
             "samples": args.samples,
             "seed": args.seed,
             "checked": checked,
             "failed": failed,
             "skipped": skipped,
             "pass": pass,
-            "rows": cases,
+            "tables": per_table,
+            "rows": rows,
         });
         writeln!(out, "{json}")?;
     } else {
-        writeln!(
-            out,
-            "eta {}: {} points per case, seed {}",
-            view.eta(),
-            args.samples,
-            args.seed
-        )?;
-        writeln!(
-            out,
-            "{:>5} {:>6}  {:>9} {:>9} {:>9} {:>8}  {:>9} {:>11} {:>8}  bound %",
-            "rho",
-            "theta",
-            "mean %",
-            "p99 %",
-            "max %",
-            ">1 %",
-            "table ns",
-            "reference ns",
-            "speed-up",
-        )?;
-        for r in &rows {
-            let s = status(r);
-            if s == Status::Skipped {
-                writeln!(
-                    out,
-                    "{:>5} {:>6}  skipped: {}",
-                    r.rho,
-                    r.theta_deg,
-                    reason(r)
-                )?;
-                continue;
-            }
+        for t in &checked_tables {
             writeln!(
                 out,
-                "{:>5} {:>6}  {:>9.4} {:>9.3} {:>9.3} {:>8.5}  {:>9.1} {:>11.0} {:>8.0}  {:.3} {}",
-                r.rho,
-                r.theta_deg,
-                100.0 * r.mean_rel_error,
-                100.0 * r.p99_rel_error,
-                100.0 * r.max_rel_error,
-                r.fraction_above_1pct,
-                r.table_ns,
-                r.reference_ns,
-                r.reference_ns / r.table_ns,
-                100.0 * bound(r),
-                if s == Status::Ok { "ok" } else { "FAIL" }
+                "table {}, eta {}: {} points per case, seed {}",
+                t.index, t.eta, args.samples, args.seed
             )?;
+            writeln!(
+                out,
+                "{:>5} {:>6}  {:>9} {:>9} {:>9} {:>8}  {:>9} {:>11} {:>8}  bound %",
+                "rho",
+                "theta",
+                "mean %",
+                "p99 %",
+                "max %",
+                ">1 %",
+                "table ns",
+                "reference ns",
+                "speed-up",
+            )?;
+            for r in &t.rows {
+                let s = status(r);
+                if s == Status::Skipped {
+                    writeln!(
+                        out,
+                        "{:>5} {:>6}  skipped: {}",
+                        r.rho,
+                        r.theta_deg,
+                        reason(t, r)
+                    )?;
+                    continue;
+                }
+                writeln!(
+                    out,
+                    "{:>5} {:>6}  {:>9.4} {:>9.3} {:>9.3} {:>8.5}  {:>9.1} {:>11.0} {:>8.0}  {:.3} {}",
+                    r.rho,
+                    r.theta_deg,
+                    100.0 * r.mean_rel_error,
+                    100.0 * r.p99_rel_error,
+                    100.0 * r.max_rel_error,
+                    r.fraction_above_1pct,
+                    r.table_ns,
+                    r.reference_ns,
+                    r.reference_ns / r.table_ns,
+                    100.0 * bound(r),
+                    if s == Status::Ok { "ok" } else { "FAIL" }
+                )?;
+            }
         }
         let verdict = if pass {
             "pass"
@@ -218,7 +261,8 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         };
         writeln!(
             out,
-            "{checked} case(s) checked, {failed} failed, {skipped} skipped: {verdict}"
+            "{} table(s), {checked} case(s) checked, {failed} failed, {skipped} skipped: {verdict}",
+            checked_tables.len()
         )?;
     }
     out.flush()?;
@@ -227,4 +271,12 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
     } else {
         ExitCode::from(1)
     })
+}
+
+/// One table's protocol: its index in the file, η, the albedos it keeps and its rows.
+struct Checked {
+    index: usize,
+    eta: f64,
+    kept: (f64, f64),
+    rows: Vec<ValidationRow>,
 }

@@ -41,7 +41,7 @@ mod writer;
 pub use atomic::write_file_atomic;
 pub use error::{FormatError, FormatResult};
 pub use library::{Library, Table};
-pub use provenance::{json_number, Provenance};
+pub use provenance::{json_number, Provenance, KEY_ACCURACY};
 pub use reader::{SectionInfo, Verify};
 pub use records::{AlbedoRange, Material, TableHeader, CHANNELS};
 pub use spec::{AxisKind, Codec, Dtype, FresnelMoments, ModelKind, SectionKind};

@@ -15,7 +15,7 @@ use super::albedo::AlbedoWeights;
 use super::{TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
 use crate::gwc::{cap_lobe, table_value, Gwc};
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// One draw of (r, φ) for a given (ρ′, θ).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -532,10 +532,11 @@ impl<'a> TableRef<'a> {
 
     /// S_table(r, φ; ρ′, θ) in reduced units (algorithm 1). `None` if (ρ′, θ) lies outside the
     /// stored axes (a scene bake keeps only some albedo rows: never extrapolated). Outside the
-    /// radial support (r < 0, r beyond the last node, NaN r or φ) the value is 0.
+    /// radial support (r < 0, r beyond the last node, NaN r or φ) and beyond the critical angle
+    /// (η < 1) the value is 0.
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
         let cell = self.cell_at_point(rho, theta, r)?;
-        if !phi.is_finite() {
+        if !phi.is_finite() || !self.light_enters(theta) {
             return Some(0.0);
         }
         Some(cell.map_or(0.0, |[e_per_r, beta, c]| {
@@ -600,7 +601,15 @@ impl<'a> TableRef<'a> {
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
     /// entering, as the table represents it.
     pub fn effective_albedo(&self, rho: f64, theta: f64) -> Option<f64> {
-        self.with_slice(rho, theta, |s| self.total(s))
+        let enters = self.light_enters(theta);
+        self.with_slice(rho, theta, |s| if enters { self.total(s) } else { 0.0 })
+    }
+
+    /// Whether light enters at θ (radians, within the axis): always for η ≥ 1, below the
+    /// critical angle asin η otherwise. Beyond it every lookup gives 0 or no sample: the nodes
+    /// there hold 0, but the spline through them and the last nodes below is not 0 between.
+    fn light_enters(&self, theta: f64) -> bool {
+        self.eta >= 1.0 || crate::fresnel::refracted_cos(theta.min(FRAC_PI_2), self.eta).is_some()
     }
 
     fn total(&self, s: &Slice) -> f64 {
@@ -611,6 +620,9 @@ impl<'a> TableRef<'a> {
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
     /// energy there (ρ′ = 0, light beyond the critical angle) or (ρ′, θ) is outside the axes.
     pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
+        if !self.light_enters(theta) {
+            return None;
+        }
         self.with_slice(rho, theta, |s| self.sample_slice(s, u_r, u_phi))?
     }
 
@@ -660,6 +672,9 @@ impl<'a> TableRef<'a> {
 
     /// Density per unit area of [`TableRef::sample`] at (r, φ), reduced mfp⁻².
     pub fn pdf(&self, rho: f64, theta: f64, r: f64, phi: f64) -> f64 {
+        if !self.light_enters(theta) {
+            return 0.0;
+        }
         self.with_slice(rho, theta, |s| self.pdf_slice(s, r, phi))
             .unwrap_or(0.0)
     }
@@ -699,6 +714,9 @@ impl<'a> TableRef<'a> {
         };
         let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
         let t = self.axes.theta().sample(rho_eff, cdf, u[0])?;
+        if !self.light_enters(t.x) {
+            return None;
+        }
         let w_theta = self.axes.theta().weights(t.x)?;
         let s = self.slice_of(&w_rho, &w_theta, rho, t.x);
         let rphi = self.sample_slice(&s, u[1], u[2])?;
@@ -729,6 +747,9 @@ impl<'a> TableRef<'a> {
     /// (r, φ), from the radial CDF of the interpolated spline and the GWC profile's analytic CDF.
     /// `None` outside the axes or where the table holds no energy.
     pub fn invert(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<(f64, f64)> {
+        if !self.light_enters(theta) {
+            return None;
+        }
         self.with_slice(rho, theta, |s| {
             let e = |k: usize| Self::blend(s, self.params, k, PARAMS_PER_NODE);
             let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);

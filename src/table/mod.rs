@@ -52,6 +52,7 @@
 
 mod albedo;
 mod bake;
+mod check;
 mod io;
 mod lookup;
 mod subset;
@@ -60,6 +61,11 @@ mod validate;
 pub(crate) use albedo::AlbedoAxis;
 pub use bake::{
     bake, node_cell, BakeReport, Grid, GridPreset, NodeCell, REFINE_PHI_DEG, REFINE_THETA_MIN_DEG,
+};
+pub use check::{
+    check, CheckBounds, RegionCheck, TableCheck, BOUNDS as CHECK_BOUNDS, CHECK_SEED,
+    COARSE_BOUNDS as CHECK_COARSE_BOUNDS, COVERAGE_POINTS, PEAK_FRACTION, RHO_BANDS,
+    THETA_BANDS_DEG, WEIGHTED_POINTS,
 };
 pub use io::FileTable;
 pub use lookup::{PathSample, Sample, World};

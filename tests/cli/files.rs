@@ -83,7 +83,17 @@ fn inspect_reports_tables_materials_and_provenance() {
     assert_eq!(json["tables"][0]["dims"], serde_json::json!([50, 7, 40]));
     assert_eq!(json["tables"][0]["eta"], 1.33);
     assert_eq!(json["materials"][0]["name"], "white-grapefruit-juice");
-    assert!(json["provenance"]["accuracy"]["tables"][0]["cases"].is_array());
+    // The bake's own check, per region, with its bounds
+    let check = &json["provenance"]["accuracy"]["tables"][0];
+    assert_eq!(check["eta"], 1.33);
+    assert!(check["bounds"]["mean_rel_error"].as_f64().unwrap() > 0.0);
+    let regions = check["regions"].as_array().unwrap();
+    assert_eq!(regions.len(), 25, "5 albedo bands x 5 incidence bands");
+    for r in regions {
+        assert!(r["points"].as_u64().unwrap() > 0, "{r}");
+        assert!(r["mean_rel_error"].as_f64().unwrap() <= 0.01, "{r}");
+        assert_eq!(r["silent_zeros"], 0, "{r}");
+    }
     // What the bake stores: three-anchor fits, minimax-refined where they are weak
     let settings = &json["provenance"]["settings"];
     assert_eq!(

@@ -3,6 +3,7 @@
 #[path = "../cli_common/mod.rs"]
 mod cli_common;
 
+mod bake_check;
 mod basics;
 mod diff;
 mod files;

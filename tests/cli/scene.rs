@@ -77,9 +77,10 @@ fn scene_bake_reports_tables_materials_and_the_size_saved() {
     let full_on_disk = std::fs::metadata(dir.path().join("full.bssrdf"))
         .unwrap()
         .len();
-    // The estimate of the full library differs only by the provenance text.
+    // The estimate of the full library differs only by the provenance text (the bake's check
+    // of each table is about 7 KiB of it).
     assert!(
-        full.abs_diff(full_on_disk) < 4096,
+        full.abs_diff(full_on_disk) < 16384,
         "{full} vs {full_on_disk}"
     );
     assert_eq!(s["saved_bytes"].as_u64().unwrap(), full - bytes);

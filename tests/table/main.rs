@@ -5,6 +5,7 @@ mod catmull_rom_common;
 
 mod catmull_rom;
 mod catmull_rom_even;
+mod check;
 mod lookup;
 mod pinned;
 mod subset;

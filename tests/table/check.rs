@@ -1,0 +1,89 @@
+//! The bake's own check (`table::check`): a good table passes, a table that is a few per cent
+//! off everywhere fails in every region, and beyond the critical angle every lookup is 0.
+
+use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::table::{
+    bake, check, AngularTable, Grid, GridPreset, CHECK_BOUNDS, CHECK_COARSE_BOUNDS, PARAMS_PER_NODE,
+};
+
+fn coarse(eta: f64) -> AngularTable {
+    bake(eta, Moments::Exact, &Grid::preset(GridPreset::Coarse), true)
+        .unwrap()
+        .0
+}
+
+#[test]
+fn a_good_table_passes_in_every_region_and_is_deterministic() {
+    let table = coarse(1.33);
+    let result = check(&table.view(), Moments::Exact, CHECK_COARSE_BOUNDS).unwrap();
+    // 5 albedo bands x 5 incidence bands, every one with points
+    assert_eq!(result.regions.len(), 25);
+    for r in &result.regions {
+        assert!(r.points > 300, "{r:?}");
+        assert!(r.coverage_points > 50, "{r:?}");
+        assert!(
+            r.mean_rel_error <= CHECK_COARSE_BOUNDS.mean_rel_error,
+            "{r:?}"
+        );
+        assert_eq!(r.silent_zeros, 0, "{r:?}");
+    }
+    assert!(result.passes());
+    let again = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| check(&table.view(), Moments::Exact, CHECK_COARSE_BOUNDS).unwrap());
+    assert_eq!(again, result);
+}
+
+#[test]
+fn a_table_two_per_cent_off_fails_everywhere() {
+    let table = coarse(1.33);
+    // E and E_beta scaled by 1.02: the same shapes, 2 % more energy at every node
+    let mut params = table.params().to_vec();
+    for node in params.chunks_exact_mut(PARAMS_PER_NODE) {
+        node[0] *= 1.02;
+        node[1] *= 1.02;
+    }
+    let off = AngularTable::from_parts(
+        table.eta(),
+        table.moments(),
+        table.axes().clone(),
+        params,
+        table.radial_cdf().to_vec(),
+        table.theta_cdf().map(<[f32]>::to_vec),
+    )
+    .unwrap();
+    let result = check(&off.view(), Moments::Exact, CHECK_BOUNDS).unwrap();
+    assert!(!result.passes());
+    for r in &result.regions {
+        assert!((r.mean_rel_error - 0.02).abs() < 0.01, "{r:?}");
+    }
+    assert_eq!(result.failures().count(), result.regions.len());
+}
+
+#[test]
+fn below_index_one_the_check_stays_below_the_critical_angle_and_lookups_beyond_are_zero() {
+    let eta = 0.75f64;
+    let table = coarse(eta);
+    let result = check(&table.view(), Moments::Exact, CHECK_COARSE_BOUNDS).unwrap();
+    let critical = eta.asin().to_degrees();
+    for r in &result.regions {
+        assert!(r.theta_deg[1] < critical, "{r:?}");
+    }
+    // 0 bands 60-75 and beyond: 3 incidence bands (0-30, 30-60 cut at 48.6) x 5 albedo bands
+    assert_eq!(result.regions.len(), 10);
+    let view = table.view();
+    let beyond = (critical + 1.0).to_radians();
+    for rho in [0.3, 0.9] {
+        for r in [0.01, 1.0, 10.0] {
+            for phi in [0.0, 1.0, 3.0] {
+                assert_eq!(view.eval(rho, beyond, r, phi), Some(0.0));
+                assert_eq!(view.pdf(rho, beyond, r, phi), 0.0);
+            }
+        }
+        assert!(view.sample(rho, beyond, 0.5, 0.5).is_none());
+        assert_eq!(view.effective_albedo(rho, beyond), Some(0.0));
+        assert!(view.effective_albedo(rho, 0.3).unwrap() > 0.0);
+    }
+}
