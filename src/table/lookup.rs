@@ -14,7 +14,7 @@
 use super::albedo::AlbedoWeights;
 use super::{TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
-use crate::gwc::{cap_lobe, table_value, Gwc};
+use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc};
 use std::f64::consts::{PI, TAU};
 
 /// One draw of (r, φ) for a given (ρ′, θ).
@@ -598,14 +598,17 @@ impl<'a> TableRef<'a> {
     }
 
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
-    /// entering, as the table represents it.
+    /// entering, as the table represents it; 0 where the blend of the rows' totals is negative
+    /// (as [`TableRef::eval`] is 0 where the blended E is): the θ spline undershoots between a
+    /// lit node and an unlit one beyond the critical angle (η < 1), and f32 weights round at
+    /// ρ′ ≲ 1e-20.
     pub fn effective_albedo(&self, rho: f64, theta: f64) -> Option<f64> {
         self.with_slice(rho, theta, |s| self.total(s))
     }
 
     fn total(&self, s: &Slice) -> f64 {
         let (_, _, n_r) = self.axes.dims();
-        Self::blend(s, self.radial_cdf, n_r - 1, 1)
+        Self::blend(s, self.radial_cdf, n_r - 1, 1).max(0.0)
     }
 
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
@@ -680,7 +683,7 @@ impl<'a> TableRef<'a> {
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let radial = self.with_slice(rho, 0.0, |s| self.sample_radius(s, u_r))??;
-        let phi = (TAU * u_phi - PI).clamp(-PI, PI);
+        let phi = uniform_azimuth(u_phi);
         Some(Sample {
             r: radial.x,
             phi,
@@ -702,7 +705,7 @@ impl<'a> TableRef<'a> {
         let w_theta = self.axes.theta().weights(t.x)?;
         let s = self.slice_of(&w_rho, &w_theta, rho, t.x);
         let rphi = self.sample_slice(&s, u[1], u[2])?;
-        let phi_prime = (TAU * u[3] - PI).clamp(-PI, PI);
+        let phi_prime = uniform_azimuth(u[3]);
         Some(PathSample {
             theta: t.x,
             r: rphi.r,

@@ -15,7 +15,7 @@ use std::f64::consts::PI;
 use std::sync::OnceLock;
 
 /// The default grid at η = 1.33, baked once for the whole file.
-fn default_table() -> &'static AngularTable {
+pub(crate) fn default_table() -> &'static AngularTable {
     static TABLE: OnceLock<AngularTable> = OnceLock::new();
     TABLE.get_or_init(|| {
         bake(
