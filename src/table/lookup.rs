@@ -778,6 +778,17 @@ fn wrap_phi(phi: f64) -> f64 {
     }
 }
 
+/// The distance in mm of a reduced distance r for reduced extinction σ′t (r_mm = r/σ′t),
+/// rounded down where the quotient rounds up: the lookups in mm convert back by σ′t·r_mm,
+/// which so never passes r, and a draw at the last radius node keeps its density there.
+pub fn reduced_to_mm(r: f64, sigma_t_prime: f64) -> f64 {
+    let mut r_mm = r / sigma_t_prime;
+    while r_mm > 0.0 && sigma_t_prime * r_mm > r {
+        r_mm = crate::float::next_down(r_mm);
+    }
+    r_mm
+}
+
 /// A table looked up in world units for a medium with reduced extinction σ′t (mm⁻¹):
 /// r_reduced = σ′t r_mm and S_world = σ′t² S_reduced (an area density).
 #[derive(Debug, Clone, Copy)]
@@ -787,12 +798,13 @@ pub struct World<'a> {
 }
 
 impl<'a> World<'a> {
-    /// Wraps a table for a medium of reduced extinction σ′t > 0 (mm⁻¹).
+    /// Wraps a table for a medium of reduced extinction σ′t ∈ [1e-9, 1e12] mm⁻¹.
     pub fn new(table: TableRef<'a>, sigma_t_prime: f64) -> crate::Result<Self> {
         crate::error::finite("sigma_t'", sigma_t_prime)?;
         if sigma_t_prime <= 0.0 {
             return Err(crate::Error::Vacuum);
         }
+        crate::medium::check_sigma_t_range(sigma_t_prime)?;
         Ok(Self {
             table,
             sigma_t_prime,
@@ -808,7 +820,7 @@ impl<'a> World<'a> {
         let st = self.sigma_t_prime;
         let s = self.table.sample(rho, theta, u_r, u_phi)?;
         Some(Sample {
-            r: s.r / st,
+            r: reduced_to_mm(s.r, st),
             phi: s.phi,
             pdf_area: s.pdf_area * st * st,
         })

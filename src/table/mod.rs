@@ -62,7 +62,7 @@ pub use bake::{
     bake, node_cell, BakeReport, Grid, GridPreset, NodeCell, REFINE_PHI_DEG, REFINE_THETA_MIN_DEG,
 };
 pub use io::FileTable;
-pub use lookup::{PathSample, Sample, World};
+pub use lookup::{reduced_to_mm, PathSample, Sample, World};
 pub use subset::{bake_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
 pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
 
