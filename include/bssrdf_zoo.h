@@ -51,7 +51,7 @@ extern "C" {
 /* A pointer argument was NULL. */
 #define BSSRDF_ERROR_NULL_POINTER 1
 /* Unknown flag bits, a channel other than 0, 1, 2, a string that is not UTF-8, a medium with
- * sigma_t' not finite and > 0. */
+ * sigma_t' outside [1e-9, 1e12] mm^-1 (or NaN). */
 #define BSSRDF_ERROR_INVALID_ARGUMENT 2
 /* The operating system refused to open, map or read the file. */
 #define BSSRDF_ERROR_IO 3
@@ -131,8 +131,8 @@ int bssrdf_library_channel(const bssrdf_library *library, const char *material, 
                            bssrdf_channel **out_channel);
 
 /* The lookup handle of any medium on table `table`: reduced albedo rho_prime and reduced
- * extinction sigma_t_prime (mm^-1), in *out_channel (NULL on failure). For media that are
- * not material records of the file; eta is the table's. */
+ * extinction sigma_t_prime (mm^-1, in [1e-9, 1e12]), in *out_channel (NULL on failure). For
+ * media that are not material records of the file; eta is the table's. */
 int bssrdf_library_medium(const bssrdf_library *library, size_t table, double rho_prime,
                           double sigma_t_prime, bssrdf_channel **out_channel);
 

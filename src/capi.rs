@@ -39,7 +39,7 @@ pub const BSSRDF_OK: c_int = 0;
 /// A pointer argument was NULL.
 pub const BSSRDF_ERROR_NULL_POINTER: c_int = 1;
 /// An argument is invalid: unknown flag bits, a channel other than 0, 1, 2, a string that is
-/// not UTF-8, a medium with σ′t not finite and > 0.
+/// not UTF-8, a medium with σ′t not finite and in [1e-9, 1e12] mm⁻¹.
 pub const BSSRDF_ERROR_INVALID_ARGUMENT: c_int = 2;
 /// The operating system refused to open, map or read the file.
 pub const BSSRDF_ERROR_IO: c_int = 3;

@@ -163,6 +163,7 @@ mod sample;
 mod trig;
 
 pub use minimax::{refine_minimax, MinimaxFit, MINIMAX_MAX_SAMPLES};
+pub(crate) use sample::{uniform_azimuth, unit_interval};
 
 use std::f64::consts::{PI, TAU};
 

@@ -28,6 +28,20 @@ pub const SIGMA_T_MIN: f64 = 1e-9;
 /// Largest reduced extinction σ′t, mm⁻¹ (a mean free path of 1 fm), see [`SIGMA_T_MIN`].
 pub const SIGMA_T_MAX: f64 = 1e12;
 
+/// Refuses a reduced extinction σ′t (mm⁻¹) outside [[`SIGMA_T_MIN`], [`SIGMA_T_MAX`]]: world-unit
+/// lookups scale by σ′t², which beyond 1.3e154 is ∞, and ∞ times a profile's 0 is NaN.
+pub(crate) fn check_sigma_t_range(sigma_t_prime: f64) -> Result<()> {
+    if (SIGMA_T_MIN..=SIGMA_T_MAX).contains(&sigma_t_prime) {
+        return Ok(());
+    }
+    Err(Error::OutOfRange {
+        name: "sigma_t'",
+        value: sigma_t_prime,
+        min: SIGMA_T_MIN,
+        max: SIGMA_T_MAX,
+    })
+}
+
 /// A validated homogeneous medium (see the module table for units and ranges).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Medium {
@@ -64,14 +78,7 @@ impl Medium {
             return Err(Error::Vacuum);
         }
         // Not in_range: σ′t = ∞ from finite coefficients is out of range, not "not finite".
-        if !(SIGMA_T_MIN..=SIGMA_T_MAX).contains(&sigma_t_prime) {
-            return Err(Error::OutOfRange {
-                name: "sigma_t'",
-                value: sigma_t_prime,
-                min: SIGMA_T_MIN,
-                max: SIGMA_T_MAX,
-            });
-        }
+        check_sigma_t_range(sigma_t_prime)?;
         Ok(medium)
     }
 

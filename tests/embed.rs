@@ -11,7 +11,7 @@ use bssrdf_zoo::embed::{ChannelLookup, EmbedError, Library, TableLookup};
 use bssrdf_zoo::format::{self, Verify};
 use bssrdf_zoo::materials::{self, Rgb};
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::{FileTable, Grid, TableRef, World};
+use bssrdf_zoo::table::{reduced_to_mm, FileTable, Grid, TableRef, World};
 
 /// Two materials on two η (two tables), baked on a small grid and written to a file.
 fn baked(dir: &std::path::Path) -> std::path::PathBuf {
@@ -134,13 +134,14 @@ fn channel_lookups_equal_direct_table_ref_and_world_lookups_bit_for_bit() {
                     assert_eq!(got.is_some(), want.is_some());
                     if let (Some(g), Some(w)) = (got, want) {
                         compared[2] += 1;
-                        // World units: r scales with 1/σ′t, the area density with σ′t².
+                        // World units: r scales with 1/σ′t (rounded so that σ′t·r_mm ≤ r),
+                        // the area density with σ′t².
                         assert_eq!(
                             [g.theta, g.r, g.phi, g.phi_prime, g.pdf_theta, g.pdf]
                                 .map(f64::to_bits),
                             [
                                 w.theta,
-                                w.r / st,
+                                reduced_to_mm(w.r, st),
                                 w.phi,
                                 w.phi_prime,
                                 w.pdf_theta,
@@ -251,7 +252,8 @@ fn each_failure_is_its_own_error_naming_the_value() {
     );
 
     let table = library.table(0).unwrap();
-    for st in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+    // Beyond 1e12 mm⁻¹ the world-unit factor σ′t² heads for ∞ (∞·0 = NaN), below 1e-9 for 0.
+    for st in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e-10, 1.1e12, 1e300] {
         let err = table.medium(0.5, st).unwrap_err();
         assert!(matches!(err, EmbedError::Medium { .. }), "{err}");
     }

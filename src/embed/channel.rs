@@ -1,6 +1,7 @@
 //! The per-medium lookup handle: S_p, sampling and densities in world units.
 
 use super::TableLookup;
+use crate::table::reduced_to_mm;
 
 /// One draw of the exit point for a given incidence, in world units.
 ///
@@ -91,7 +92,7 @@ pub struct ChannelLookup {
 }
 
 impl ChannelLookup {
-    /// `rho` inside the table's albedo rows and `sigma_t_prime` finite and > 0 (checked by the
+    /// `rho` inside the table's albedo rows and `sigma_t_prime` in [1e-9, 1e12] (checked by the
     /// makers in `library.rs`).
     pub(super) fn new(table: TableLookup, rho: f64, sigma_t_prime: f64) -> Self {
         Self {
@@ -222,7 +223,7 @@ impl ChannelLookup {
             .view_with(false)
             .sample(self.rho, theta, u_r, u_phi)?;
         Some(Sample {
-            r: s.r / st,
+            r: reduced_to_mm(s.r, st),
             phi: s.phi,
             pdf: s.pdf_area * st * st,
         })
@@ -249,7 +250,7 @@ impl ChannelLookup {
         let p = self.table.view().sample_path(self.rho, u)?;
         Some(PathSample {
             theta: p.theta,
-            r: p.r / st,
+            r: reduced_to_mm(p.r, st),
             phi: p.phi,
             phi_prime: p.phi_prime,
             pdf_theta: p.pdf_theta,

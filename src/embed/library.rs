@@ -457,7 +457,8 @@ impl TableLookup {
 
     /// A handle for a medium of reduced albedo ρ′ = σ′s/σ′t and reduced extinction σ′t (mm⁻¹)
     /// on this table: for media that are not material records of the file (η is the table's).
-    /// Fails if σ′t is not finite and > 0 or ρ′ lies outside the table's albedo rows.
+    /// Fails if σ′t is not finite and in [1e-9, 1e12] mm⁻¹ (the range of
+    /// [`crate::medium::Medium`]) or ρ′ lies outside the table's albedo rows.
     ///
     /// ```
     /// # use bssrdf_zoo::embed::Library;
@@ -488,6 +489,7 @@ impl TableLookup {
         if sigma_t_prime <= 0.0 {
             return Err(medium_error(crate::Error::Vacuum));
         }
+        crate::medium::check_sigma_t_range(sigma_t_prime).map_err(medium_error)?;
         let nodes = self.prepared().axes.rho().as_slice();
         let (min, max) = (nodes[0], nodes[nodes.len() - 1]);
         if !(min..=max).contains(&rho) {

@@ -95,7 +95,8 @@ pub enum EmbedError {
         /// How many tables there are.
         count: usize,
     },
-    /// A medium's coefficients are invalid: σ′t not finite and > 0 in [`TableLookup::medium`]
+    /// A medium's coefficients are invalid: σ′t not finite and in [1e-9, 1e12] mm⁻¹ in
+    /// [`TableLookup::medium`]
     /// (material records were validated when the file was opened; this also covers them).
     #[error("{what}: {source}")]
     Medium {

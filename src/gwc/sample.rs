@@ -33,6 +33,21 @@ const TAYLOR_DENSITY: f64 = 1e-5;
 /// 1/2π.
 const INV_TAU: f64 = 1.0 / TAU;
 
+/// A random number as the azimuth samplers read it: clamped into [0, 1], NaN → 0, so that
+/// every f64 gives an azimuth.
+pub(crate) fn unit_interval(u: f64) -> f64 {
+    if u.is_nan() {
+        0.0
+    } else {
+        u.clamp(0.0, 1.0)
+    }
+}
+
+/// The azimuth φ = 2πu − π ∈ [−π, π] of a uniform draw, u read by [`unit_interval`].
+pub(crate) fn uniform_azimuth(u: f64) -> f64 {
+    (TAU * unit_interval(u) - PI).clamp(-PI, PI)
+}
+
 /// The wrapped Cauchy lobe at φ = cdf_WC⁻¹(w): φ, the density and its logarithmic derivatives,
 /// all from the two sines of the inverse.
 #[derive(Debug, Clone, Copy)]
@@ -57,7 +72,7 @@ impl LobePoint {
     /// = (1 − c)² + 4c·sin²(πt) = (1 + c)² − 4c·sin²(πm), each free of cancellation for one
     /// sign of c. sin φ and cos φ follow from tan h, h = |φ|/2.
     pub(super) fn at(w: f64, c: f64) -> Self {
-        let w = if w.is_nan() { 0.0 } else { w.clamp(0.0, 1.0) };
+        let w = unit_interval(w);
         let c = clamp_c(c);
         // Tail mass t beyond |φ| and its complement m = 1/2 − t, both without cancellation
         let (t, m, sign) = if w >= 0.5 {
@@ -109,11 +124,11 @@ impl Gwc {
     /// [`LobePoint`] gives with φ. Once a step is short, φ and p at its end follow from their
     /// Taylor series to second order instead of another inverse (see the module docs).
     pub(crate) fn sample_with_pdf(&self, u: f64) -> (f64, f64) {
-        let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
         // Pure floor or pure lobe: invert directly
         if self.lambda >= 1.0 {
-            return ((TAU * u - PI).clamp(-PI, PI), 1.0 / TAU);
+            return (uniform_azimuth(u), 1.0 / TAU);
         }
+        let u = unit_interval(u);
         let mut at = LobePoint::at(u, self.c);
         let (lambda, c) = (self.lambda, self.c.abs());
         if c > C_MAX_FIT {

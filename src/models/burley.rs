@@ -50,7 +50,7 @@ use crate::fresnel::reflectance;
 use crate::pbd::Pbd;
 use crate::quadrature::adaptive;
 use crate::walk::Component;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 
 /// Which published fit gives the scale s.
 #[derive(
@@ -213,7 +213,8 @@ impl Burley {
         if r.is_nan() || r < 0.0 || r.is_infinite() {
             return 0.0;
         }
-        let d = self.d;
+        // −0 is the point r = 0 (+∞ there, not −∞)
+        let (d, r) = (self.d, r.abs());
         ((-r / d).exp() + (-r / (3.0 * d)).exp()) / (8.0 * PI * d * r)
     }
 }
@@ -241,7 +242,7 @@ impl Model for Burley {
     fn sample(&self, theta: f64, u: [f64; 2]) -> Option<Sample> {
         entering(theta, self.params.eta())?;
         let r = self.invert_cdf(u[0])?;
-        let phi = (TAU * u[1] - PI).clamp(-PI, PI);
+        let phi = crate::gwc::uniform_azimuth(u[1]);
         let pdf = self.shape(r);
         (pdf.is_finite() && pdf > 0.0).then_some(Sample { r, phi, pdf })
     }
@@ -258,6 +259,7 @@ impl Model for Burley {
 mod tests {
     use super::*;
     use crate::fresnel::Moments;
+    use std::f64::consts::TAU;
 
     fn given(a: f64, fit: BurleyFit) -> Burley {
         let params = Params::new(0.8, 1.33, Moments::Exact).unwrap();

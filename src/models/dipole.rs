@@ -50,7 +50,7 @@
 
 use super::{entering, Model, ModelKind, Params, Sample};
 use crate::walk::Component;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::PI;
 
 /// Which boundary constant A the dipole uses.
 #[derive(
@@ -147,7 +147,12 @@ impl Dipole {
         let s = self.sigma_tr;
         let term = |z: f64| {
             let d = r.hypot(z);
-            z * (1.0 + s * d) * (-s * d).exp() / (d * d * d)
+            let decay = (-s * d).exp();
+            // Far out e^{−σtr d} reaches 0 while σtr d overflows to ∞ (r near f64::MAX): 0·∞
+            if decay == 0.0 {
+                return 0.0;
+            }
+            z * (1.0 + s * d) * decay / (d * d * d)
         };
         self.params.rho_prime() / (4.0 * PI) * (term(self.z_r) + term(self.z_v))
     }
@@ -232,7 +237,7 @@ impl Model for Dipole {
         };
         let delta = self.invert_term(z, u_r)?;
         let r = (delta * (delta + 2.0 * z)).sqrt();
-        let phi = (TAU * u[1] - PI).clamp(-PI, PI);
+        let phi = crate::gwc::uniform_azimuth(u[1]);
         let pdf = self.pdf(theta, r, phi);
         (pdf.is_finite() && pdf > 0.0).then_some(Sample { r, phi, pdf })
     }

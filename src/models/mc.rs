@@ -243,7 +243,7 @@ impl Model for McModel {
         let (r0, r1) = (self.r_edges[i], self.r_edges[i + 1]);
         let r = (r0 * r0 + v * (r1 * r1 - r0 * r0)).sqrt().clamp(r0, r1);
         let dphi = TAU / self.phi_count as f64;
-        let phi = (-PI + dphi * (j as f64 + u[1].clamp(0.0, 1.0))).clamp(-PI, PI);
+        let phi = (-PI + dphi * (j as f64 + crate::gwc::unit_interval(u[1]))).clamp(-PI, PI);
         let pdf = self.pdf(theta, r, phi);
         (pdf > 0.0 && pdf.is_finite()).then_some(Sample { r, phi, pdf })
     }

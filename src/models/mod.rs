@@ -346,7 +346,7 @@ pub struct World<M> {
 }
 
 impl<M: Model> World<M> {
-    /// Wraps a model for σ′t > 0 (finite, mm⁻¹).
+    /// Wraps a model for σ′t ∈ [1e-9, 1e12] mm⁻¹.
     pub fn new(model: M, sigma_t_prime: f64) -> Result<Self> {
         finite("sigma_t'", sigma_t_prime)?;
         if sigma_t_prime <= 0.0 {
@@ -355,6 +355,7 @@ impl<M: Model> World<M> {
                 value: sigma_t_prime,
             });
         }
+        crate::medium::check_sigma_t_range(sigma_t_prime)?;
         Ok(Self {
             model,
             sigma_t_prime,
@@ -382,7 +383,7 @@ impl<M: Model> World<M> {
         let st = self.sigma_t_prime;
         let s = self.model.sample(theta, u)?;
         Some(Sample {
-            r: s.r / st,
+            r: crate::table::reduced_to_mm(s.r, st),
             phi: s.phi,
             pdf: s.pdf * st * st,
         })

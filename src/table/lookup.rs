@@ -14,7 +14,7 @@
 use super::albedo::AlbedoWeights;
 use super::{TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
-use crate::gwc::{cap_lobe, table_value, Gwc};
+use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// One draw of (r, φ) for a given (ρ′, θ).
@@ -599,7 +599,10 @@ impl<'a> TableRef<'a> {
     }
 
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
-    /// entering, as the table represents it.
+    /// entering, as the table represents it; 0 where the blend of the rows' totals is negative
+    /// (as [`TableRef::eval`] is 0 where the blended E is): the θ spline undershoots between a
+    /// lit node and an unlit one beyond the critical angle (η < 1), and f32 weights round at
+    /// ρ′ ≲ 1e-20.
     pub fn effective_albedo(&self, rho: f64, theta: f64) -> Option<f64> {
         let enters = self.light_enters(theta);
         self.with_slice(rho, theta, |s| if enters { self.total(s) } else { 0.0 })
@@ -614,7 +617,7 @@ impl<'a> TableRef<'a> {
 
     fn total(&self, s: &Slice) -> f64 {
         let (_, _, n_r) = self.axes.dims();
-        Self::blend(s, self.radial_cdf, n_r - 1, 1)
+        Self::blend(s, self.radial_cdf, n_r - 1, 1).max(0.0)
     }
 
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
@@ -695,7 +698,7 @@ impl<'a> TableRef<'a> {
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let radial = self.with_slice(rho, 0.0, |s| self.sample_radius(s, u_r))??;
-        let phi = (TAU * u_phi - PI).clamp(-PI, PI);
+        let phi = uniform_azimuth(u_phi);
         Some(Sample {
             r: radial.x,
             phi,
@@ -720,7 +723,7 @@ impl<'a> TableRef<'a> {
         let w_theta = self.axes.theta().weights(t.x)?;
         let s = self.slice_of(&w_rho, &w_theta, rho, t.x);
         let rphi = self.sample_slice(&s, u[1], u[2])?;
-        let phi_prime = (TAU * u[3] - PI).clamp(-PI, PI);
+        let phi_prime = uniform_azimuth(u[3]);
         Some(PathSample {
             theta: t.x,
             r: rphi.r,
@@ -796,6 +799,17 @@ fn wrap_phi(phi: f64) -> f64 {
     }
 }
 
+/// The distance in mm of a reduced distance r for reduced extinction σ′t (r_mm = r/σ′t),
+/// rounded down where the quotient rounds up: the lookups in mm convert back by σ′t·r_mm,
+/// which so never passes r, and a draw at the last radius node keeps its density there.
+pub fn reduced_to_mm(r: f64, sigma_t_prime: f64) -> f64 {
+    let mut r_mm = r / sigma_t_prime;
+    while r_mm > 0.0 && sigma_t_prime * r_mm > r {
+        r_mm = crate::float::next_down(r_mm);
+    }
+    r_mm
+}
+
 /// A table looked up in world units for a medium with reduced extinction σ′t (mm⁻¹):
 /// r_reduced = σ′t r_mm and S_world = σ′t² S_reduced (an area density).
 #[derive(Debug, Clone, Copy)]
@@ -805,12 +819,13 @@ pub struct World<'a> {
 }
 
 impl<'a> World<'a> {
-    /// Wraps a table for a medium of reduced extinction σ′t > 0 (mm⁻¹).
+    /// Wraps a table for a medium of reduced extinction σ′t ∈ [1e-9, 1e12] mm⁻¹.
     pub fn new(table: TableRef<'a>, sigma_t_prime: f64) -> crate::Result<Self> {
         crate::error::finite("sigma_t'", sigma_t_prime)?;
         if sigma_t_prime <= 0.0 {
             return Err(crate::Error::Vacuum);
         }
+        crate::medium::check_sigma_t_range(sigma_t_prime)?;
         Ok(Self {
             table,
             sigma_t_prime,
@@ -826,7 +841,7 @@ impl<'a> World<'a> {
         let st = self.sigma_t_prime;
         let s = self.table.sample(rho, theta, u_r, u_phi)?;
         Some(Sample {
-            r: s.r / st,
+            r: reduced_to_mm(s.r, st),
             phi: s.phi,
             pdf_area: s.pdf_area * st * st,
         })

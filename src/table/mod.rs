@@ -68,7 +68,7 @@ pub use check::{
     THETA_BANDS_DEG, WEIGHTED_POINTS,
 };
 pub use io::FileTable;
-pub use lookup::{PathSample, Sample, World};
+pub use lookup::{reduced_to_mm, PathSample, Sample, World};
 pub use subset::{bake_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
 pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
 

@@ -1,5 +1,9 @@
 //! The C interface tests: one test binary, a module per area.
 
+#[path = "../lookup_common/mod.rs"]
+mod lookup_common;
+
+mod arbitrary_inputs;
 mod c_program;
 mod header;
 mod rust;

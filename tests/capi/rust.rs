@@ -298,6 +298,13 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
         expect(status, BSSRDF_ERROR_NOT_FOUND, "no table 2");
         let status = bssrdf_library_medium(library, 0, 0.5, 0.0, &mut out_channel);
         expect(status, BSSRDF_ERROR_INVALID_ARGUMENT, "vacuum");
+        // σ′t² of the world units is ∞ beyond 1.3e154, and ∞ · 0 = NaN: refused with Medium's range.
+        let status = bssrdf_library_medium(library, 0, 0.5, 1e300, &mut out_channel);
+        expect(
+            status,
+            BSSRDF_ERROR_INVALID_ARGUMENT,
+            "outside [1e-9, 1e12]",
+        );
         let status = bssrdf_library_medium(library, 0, 1.5, 1.0, &mut out_channel);
         expect(status, BSSRDF_ERROR_OUT_OF_RANGE, "rho' = 1.5");
         assert!(out_channel.is_null());

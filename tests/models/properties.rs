@@ -27,7 +27,7 @@ fn thetas() -> [f64; 4] {
 /// Whether +∞ is the documented value: PBD at r = 0, where it diverges like ln(1/r), and when
 /// the refracted beam runs along the surface (θ = 90° at η = 1) through the exit point (φ = 0);
 /// Christensen–Burley at r = 0.
-fn documented_infinity(kind: ModelKind, eta: f64, theta: f64, r: f64, phi: f64) -> bool {
+pub(crate) fn documented_infinity(kind: ModelKind, eta: f64, theta: f64, r: f64, phi: f64) -> bool {
     match kind {
         ModelKind::Pbd | ModelKind::PbdFast => {
             r == 0.0 || (eta == 1.0 && theta == 0.5 * PI && phi == 0.0)

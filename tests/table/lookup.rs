@@ -15,7 +15,7 @@ use std::f64::consts::PI;
 use std::sync::OnceLock;
 
 /// The default grid at η = 1.33, baked once for the whole file.
-fn default_table() -> &'static AngularTable {
+pub(crate) fn default_table() -> &'static AngularTable {
     static TABLE: OnceLock<AngularTable> = OnceLock::new();
     TABLE.get_or_init(|| {
         bake(
@@ -563,7 +563,9 @@ fn world_units_scale_r_by_one_over_sigma_t_and_s_by_sigma_t_squared() {
     assert!((world.eval(rho, theta, r_mm, phi).unwrap() / want - 1.0).abs() < 1e-14);
     let s = world.sample(rho, theta, 0.4, 0.6).unwrap();
     assert!((world.pdf(rho, theta, s.r, s.phi) / s.pdf_area - 1.0).abs() < 1e-9);
-    assert!(World::new(view, 0.0).is_err());
+    for st in [0.0, 1e-10, 1.1e12, 1e300] {
+        assert!(World::new(view, st).is_err(), "{st}");
+    }
 }
 
 #[test]

@@ -2,7 +2,10 @@
 
 #[path = "../catmull_rom_common/mod.rs"]
 mod catmull_rom_common;
+#[path = "../lookup_common/mod.rs"]
+mod lookup_common;
 
+mod arbitrary_inputs;
 mod catmull_rom;
 mod catmull_rom_even;
 mod check;
