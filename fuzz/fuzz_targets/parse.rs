@@ -12,7 +12,11 @@ fuzz_target!(|data: &[u8]| {
         if let Ok(library) = Library::from_bytes(data, verify) {
             for table in library.tables() {
                 let _ = (table.gwc_params().len(), table.radial_cdf().len());
-                let _ = (table.theta_cdf().map(<[f32]>::len), table.dims(), table.eta());
+                let _ = (
+                    table.theta_cdf().map(<[f32]>::len),
+                    table.dims(),
+                    table.eta(),
+                );
             }
             let _ = (library.materials().len(), library.provenance());
             let _ = library.verify();

@@ -1,59 +1,20 @@
 //! Every registered model at arbitrary inputs — θ, r, φ and the random numbers anywhere in f64,
-//! NaN, ±∞, subnormals and ±0 included — for albedos and η at the ends of their domains: no
-//! panic, `eval` ≥ 0 and never NaN (+∞ only where documented), `pdf` finite and ≥ 0, and a
-//! draw either `None` or a valid point whose density is `pdf`'s (`lookup_common`, the rules the
-//! fuzz target `fuzz/fuzz_targets/lookups.rs` holds too).
+//! NaN, ±∞, subnormals and ±0 included — for albedos and η at the ends of their domains
+//! (`models_common::zoo`): no panic, `eval` and `pdf` ≥ 0 and never NaN (+∞ only where
+//! documented), and a draw either `None` or a valid point whose density is `pdf`'s
+//! (`lookup_common`, the rules the fuzz target `fuzz/fuzz_targets/lookups.rs` holds too).
 
-use std::f64::consts::FRAC_PI_2;
 use std::sync::OnceLock;
 
-use bssrdf_zoo::models::{Model, ModelKind};
+use bssrdf_zoo::models::ModelKind;
 use proptest::prelude::*;
 
-use crate::lookup_common::{check_model, inputs_near, Inputs};
-use crate::models_common::model;
-use crate::properties::documented_infinity;
-
-/// (ρ′, η) of the models: both ends of the η domain, index matching, ρ′ from 0 to 1.
-const MEDIA: [(f64, f64); 4] = [(0.0, 1.33), (0.5, 0.75), (0.99, 1.0), (1.0, 2.5)];
-
-/// θ at which the walk of the Monte Carlo model runs (its only θ).
-const WALK_THETA: f64 = 0.5;
-
-struct Built {
-    kind: ModelKind,
-    eta: f64,
-    model: Box<dyn Model>,
-}
+use crate::lookup_common::{check_model, model_inputs};
+use crate::models_common::{documented_infinity, model, zoo, Built, MEDIA, WALK_THETA};
 
 fn models() -> &'static [Built] {
     static MODELS: OnceLock<Vec<Built>> = OnceLock::new();
-    MODELS.get_or_init(|| {
-        let mut all = Vec::new();
-        for kind in ModelKind::ALL {
-            for (rho, eta) in MEDIA {
-                let model = model(kind, rho, eta, WALK_THETA, 256).unwrap();
-                all.push(Built { kind, eta, model });
-            }
-        }
-        all
-    })
-}
-
-fn check(built: &Built, x: &Inputs) {
-    let infinite_ok = documented_infinity(built.kind, built.eta, x.theta, x.r, x.phi);
-    check_model(built.model.as_ref(), x, infinite_ok);
-}
-
-/// Inputs near θ = 0, the walk's θ and 90°, r = 0 and 1, inside θ ∈ [0, π/2] and r ∈ [0, 11]
-/// otherwise (ρ′ and σ′t are not used).
-fn model_inputs(selectors: [u8; 9], bits: [u64; 9]) -> Inputs {
-    let nodes: [&[f64]; 3] = [
-        &[0.0, 1.0],
-        &[0.0, WALK_THETA, FRAC_PI_2],
-        &[0.0, 1.0, 10.0],
-    ];
-    inputs_near(nodes, selectors, bits)
+    MODELS.get_or_init(zoo)
 }
 
 proptest! {
@@ -65,7 +26,10 @@ proptest! {
         selectors in any::<[u8; 9]>(),
         bits in any::<[u64; 9]>(),
     ) {
-        check(&models()[m], &model_inputs(selectors, bits));
+        let built = &models()[m];
+        let x = model_inputs(WALK_THETA, selectors, bits);
+        let infinite_ok = documented_infinity(built.kind, built.eta, x.theta, x.r, x.phi);
+        check_model(built.model.as_ref(), &x, infinite_ok);
     }
 }
 

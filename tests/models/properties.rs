@@ -2,7 +2,7 @@
 //! documented +∞), even in φ, zero where no light enters, scaling with σ′t in world units,
 //! totals against the plane integral of `eval`, and constructor rejections naming the value.
 
-use crate::models_common::{model, options, table_for};
+use crate::models_common::{documented_infinity, model, options, table_for};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Medium;
 use bssrdf_zoo::models::burley::{BurleyFit, BurleyOptions, SurfaceAlbedo};
@@ -22,20 +22,6 @@ const PHIS: [f64; 4] = [0.0, PI, -PI, 1e-300];
 
 fn thetas() -> [f64; 4] {
     [0.0, 1e-300, 89.99f64.to_radians(), 0.5 * PI]
-}
-
-/// Whether +∞ is the documented value: PBD at r = 0, where it diverges like ln(1/r), and when
-/// the refracted beam runs along the surface (θ = 90° at η = 1) through the exit point (φ = 0);
-/// Christensen–Burley at r = 0.
-pub(crate) fn documented_infinity(kind: ModelKind, eta: f64, theta: f64, r: f64, phi: f64) -> bool {
-    match kind {
-        ModelKind::Pbd | ModelKind::PbdFast => {
-            r == 0.0 || (eta == 1.0 && theta == 0.5 * PI && phi == 0.0)
-        }
-        // An integrable 1/r at r = 0, beyond f64's range below r ~ 1e-307.
-        ModelKind::Burley => r < 1e-300,
-        _ => false,
-    }
 }
 
 fn no_light_enters(eta: f64, theta: f64) -> bool {

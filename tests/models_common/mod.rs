@@ -10,6 +10,7 @@ use bssrdf_zoo::models::{build, Model, ModelKind, Options, Params};
 use bssrdf_zoo::table::{bake, AngularTable, Grid};
 use bssrdf_zoo::walk::{Bins, Component};
 use std::collections::HashMap;
+use std::f64::consts::PI;
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// A small table grid (12 albedos × 4 angles × 24 radii, nodes as Ferrier places them): enough
@@ -56,6 +57,47 @@ pub fn model(
 ) -> bssrdf_zoo::Result<Box<dyn Model>> {
     let params = Params::new(rho, eta, Moments::Exact)?;
     build(kind, &params, &options(eta, theta, photons))
+}
+
+/// Whether +∞ is the documented value: PBD at r = 0, where it diverges like ln(1/r), and when
+/// the refracted beam runs along the surface (θ = 90° at η = 1) through the exit point (φ = 0);
+/// Christensen–Burley at r = 0.
+pub fn documented_infinity(kind: ModelKind, eta: f64, theta: f64, r: f64, phi: f64) -> bool {
+    match kind {
+        ModelKind::Pbd | ModelKind::PbdFast => {
+            r == 0.0 || (eta == 1.0 && theta == 0.5 * PI && phi == 0.0)
+        }
+        // An integrable 1/r at r = 0, beyond f64's range below r ~ 1e-307.
+        ModelKind::Burley => r < 1e-300,
+        _ => false,
+    }
+}
+
+/// (ρ′, η) of the models [`zoo`] builds: both ends of the η domain, index matching, ρ′ from 0
+/// to 1.
+pub const MEDIA: [(f64, f64); 4] = [(0.0, 1.33), (0.5, 0.75), (0.99, 1.0), (1.0, 2.5)];
+
+/// θ at which the walk of the Monte Carlo models of [`zoo`] runs (its only θ).
+pub const WALK_THETA: f64 = 0.5;
+
+/// A model of [`zoo`], with what [`documented_infinity`] needs to know of it.
+pub struct Built {
+    pub kind: ModelKind,
+    pub eta: f64,
+    pub model: Box<dyn Model>,
+}
+
+/// Every registered model at every medium of [`MEDIA`] (walks of 256 photons at
+/// [`WALK_THETA`]).
+pub fn zoo() -> Vec<Built> {
+    let mut all = Vec::new();
+    for kind in ModelKind::ALL {
+        for (rho, eta) in MEDIA {
+            let model = model(kind, rho, eta, WALK_THETA, 256).unwrap();
+            all.push(Built { kind, eta, model });
+        }
+    }
+    all
 }
 
 /// SplitMix64: a fixed, portable stream of uniforms in [0, 1).
