@@ -51,6 +51,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(2000))]
 
     #[test]
+    #[cfg_attr(miri, ignore = "a coarse bake and 2000 cases: hours under Miri")]
     fn c_and_rust_handles_at_arbitrary_inputs_are_valid_and_equal(
         t in 0..8usize,
         selectors in any::<[u8; 9]>(),
@@ -70,6 +71,7 @@ proptest! {
 /// rounded up, converted back by σ′t·r_mm, passed the node by an ulp, where `pdf` is 0.
 /// Distances in mm now round so that σ′t·r_mm never passes the reduced distance.
 #[test]
+#[cfg_attr(miri, ignore = "a coarse bake: minutes under Miri")]
 fn a_draw_at_the_last_radius_node_keeps_its_density() {
     let table = opened().rust.table(0).unwrap();
     let r_max = *table.view().axes().r().as_slice().last().unwrap();
