@@ -91,3 +91,32 @@ fn a_draw_at_the_last_radius_node_keeps_its_density() {
     }
     assert!(rounded_up > 0, "no sigma_t rounds the node up");
 }
+
+/// Regression, found by the `lookups` fuzz target: a path draw with u = 1 − 2⁻⁵³ for θ and r
+/// lands on a radius node far in the tail, where the radial density jumps by orders of
+/// magnitude (the stored CDF's rounding); r in mm converted back landed on the node's other
+/// side, and `pdf` there was 3·10⁷ times the draw's density. Where σ′t·r_mm does not give back
+/// the drawn distance, the handles now return the density at the returned point.
+#[test]
+#[cfg_attr(miri, ignore = "a coarse bake: minutes under Miri")]
+fn a_path_draw_on_a_radius_node_has_the_density_pdf_gives_there() {
+    let table = opened().rust.table(4).unwrap();
+    let almost_one = 1.0 - f64::EPSILON / 2.0;
+    let channel = table
+        .medium(0.9992833137512208, 0.004930462918966473)
+        .unwrap();
+    let u = [
+        almost_one,
+        almost_one,
+        0.12846195697784424,
+        0.28879880207740494,
+    ];
+    let p = channel.sample_path(u).unwrap();
+    let given = |r, phi| channel.pdf(p.theta, r, phi);
+    let drawn = p.pdf / p.pdf_theta * std::f64::consts::TAU;
+    assert!(
+        density_matches(drawn, given, p.r, p.phi),
+        "{p:?}: {drawn} against {}",
+        given(p.r, p.phi)
+    );
+}
