@@ -11,20 +11,24 @@ use bssrdf_zoo::capi::*;
 use bssrdf_zoo::rng::SplitMix64;
 use bssrdf_zoo::table::Grid;
 
-/// Handles shared between threads, as addresses (raw pointers are not `Send`; the header
-/// allows any number of threads to use a handle at once).
+/// Handles shared between threads.
 #[derive(Clone, Copy)]
 struct Shared {
-    library: usize,
-    channels: [usize; 3],
+    library: *const bssrdf_library,
+    channels: [*const bssrdf_channel; 3],
 }
+
+// SAFETY: the header allows any number of threads to use a handle at once (handles are
+// immutable); the test releases them only after every thread has joined.
+unsafe impl Send for Shared {}
+// SAFETY: as above.
+unsafe impl Sync for Shared {}
 
 /// Statuses and value bits of every lookup of the channels at `rounds` points from `seed`.
 fn lookups(shared: Shared, seed: u64, rounds: usize) -> Vec<u64> {
     let mut rng = SplitMix64::new(seed);
     let mut out = Vec::new();
     for &ch in &shared.channels {
-        let ch = ch as *const bssrdf_channel;
         for _ in 0..rounds {
             let theta = 1.7 * rng.next_f64();
             let (r, phi) = (3.0 * rng.next_f64(), 7.0 * rng.next_f64() - 3.5);
@@ -64,14 +68,7 @@ fn own_last_error(shared: Shared, t: u64) {
     let name = CString::new(format!("no-such-material-{t}")).unwrap();
     let mut channel = null_mut();
     // SAFETY: a live library handle, a valid string and output.
-    let status = unsafe {
-        bssrdf_library_channel(
-            shared.library as *const bssrdf_library,
-            name.as_ptr(),
-            0,
-            &mut channel,
-        )
-    };
+    let status = unsafe { bssrdf_library_channel(shared.library, name.as_ptr(), 0, &mut channel) };
     assert_eq!(status, BSSRDF_ERROR_NOT_FOUND);
     // SAFETY: never NULL, valid until this thread's next failure.
     let message = unsafe { CStr::from_ptr(bssrdf_last_error_message()) };
@@ -96,11 +93,11 @@ fn threads_sharing_c_handles_compute_what_one_thread_does() {
         let status =
             unsafe { bssrdf_library_channel(library, c"skin1".as_ptr(), rgb, &mut channel) };
         assert_eq!(status, BSSRDF_OK);
-        channel as usize
+        channel
     });
     let shared = Shared {
-        library: library as usize,
-        channels,
+        library,
+        channels: channels.map(|c| c.cast_const()),
     };
     let (threads, rounds) = if cfg!(miri) { (3, 2) } else { (8, 500) };
     let serial: Vec<Vec<u64>> = (0..threads).map(|t| lookups(shared, t, rounds)).collect();
@@ -119,7 +116,7 @@ fn threads_sharing_c_handles_compute_what_one_thread_does() {
     // SAFETY: every thread has joined; each handle released once.
     unsafe {
         for ch in channels {
-            bssrdf_channel_release(ch as *mut bssrdf_channel);
+            bssrdf_channel_release(ch);
         }
         bssrdf_library_close(library);
     }
