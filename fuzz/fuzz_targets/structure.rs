@@ -13,7 +13,7 @@
 use bssrdf_zoo::embed;
 use bssrdf_zoo::format::{Library, Verify};
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo_fuzz::{layout, mutate};
+use bssrdf_zoo_fuzz::{layout, mutate, read_everything};
 use libfuzzer_sys::{fuzz_mutator, fuzz_target, fuzzer_mutate};
 
 fuzz_target!(|data: &[u8]| {
@@ -21,15 +21,7 @@ fuzz_target!(|data: &[u8]| {
         let Ok(library) = Library::from_bytes(data, verify) else {
             continue;
         };
-        for table in library.tables() {
-            let _ = (table.gwc_params().len(), table.radial_cdf().len());
-            let _ = (
-                table.theta_cdf().map(<[f32]>::len),
-                table.dims(),
-                table.eta(),
-            );
-        }
-        let _ = (library.materials().len(), library.provenance());
+        read_everything(&library);
         if library.verify().is_ok() && verify == Verify::Full {
             look_up(library);
         }

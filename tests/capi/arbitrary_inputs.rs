@@ -7,43 +7,21 @@
 //! `fuzz/fuzz_targets/lookups.rs` holds the same rules on the default grid.
 #![allow(unsafe_code)]
 
-use std::ffi::CString;
 use std::sync::OnceLock;
 
-use bssrdf_zoo::capi::{bssrdf_library, bssrdf_library_open, BSSRDF_OK, BSSRDF_OPEN_MAP};
-use bssrdf_zoo::embed::Library;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{bake, reduced_to_mm, Grid, GridPreset};
 use proptest::prelude::*;
 
 use crate::lookup_common::{
-    check_capi, check_channel, density_matches, inputs, library_bytes, tables,
+    check_capi, check_channel, density_matches, inputs, open_tables, Opened,
 };
-
-/// The file's two handles: Rust's and C's (never closed: the test binary holds it to the end).
-struct Opened {
-    rust: Library,
-    c: usize,
-}
 
 fn opened() -> &'static Opened {
     static OPENED: OnceLock<Opened> = OnceLock::new();
     OPENED.get_or_init(|| {
         let coarse = Grid::preset(GridPreset::Coarse);
-        let full = bake(1.33, Moments::Exact, &coarse, true).unwrap().0;
-        let dir = tempfile::tempdir().unwrap().keep();
-        let path = dir.join("arbitrary.bssrdf");
-        std::fs::write(&path, library_bytes(&tables(full))).unwrap();
-        let rust = Library::open_mmap(&path).unwrap();
-        let c_path = CString::new(path.to_str().unwrap()).unwrap();
-        let mut c: *mut bssrdf_library = std::ptr::null_mut();
-        // SAFETY: a valid string and output.
-        let status = unsafe { bssrdf_library_open(c_path.as_ptr(), BSSRDF_OPEN_MAP, &mut c) };
-        assert_eq!(status, BSSRDF_OK);
-        Opened {
-            rust,
-            c: c as usize,
-        }
+        open_tables(bake(1.33, Moments::Exact, &coarse, true).unwrap().0)
     })
 }
 
@@ -63,7 +41,7 @@ proptest! {
         let x = inputs(&table.view(), selectors, bits);
         let rust = check_channel(&table, &x);
         // SAFETY: the open C handle of the file `opened.rust` maps.
-        unsafe { check_capi(opened.c as *const bssrdf_library, t, rust.as_ref(), &x) };
+        unsafe { check_capi(opened.c, t, rust.as_ref(), &x) };
     }
 }
 

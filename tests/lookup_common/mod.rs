@@ -14,8 +14,10 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use std::ffi::CString;
+
 use bssrdf_zoo::capi::*;
-use bssrdf_zoo::embed::{ChannelLookup, TableLookup};
+use bssrdf_zoo::embed::{ChannelLookup, Library, TableLookup};
 use bssrdf_zoo::format::{Compression, LibraryBuilder};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::models::Model;
@@ -50,13 +52,35 @@ pub fn tables(full: AngularTable) -> Vec<(&'static str, AngularTable)> {
     ]
 }
 
-/// A library file (uncompressed bytes) holding `tables` in order, without materials.
-pub fn library_bytes(tables: &[(&str, AngularTable)]) -> Vec<u8> {
+/// The tables of [`tables`]`(full)` in one library file (no materials) in a scratch folder,
+/// opened mapped by the Rust handles and by the C interface. Neither is ever closed: the
+/// fixtures live as long as the process.
+pub struct Opened {
+    pub rust: Library,
+    pub c: *const bssrdf_library,
+}
+
+// SAFETY: the C interface allows any number of threads to use a library handle at once, and
+// this one is never closed.
+unsafe impl Send for Opened {}
+// SAFETY: as above.
+unsafe impl Sync for Opened {}
+
+/// Writes and opens the file of [`Opened`].
+pub fn open_tables(full: AngularTable) -> Opened {
     let mut builder = LibraryBuilder::new();
-    for (_, table) in tables {
+    for (_, table) in tables(full) {
         builder.add_table(table.to_table_data()).unwrap();
     }
-    builder.to_bytes(Compression::None).unwrap()
+    let path = tempfile::tempdir().unwrap().keep().join("tables.bssrdf");
+    std::fs::write(&path, builder.to_bytes(Compression::None).unwrap()).unwrap();
+    let rust = Library::open_mmap(&path).unwrap();
+    let c_path = CString::new(path.to_str().unwrap()).unwrap();
+    let mut c = std::ptr::null_mut();
+    // SAFETY: a valid string and output.
+    let status = unsafe { bssrdf_library_open(c_path.as_ptr(), BSSRDF_OPEN_MAP, &mut c) };
+    assert_eq!(status, BSSRDF_OK);
+    Opened { rust, c }
 }
 
 /// Values no renderer should send, and some it will.
