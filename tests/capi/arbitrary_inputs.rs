@@ -62,7 +62,7 @@ fn a_draw_at_the_last_radius_node_keeps_its_density() {
         let s = channel.sample(0.9, 1.0, 0.5).unwrap();
         let pdf = |r, phi| channel.pdf(0.9, r, phi);
         assert!(
-            density_matches(s.pdf, pdf, s.r, s.phi),
+            density_matches(s.pdf, pdf, s.r, s.phi, sigma_t * sigma_t),
             "{sigma_t}: {s:?} {}",
             pdf(s.r, s.phi)
         );
@@ -80,9 +80,8 @@ fn a_draw_at_the_last_radius_node_keeps_its_density() {
 fn a_path_draw_on_a_radius_node_has_the_density_pdf_gives_there() {
     let table = opened().rust.table(4).unwrap();
     let almost_one = 1.0 - f64::EPSILON / 2.0;
-    let channel = table
-        .medium(0.9992833137512208, 0.004930462918966473)
-        .unwrap();
+    let sigma_t = 0.004930462918966473;
+    let channel = table.medium(0.9992833137512208, sigma_t).unwrap();
     let u = [
         almost_one,
         almost_one,
@@ -93,7 +92,7 @@ fn a_path_draw_on_a_radius_node_has_the_density_pdf_gives_there() {
     let given = |r, phi| channel.pdf(p.theta, r, phi);
     let drawn = p.pdf / p.pdf_theta * std::f64::consts::TAU;
     assert!(
-        density_matches(drawn, given, p.r, p.phi),
+        density_matches(drawn, given, p.r, p.phi, sigma_t * sigma_t),
         "{p:?}: {drawn} against {}",
         given(p.r, p.phi)
     );

@@ -207,13 +207,27 @@ pub fn rel(a: f64, b: f64) -> f64 {
 /// again from the point and evaluates the spline by another formula. Both round alike almost
 /// everywhere (differences of 1e-13 and less), but where the density nears a zero (the tail of
 /// the radial support, θ beyond the critical angle) the spline's value is a small difference
-/// of its terms, and 1e-8 … 1e-7 appear (7e-8 the largest of 800,000 draws at arbitrary
-/// inputs). An importance weight is off by as much, at points that are almost never drawn.
+/// of its terms: 1e-8 … 1e-7 appear (7e-8 the largest of 800,000 draws at arbitrary inputs),
+/// and more where the density itself is negligible (see [`DENSITY_FLOOR`]).
 pub const PDF_TOLERANCE: f64 = 1e-6;
 
-/// Whether `drawn`, the density a sampler returned with the point (a, b), is `pdf(a, b)`.
-pub fn density_matches(drawn: f64, pdf: impl Fn(f64, f64) -> f64, a: f64, b: f64) -> bool {
-    rel(drawn, pdf(a, b)) <= PDF_TOLERANCE
+/// Densities, in units of the lookup's unit density (1 per reduced mfp², per radian; σ′t² per
+/// mm²), below which a draw's may differ from `pdf`'s by this much absolutely: far in the
+/// radial tail (r ≈ 600 mfp, densities of 1e-27) the cancellation leaves 1e-3 of relative
+/// difference. Such points hold no probability a renderer would ever draw.
+pub const DENSITY_FLOOR: f64 = 1e-20;
+
+/// Whether `drawn`, the density a sampler returned with the point (a, b), is `pdf(a, b)`:
+/// within [`PDF_TOLERANCE`] relatively or [`DENSITY_FLOOR`] times `unit` absolutely.
+pub fn density_matches(
+    drawn: f64,
+    pdf: impl Fn(f64, f64) -> f64,
+    a: f64,
+    b: f64,
+    unit: f64,
+) -> bool {
+    let at = pdf(a, b);
+    rel(drawn, at) <= PDF_TOLERANCE || (drawn - at).abs() <= DENSITY_FLOOR * unit
 }
 
 fn density(what: &str, value: f64, x: &Inputs) {
@@ -262,7 +276,7 @@ pub fn check_view(view: &TableRef, x: &Inputs) -> usize {
         density("sample pdf", s.pdf_area, x);
         let pdf = |r, phi| view.pdf(rho, theta, r, phi);
         assert!(
-            density_matches(s.pdf_area, pdf, s.r, s.phi),
+            density_matches(s.pdf_area, pdf, s.r, s.phi, 1.0),
             "sample {s:?} has pdf {} at {x:?}",
             pdf(s.r, s.phi)
         );
@@ -302,14 +316,14 @@ pub fn check_view(view: &TableRef, x: &Inputs) -> usize {
         density("path pdf_theta", p.pdf_theta, x);
         let pdf_theta = |theta, _| view.pdf_theta(rho, theta);
         assert!(
-            density_matches(p.pdf_theta, pdf_theta, p.theta, 0.0),
+            density_matches(p.pdf_theta, pdf_theta, p.theta, 0.0, 1.0),
             "path {p:?}: pdf_theta {} at {x:?}",
             pdf_theta(p.theta, 0.0)
         );
         // The density of (r, φ) given θ: the joint one over θ's (and φ′'s).
         let given = |r, phi| view.pdf(rho, p.theta, r, phi);
         assert!(
-            density_matches(p.pdf / p.pdf_theta * TAU, given, p.r, p.phi),
+            density_matches(p.pdf / p.pdf_theta * TAU, given, p.r, p.phi, 1.0),
             "path {p:?}: pdf given theta {} at {x:?}",
             given(p.r, p.phi)
         );
@@ -352,7 +366,7 @@ pub fn check_channel(table: &TableLookup, x: &Inputs) -> Option<ChannelLookup> {
         density("channel sample pdf", s.pdf, x);
         let pdf = |r, phi| channel.pdf(theta, r, phi);
         assert!(
-            density_matches(s.pdf, pdf, s.r, s.phi),
+            density_matches(s.pdf, pdf, s.r, s.phi, sigma_t * sigma_t),
             "channel sample {s:?} has pdf {} at {x:?}",
             pdf(s.r, s.phi)
         );
@@ -366,12 +380,18 @@ pub fn check_channel(table: &TableLookup, x: &Inputs) -> Option<ChannelLookup> {
         density("channel path pdf", p.pdf, x);
         let pdf_theta = |theta, _| channel.pdf_theta(theta);
         assert!(
-            density_matches(p.pdf_theta, pdf_theta, p.theta, 0.0),
+            density_matches(p.pdf_theta, pdf_theta, p.theta, 0.0, 1.0),
             "{p:?} at {x:?}"
         );
         let given = |r, phi| channel.pdf(p.theta, r, phi);
         assert!(
-            density_matches(p.pdf / p.pdf_theta * TAU, given, p.r, p.phi),
+            density_matches(
+                p.pdf / p.pdf_theta * TAU,
+                given,
+                p.r,
+                p.phi,
+                sigma_t * sigma_t
+            ),
             "channel path {p:?}: pdf given theta {} at {x:?}",
             given(p.r, p.phi)
         );
@@ -496,7 +516,7 @@ pub fn check_model(model: &dyn Model, x: &Inputs, infinite_ok: bool) {
         density(&format!("{kind} sample pdf"), s.pdf, x);
         let pdf = |r, phi| model.pdf(theta, r, phi);
         assert!(
-            density_matches(s.pdf, pdf, s.r, s.phi),
+            density_matches(s.pdf, pdf, s.r, s.phi, 1.0),
             "{kind} sample {s:?} has pdf {} at {x:?}",
             pdf(s.r, s.phi)
         );
