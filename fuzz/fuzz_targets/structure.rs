@@ -55,13 +55,13 @@ fn look_up(library: Library) {
 fuzz_mutator!(|data: &mut [u8], size: usize, max_size: usize, seed: u32| {
     let mut rng = SplitMix64::new(u64::from(seed));
     let mut file = data[..size].to_vec();
-    if rng.next_u64() % 4 == 0 {
+    if rng.next_u64().is_multiple_of(4) {
         let n = fuzzer_mutate(data, size, max_size);
         file = data[..n].to_vec();
     } else {
         mutate::mutate(&mut file, &mut rng);
     }
-    if rng.next_u64() % 16 != 0 {
+    if !rng.next_u64().is_multiple_of(16) {
         layout::repair_crcs(&mut file);
     }
     let n = file.len().min(max_size);
