@@ -274,7 +274,7 @@ fn many_threads_sharing_one_mapped_library_compute_what_one_thread_does() {
     let dir = tempfile::tempdir().unwrap();
     let path = baked(dir.path());
     let library = Library::open_mmap(&path).unwrap();
-    let (threads, rounds) = if cfg!(miri) { (3, 2) } else { (8, 400) };
+    let (threads, rounds) = (8, 400);
     // Each thread its own stream of points, first on this thread alone.
     let serial: Vec<Vec<u64>> = (0..threads)
         .map(|t| every_lookup(&library, t, rounds))

@@ -13,7 +13,6 @@
 #![allow(dead_code, unsafe_code)]
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
-
 use std::ffi::CString;
 
 use bssrdf_zoo::capi::*;
