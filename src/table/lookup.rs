@@ -823,8 +823,10 @@ impl<'a> World<'a> {
     ///
     /// The radial density jumps at radius nodes by the rounding of the stored CDF (far out in
     /// the tail, where a segment holds less than an f32 ulp of the total, by orders of
-    /// magnitude), and a draw with u_r near 1 lands on a node. Where σ′t·r_mm does not give
-    /// back the drawn distance exactly, the density returned is the one at the point returned.
+    /// magnitude), and a draw with u_r near 1 lands on a node; near φ = π a signed floor's
+    /// profile nears 0, where an ulp of r can make it 0. Where σ′t·r_mm does not give back the
+    /// drawn distance exactly (about one random pair (r, σ′t) in eleven has no distance in mm
+    /// that does), the density returned is [`World::pdf`] at the point returned.
     pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let st = self.sigma_t_prime;
         let s = self.table.sample(rho, theta, u_r, u_phi)?;

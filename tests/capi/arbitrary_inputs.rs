@@ -97,3 +97,24 @@ fn a_path_draw_on_a_radius_node_has_the_density_pdf_gives_there() {
         given(p.r, p.phi)
     );
 }
+
+/// Regression, found by the `lookups` target: the density at a draw near φ = π, where a signed
+/// floor's profile nears 0, became 0 an ulp of r away, where σ′t·r_mm lands when it does not
+/// give back the drawn distance; so the handles return `pdf` at the returned point whenever
+/// the conversion is inexact, not only on radius nodes.
+#[test]
+#[cfg_attr(miri, ignore = "a coarse bake: minutes under Miri")]
+fn a_draw_where_the_profile_nears_zero_has_the_density_pdf_gives_there() {
+    let table = opened().rust.table(7).unwrap();
+    let sigma_t = 0.001;
+    let channel = table.medium(0.8890624765766031, sigma_t).unwrap();
+    let theta = 1.566243862943679;
+    if let Some(s) = channel.sample(theta, 0.7304033041136804, 1.2212453270876722e-15) {
+        let pdf = |r, phi| channel.pdf(theta, r, phi);
+        assert!(
+            density_matches(s.pdf, pdf, s.r, s.phi, sigma_t * sigma_t),
+            "{s:?}: pdf {}",
+            pdf(s.r, s.phi)
+        );
+    }
+}
