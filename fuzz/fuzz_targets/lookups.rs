@@ -19,24 +19,19 @@ mod lookup_common;
 #[path = "../../tests/models_common/mod.rs"]
 mod models_common;
 
-use std::ffi::CString;
 use std::sync::OnceLock;
 
-use bssrdf_zoo::capi::{bssrdf_library, bssrdf_library_open, BSSRDF_OK, BSSRDF_OPEN_MAP};
-use bssrdf_zoo::embed::Library;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
 use libfuzzer_sys::fuzz_target;
 
 use lookup_common::{
-    check_capi, check_channel, check_model, check_view, inputs, library_bytes, model_inputs, tables,
+    check_capi, check_channel, check_model, check_view, inputs, model_inputs, open_tables, Opened,
 };
 use models_common::{documented_infinity, zoo, Built, WALK_THETA};
 
 struct Fixture {
-    library: Library,
-    /// The C handle of the same file (`*const bssrdf_library`, kept open to the end).
-    c: usize,
+    opened: Opened,
     models: Vec<Built>,
 }
 
@@ -44,18 +39,8 @@ fn fixture() -> &'static Fixture {
     static FIXTURE: OnceLock<Fixture> = OnceLock::new();
     FIXTURE.get_or_init(|| {
         let default = Grid::preset(GridPreset::Default);
-        let full = bake(1.33, Moments::Exact, &default, true).unwrap().0;
-        let path = tempfile::tempdir().unwrap().keep().join("lookups.bssrdf");
-        std::fs::write(&path, library_bytes(&tables(full))).unwrap();
-        let library = Library::open_mmap(&path).unwrap();
-        let c_path = CString::new(path.to_str().unwrap()).unwrap();
-        let mut c: *mut bssrdf_library = std::ptr::null_mut();
-        // SAFETY: a valid string and output.
-        let status = unsafe { bssrdf_library_open(c_path.as_ptr(), BSSRDF_OPEN_MAP, &mut c) };
-        assert_eq!(status, BSSRDF_OK);
         Fixture {
-            library,
-            c: c as usize,
+            opened: open_tables(bake(1.33, Moments::Exact, &default, true).unwrap().0),
             models: zoo(),
         }
     })
@@ -70,13 +55,14 @@ fuzz_target!(|data: &[u8]| {
         std::array::from_fn(|k| u64::from_le_bytes(std::array::from_fn(|b| bytes[11 + 8 * k + b])));
     let fixture = fixture();
 
-    let t = usize::from(bytes[0]) % fixture.library.table_count();
-    let table = fixture.library.table(t).unwrap();
+    let library = &fixture.opened.rust;
+    let t = usize::from(bytes[0]) % library.table_count();
+    let table = library.table(t).unwrap();
     let x = inputs(&table.view(), selectors, bits);
     check_view(&table.view(), &x);
     let rust = check_channel(&table, &x);
-    // SAFETY: the open C handle of the file `fixture.library` maps.
-    unsafe { check_capi(fixture.c as *const bssrdf_library, t, rust.as_ref(), &x) };
+    // SAFETY: the open C handle of the file `library` maps.
+    unsafe { check_capi(fixture.opened.c, t, rust.as_ref(), &x) };
 
     let built = &fixture.models[usize::from(bytes[1]) % fixture.models.len()];
     let x = model_inputs(WALK_THETA, selectors, bits);

@@ -5,20 +5,13 @@
 #![no_main]
 
 use bssrdf_zoo::format::{Library, Verify};
+use bssrdf_zoo_fuzz::read_everything;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     for verify in [Verify::Full, Verify::HeaderOnly] {
         if let Ok(library) = Library::from_bytes(data, verify) {
-            for table in library.tables() {
-                let _ = (table.gwc_params().len(), table.radial_cdf().len());
-                let _ = (
-                    table.theta_cdf().map(<[f32]>::len),
-                    table.dims(),
-                    table.eta(),
-                );
-            }
-            let _ = (library.materials().len(), library.provenance());
+            read_everything(&library);
             let _ = library.verify();
         }
     }

@@ -13,7 +13,7 @@
 use bssrdf_zoo::embed;
 use bssrdf_zoo::format::{Library, Verify};
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo_fuzz::{layout, mutate};
+use bssrdf_zoo_fuzz::{layout, mutate, read_everything};
 use libfuzzer_sys::{fuzz_mutator, fuzz_target, fuzzer_mutate};
 
 fuzz_target!(|data: &[u8]| {
@@ -21,15 +21,7 @@ fuzz_target!(|data: &[u8]| {
         let Ok(library) = Library::from_bytes(data, verify) else {
             continue;
         };
-        for table in library.tables() {
-            let _ = (table.gwc_params().len(), table.radial_cdf().len());
-            let _ = (
-                table.theta_cdf().map(<[f32]>::len),
-                table.dims(),
-                table.eta(),
-            );
-        }
-        let _ = (library.materials().len(), library.provenance());
+        read_everything(&library);
         if library.verify().is_ok() && verify == Verify::Full {
             look_up(library);
         }
@@ -63,13 +55,13 @@ fn look_up(library: Library) {
 fuzz_mutator!(|data: &mut [u8], size: usize, max_size: usize, seed: u32| {
     let mut rng = SplitMix64::new(u64::from(seed));
     let mut file = data[..size].to_vec();
-    if rng.next_u64() % 4 == 0 {
+    if rng.next_u64().is_multiple_of(4) {
         let n = fuzzer_mutate(data, size, max_size);
         file = data[..n].to_vec();
     } else {
         mutate::mutate(&mut file, &mut rng);
     }
-    if rng.next_u64() % 16 != 0 {
+    if !rng.next_u64().is_multiple_of(16) {
         layout::repair_crcs(&mut file);
     }
     let n = file.len().min(max_size);

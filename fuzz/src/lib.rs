@@ -5,6 +5,21 @@
 pub mod layout;
 pub mod mutate;
 
+use bssrdf_zoo::format::Library;
+
+/// Reads everything an opened library exposes: nothing it holds may panic on access.
+pub fn read_everything(library: &Library) {
+    for table in library.tables() {
+        let _ = (table.gwc_params().len(), table.radial_cdf().len());
+        let _ = (
+            table.theta_cdf().map(<[f32]>::len),
+            table.dims(),
+            table.eta(),
+        );
+    }
+    let _ = (library.materials().len(), library.provenance());
+}
+
 #[cfg(test)]
 mod tests {
     //! The mutator on the conformance vectors, outside libFuzzer: no panic, and which checks

@@ -254,7 +254,7 @@ fn entry_field(file: &mut [u8], rng: &mut SplitMix64) {
 fn record_field(file: &mut [u8], rng: &mut SplitMix64) {
     let tables = records(file, TABLES_KIND, TABLE_RECORD);
     let materials = records(file, MATERIALS_KIND, MATERIAL_RECORD);
-    let use_tables = rng.next_u64() % 2 == 0;
+    let use_tables = rng.next_u64().is_multiple_of(2);
     let (list, ints, floats): (&[usize], &[(usize, usize)], &[usize]) =
         if use_tables && !tables.is_empty() || materials.is_empty() {
             (&tables, &TABLE_INTS, &[8])
@@ -265,7 +265,7 @@ fn record_field(file: &mut [u8], rng: &mut SplitMix64) {
         return entry_field(file, rng);
     }
     let record = pick(rng, list);
-    if rng.next_u64() % 2 == 0 {
+    if rng.next_u64().is_multiple_of(2) {
         let at = record + pick(rng, floats);
         let current = get(file, at, 8).map_or(0.0, f64::from_bits);
         set(file, at, 8, float(rng, current).to_bits());

@@ -1,7 +1,7 @@
 //! The per-medium lookup handle: S_p, sampling and densities in world units.
 
 use super::TableLookup;
-use crate::table::reduced_to_mm;
+use crate::table::World;
 
 /// One draw of the exit point for a given incidence, in world units.
 ///
@@ -217,15 +217,12 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn sample(&self, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let st = self.sigma_t_prime;
-        let s = self
-            .table
-            .view_with(false)
-            .sample(self.rho, theta, u_r, u_phi)?;
+        let world = World::prevalidated(self.table.view_with(false), self.sigma_t_prime);
+        let s = world.sample(self.rho, theta, u_r, u_phi)?;
         Some(Sample {
-            r: reduced_to_mm(s.r, st),
+            r: s.r,
             phi: s.phi,
-            pdf: s.pdf_area * st * st,
+            pdf: s.pdf_area,
         })
     }
 
@@ -246,15 +243,15 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn sample_path(&self, u: [f64; 4]) -> Option<PathSample> {
-        let st = self.sigma_t_prime;
-        let p = self.table.view().sample_path(self.rho, u)?;
+        let world = World::prevalidated(self.table.view(), self.sigma_t_prime);
+        let p = world.sample_path(self.rho, u)?;
         Some(PathSample {
             theta: p.theta,
-            r: reduced_to_mm(p.r, st),
+            r: p.r,
             phi: p.phi,
             phi_prime: p.phi_prime,
             pdf_theta: p.pdf_theta,
-            pdf: p.pdf * st * st,
+            pdf: p.pdf,
         })
     }
 

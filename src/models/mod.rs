@@ -378,15 +378,19 @@ impl<M: Model> World<M> {
     pub fn effective_albedo(&self, theta: f64) -> Option<f64> {
         self.model.effective_albedo(theta)
     }
-    /// Draws (r in mm, φ) with its density per mm².
+    /// Draws (r in mm, φ) with its density per mm², which is [`World::pdf`] there (computed
+    /// there where σ′t·r_mm does not give back the drawn distance exactly, see
+    /// [`crate::table::World::sample`]).
     pub fn sample(&self, theta: f64, u: [f64; 2]) -> Option<Sample> {
         let st = self.sigma_t_prime;
         let s = self.model.sample(theta, u)?;
-        Some(Sample {
-            r: crate::table::reduced_to_mm(s.r, st),
-            phi: s.phi,
-            pdf: s.pdf * st * st,
-        })
+        let r = crate::table::reduced_to_mm(s.r, st);
+        let pdf = if st * r == s.r {
+            s.pdf * st * st
+        } else {
+            self.pdf(theta, r, s.phi)
+        };
+        (pdf > 0.0).then_some(Sample { r, phi: s.phi, pdf })
     }
     /// Density per mm² of [`World::sample`].
     pub fn pdf(&self, theta: f64, r_mm: f64, phi: f64) -> f64 {

@@ -123,8 +123,34 @@ fn system_libraries() -> &'static [&'static str] {
     }
 }
 
-/// Compiles one C source file against the header and the static library.
-fn compile(cc: &str, source: &str, exe: &Path) {
+/// The flags that build a C program under AddressSanitizer and UndefinedBehaviorSanitizer,
+/// every report fatal (`-fno-sanitize-recover`).
+const SANITIZERS: [&str; 4] = [
+    "-fsanitize=address,undefined",
+    "-fno-sanitize-recover=all",
+    "-fno-omit-frame-pointer",
+    "-g",
+];
+
+/// Whether `cc` builds and runs a program under [`SANITIZERS`] (their runtime libraries are
+/// a separate package on some systems).
+fn sanitizers_work(cc: &str, dir: &Path) -> bool {
+    let source = dir.join("probe.c");
+    std::fs::write(&source, "int main(void) { return 0; }\n").unwrap();
+    let exe = dir.join("probe");
+    let built = Command::new(cc)
+        .args(SANITIZERS)
+        .arg(&source)
+        .arg("-o")
+        .arg(&exe)
+        .output()
+        .is_ok_and(|o| o.status.success());
+    built && Command::new(&exe).status().is_ok_and(|s| s.success())
+}
+
+/// Compiles one C source file against the header and the static library, with
+/// [`SANITIZERS`] if `sanitize`.
+fn compile(cc: &str, source: &str, exe: &Path, sanitize: bool) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out = Command::new(cc)
         .args([
@@ -134,8 +160,9 @@ fn compile(cc: &str, source: &str, exe: &Path) {
             "-Wextra",
             "-Werror",
             "-pedantic",
-            "-I",
         ])
+        .args(if sanitize { &SANITIZERS[..] } else { &[] })
+        .arg("-I")
         .arg(root.join("include"))
         .arg(root.join(source))
         .arg(static_library())
@@ -239,15 +266,15 @@ fn expectations(library: &Library) -> String {
     text
 }
 
-#[test]
-fn the_c_interface_gives_the_rust_values_bit_for_bit_from_c() {
-    let Some(cc) = compiler() else { return };
+/// Compiles `tests/c/capi_test.c` (with [`SANITIZERS`] if `sanitize`) and runs it on a
+/// library baked here against the Rust API's values.
+fn run_capi_test(cc: &str, sanitize: bool) {
     let dir = tempfile::tempdir().unwrap();
     let (library, path) = bake(dir.path());
     let expected = dir.path().join("expected.txt");
     std::fs::write(&expected, expectations(&library)).unwrap();
     let exe = dir.path().join("capi_test");
-    compile(&cc, "tests/c/capi_test.c", &exe);
+    compile(cc, "tests/c/capi_test.c", &exe, sanitize);
     let out = Command::new(&exe)
         .arg(&path)
         .arg(&expected)
@@ -270,12 +297,35 @@ fn the_c_interface_gives_the_rust_values_bit_for_bit_from_c() {
 }
 
 #[test]
+#[cfg_attr(miri, ignore = "Miri runs no C compiler")]
+fn the_c_interface_gives_the_rust_values_bit_for_bit_from_c() {
+    let Some(cc) = compiler() else { return };
+    run_capi_test(&cc, false);
+}
+
+/// The same C program under AddressSanitizer and UndefinedBehaviorSanitizer: every pointer
+/// the C side reads or writes through the interface (outputs, names, messages, handles) is
+/// checked, and any report fails the run. The Rust side is not instrumented (Miri checks it,
+/// docs/reliability.md).
+#[test]
+#[cfg_attr(miri, ignore = "Miri runs no C compiler")]
+fn the_c_program_is_clean_under_address_and_undefined_behaviour_sanitizers() {
+    let Some(cc) = compiler() else { return };
+    if !sanitizers_work(&cc, tempfile::tempdir().unwrap().path()) {
+        eprintln!("SKIPPED: `{cc}` cannot build with {SANITIZERS:?}");
+        return;
+    }
+    run_capi_test(&cc, true);
+}
+
+#[test]
+#[cfg_attr(miri, ignore = "Miri runs no C compiler")]
 fn the_c_example_builds_and_runs() {
     let Some(cc) = compiler() else { return };
     let dir = tempfile::tempdir().unwrap();
     let (_, path) = bake(dir.path());
     let exe = dir.path().join("capi_example");
-    compile(&cc, "examples/c/capi_example.c", &exe);
+    compile(&cc, "examples/c/capi_example.c", &exe, false);
     let out = Command::new(&exe).arg(&path).arg("skin1").output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(

@@ -5,5 +5,7 @@ mod lookup_common;
 
 mod arbitrary_inputs;
 mod c_program;
+mod fixture;
 mod header;
 mod rust;
+mod threads;

@@ -9,21 +9,22 @@ use std::ptr::{null, null_mut};
 
 use bssrdf_zoo::capi::*;
 use bssrdf_zoo::embed::Library;
-use bssrdf_zoo::format::{self, LibraryBuilder};
-use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::materials::{self, Rgb};
+use bssrdf_zoo::materials::Rgb;
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::{bake, Grid};
+use bssrdf_zoo::table::Grid;
+
+/// The grid of the tables here: small (under Miri no table is baked, see `fixture`).
+fn grid() -> Grid {
+    Grid::ferrier(10, 5, 14)
+}
+
+/// Random points per channel and open mode in the comparison with the Rust API (Miri runs
+/// them a thousandfold slower).
+const ROUNDS: usize = if cfg!(miri) { 3 } else { 300 };
 
 /// skin1 (η 1.3) and coke (η 1.33; its blue channel has σs = 0, so ρ′ = 0) in a file.
 fn baked(dir: &std::path::Path) -> CString {
-    let named = materials::Library::builtin();
-    let (skin, coke) = (named.get("skin1").unwrap(), named.get("coke").unwrap());
-    let path = dir.join("scene.bssrdf");
-    Library::bake(&[skin, coke], &Grid::ferrier(10, 5, 14))
-        .unwrap()
-        .write(&path)
-        .unwrap();
+    let path = crate::fixture::scene(dir, &grid());
     CString::new(path.to_str().unwrap()).unwrap()
 }
 
@@ -352,13 +353,7 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
 #[test]
 fn path_sampling_without_the_theta_table_is_no_sample() {
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("no-theta.bssrdf");
-    let (table, _) = bake(1.3, Moments::Exact, &Grid::ferrier(6, 4, 10), false).unwrap();
-    let mut builder = LibraryBuilder::new();
-    builder.add_table(table.to_table_data()).unwrap();
-    builder
-        .write_atomic(&path, format::Compression::None)
-        .unwrap();
+    let path = crate::fixture::without_theta_sampling(dir.path(), &grid());
     let library = open(&CString::new(path.to_str().unwrap()).unwrap(), 0);
     let mut ch = null_mut();
     let mut out = NO_PATH;
@@ -443,7 +438,7 @@ fn c_values_equal_the_rust_api_bit_for_bit_and_channels_outlive_the_library() {
                 (info.eta, info.table),
                 (lookup.table().eta(), lookup.table().index())
             );
-            for _ in 0..300 {
+            for _ in 0..ROUNDS {
                 let theta = 1.05 * std::f64::consts::FRAC_PI_2 * rng.next_f64();
                 let r = 4.0 / lookup.sigma_t_prime() * rng.next_f64();
                 let phi = 7.0 * rng.next_f64() - 3.5;

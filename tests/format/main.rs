@@ -6,6 +6,7 @@ mod common;
 mod c_reader;
 mod conformance;
 mod corruption;
+mod mapping;
 mod proptest;
 mod roundtrip;
 mod spec_example;

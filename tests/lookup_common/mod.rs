@@ -13,9 +13,10 @@
 #![allow(dead_code, unsafe_code)]
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::ffi::CString;
 
 use bssrdf_zoo::capi::*;
-use bssrdf_zoo::embed::{ChannelLookup, TableLookup};
+use bssrdf_zoo::embed::{ChannelLookup, Library, TableLookup};
 use bssrdf_zoo::format::{Compression, LibraryBuilder};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::models::Model;
@@ -50,13 +51,35 @@ pub fn tables(full: AngularTable) -> Vec<(&'static str, AngularTable)> {
     ]
 }
 
-/// A library file (uncompressed bytes) holding `tables` in order, without materials.
-pub fn library_bytes(tables: &[(&str, AngularTable)]) -> Vec<u8> {
+/// The tables of [`tables`]`(full)` in one library file (no materials) in a scratch folder,
+/// opened mapped by the Rust handles and by the C interface. Neither is ever closed: the
+/// fixtures live as long as the process.
+pub struct Opened {
+    pub rust: Library,
+    pub c: *const bssrdf_library,
+}
+
+// SAFETY: the C interface allows any number of threads to use a library handle at once, and
+// this one is never closed.
+unsafe impl Send for Opened {}
+// SAFETY: as above.
+unsafe impl Sync for Opened {}
+
+/// Writes and opens the file of [`Opened`].
+pub fn open_tables(full: AngularTable) -> Opened {
     let mut builder = LibraryBuilder::new();
-    for (_, table) in tables {
+    for (_, table) in tables(full) {
         builder.add_table(table.to_table_data()).unwrap();
     }
-    builder.to_bytes(Compression::None).unwrap()
+    let path = tempfile::tempdir().unwrap().keep().join("tables.bssrdf");
+    std::fs::write(&path, builder.to_bytes(Compression::None).unwrap()).unwrap();
+    let rust = Library::open_mmap(&path).unwrap();
+    let c_path = CString::new(path.to_str().unwrap()).unwrap();
+    let mut c = std::ptr::null_mut();
+    // SAFETY: a valid string and output.
+    let status = unsafe { bssrdf_library_open(c_path.as_ptr(), BSSRDF_OPEN_MAP, &mut c) };
+    assert_eq!(status, BSSRDF_OK);
+    Opened { rust, c }
 }
 
 /// Values no renderer should send, and some it will.
@@ -183,13 +206,27 @@ pub fn rel(a: f64, b: f64) -> f64 {
 /// again from the point and evaluates the spline by another formula. Both round alike almost
 /// everywhere (differences of 1e-13 and less), but where the density nears a zero (the tail of
 /// the radial support, θ beyond the critical angle) the spline's value is a small difference
-/// of its terms, and 1e-8 … 1e-7 appear (7e-8 the largest of 800,000 draws at arbitrary
-/// inputs). An importance weight is off by as much, at points that are almost never drawn.
+/// of its terms: 1e-8 … 1e-7 appear (7e-8 the largest of 800,000 draws at arbitrary inputs),
+/// and more where the density itself is negligible (see [`DENSITY_FLOOR`]).
 pub const PDF_TOLERANCE: f64 = 1e-6;
 
-/// Whether `drawn`, the density a sampler returned with the point (a, b), is `pdf(a, b)`.
-pub fn density_matches(drawn: f64, pdf: impl Fn(f64, f64) -> f64, a: f64, b: f64) -> bool {
-    rel(drawn, pdf(a, b)) <= PDF_TOLERANCE
+/// Densities, in units of the lookup's unit density (1 per reduced mfp², per radian; σ′t² per
+/// mm²), below which a draw's may differ from `pdf`'s by this much absolutely: far in the
+/// radial tail (r ≈ 600 mfp, densities of 1e-27) the cancellation leaves 1e-3 of relative
+/// difference. Such points hold no probability a renderer would ever draw.
+pub const DENSITY_FLOOR: f64 = 1e-20;
+
+/// Whether `drawn`, the density a sampler returned with the point (a, b), is `pdf(a, b)`:
+/// within [`PDF_TOLERANCE`] relatively or [`DENSITY_FLOOR`] times `unit` absolutely.
+pub fn density_matches(
+    drawn: f64,
+    pdf: impl Fn(f64, f64) -> f64,
+    a: f64,
+    b: f64,
+    unit: f64,
+) -> bool {
+    let at = pdf(a, b);
+    rel(drawn, at) <= PDF_TOLERANCE || (drawn - at).abs() <= DENSITY_FLOOR * unit
 }
 
 fn density(what: &str, value: f64, x: &Inputs) {
@@ -238,7 +275,7 @@ pub fn check_view(view: &TableRef, x: &Inputs) -> usize {
         density("sample pdf", s.pdf_area, x);
         let pdf = |r, phi| view.pdf(rho, theta, r, phi);
         assert!(
-            density_matches(s.pdf_area, pdf, s.r, s.phi),
+            density_matches(s.pdf_area, pdf, s.r, s.phi, 1.0),
             "sample {s:?} has pdf {} at {x:?}",
             pdf(s.r, s.phi)
         );
@@ -278,14 +315,14 @@ pub fn check_view(view: &TableRef, x: &Inputs) -> usize {
         density("path pdf_theta", p.pdf_theta, x);
         let pdf_theta = |theta, _| view.pdf_theta(rho, theta);
         assert!(
-            density_matches(p.pdf_theta, pdf_theta, p.theta, 0.0),
+            density_matches(p.pdf_theta, pdf_theta, p.theta, 0.0, 1.0),
             "path {p:?}: pdf_theta {} at {x:?}",
             pdf_theta(p.theta, 0.0)
         );
         // The density of (r, φ) given θ: the joint one over θ's (and φ′'s).
         let given = |r, phi| view.pdf(rho, p.theta, r, phi);
         assert!(
-            density_matches(p.pdf / p.pdf_theta * TAU, given, p.r, p.phi),
+            density_matches(p.pdf / p.pdf_theta * TAU, given, p.r, p.phi, 1.0),
             "path {p:?}: pdf given theta {} at {x:?}",
             given(p.r, p.phi)
         );
@@ -328,7 +365,7 @@ pub fn check_channel(table: &TableLookup, x: &Inputs) -> Option<ChannelLookup> {
         density("channel sample pdf", s.pdf, x);
         let pdf = |r, phi| channel.pdf(theta, r, phi);
         assert!(
-            density_matches(s.pdf, pdf, s.r, s.phi),
+            density_matches(s.pdf, pdf, s.r, s.phi, sigma_t * sigma_t),
             "channel sample {s:?} has pdf {} at {x:?}",
             pdf(s.r, s.phi)
         );
@@ -342,12 +379,18 @@ pub fn check_channel(table: &TableLookup, x: &Inputs) -> Option<ChannelLookup> {
         density("channel path pdf", p.pdf, x);
         let pdf_theta = |theta, _| channel.pdf_theta(theta);
         assert!(
-            density_matches(p.pdf_theta, pdf_theta, p.theta, 0.0),
+            density_matches(p.pdf_theta, pdf_theta, p.theta, 0.0, 1.0),
             "{p:?} at {x:?}"
         );
         let given = |r, phi| channel.pdf(p.theta, r, phi);
         assert!(
-            density_matches(p.pdf / p.pdf_theta * TAU, given, p.r, p.phi),
+            density_matches(
+                p.pdf / p.pdf_theta * TAU,
+                given,
+                p.r,
+                p.phi,
+                sigma_t * sigma_t
+            ),
             "channel path {p:?}: pdf given theta {} at {x:?}",
             given(p.r, p.phi)
         );
@@ -472,7 +515,7 @@ pub fn check_model(model: &dyn Model, x: &Inputs, infinite_ok: bool) {
         density(&format!("{kind} sample pdf"), s.pdf, x);
         let pdf = |r, phi| model.pdf(theta, r, phi);
         assert!(
-            density_matches(s.pdf, pdf, s.r, s.phi),
+            density_matches(s.pdf, pdf, s.r, s.phi, 1.0),
             "{kind} sample {s:?} has pdf {} at {x:?}",
             pdf(s.r, s.phi)
         );
