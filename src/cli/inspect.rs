@@ -7,6 +7,7 @@ use super::CliError;
 use bssrdf_zoo::format::spec::required_features;
 use bssrdf_zoo::format::{AxisKind, Codec, FresnelMoments, SectionKind, KEY_ACCURACY};
 use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::table::TableCheck;
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
@@ -227,16 +228,16 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
 /// for anything else (files of earlier versions stored other figures there; those print as
 /// JSON).
 fn check_lines(accuracy: &serde_json::Value) -> Option<Vec<String>> {
+    let tables: Vec<TableCheck> = serde_json::from_value(accuracy.get("tables")?.clone()).ok()?;
     let mut lines = Vec::new();
-    for table in accuracy.get("tables")?.as_array()? {
-        let eta = table.get("eta")?.as_f64()?;
-        let bounds = table.get("bounds")?;
-        let mean_bound = bounds.get("mean_rel_error")?.as_f64()?;
-        let coverage_bound = bounds.get("coverage_rel_error")?.as_f64()?;
+    for table in &tables {
+        let bounds = &table.bounds;
         lines.push(format!(
-            "eta {eta}: bound mean {} %, coverage {} %",
-            100.0 * mean_bound,
-            100.0 * coverage_bound
+            "eta {}: bound mean {} %, coverage {} % down to {:e} of the peak",
+            table.eta,
+            100.0 * bounds.mean_rel_error,
+            100.0 * bounds.coverage_rel_error,
+            bounds.peak_fraction
         ));
         lines.push(format!(
             "  {:>11} {:>11} {:>6} {:>8} {:>8} {:>8} {:>8}  {:>5} {:>8} {:>5}",
@@ -251,34 +252,24 @@ fn check_lines(accuracy: &serde_json::Value) -> Option<Vec<String>> {
             "max %",
             "zeros"
         ));
-        for r in table.get("regions")?.as_array()? {
-            let f = |key: &str| r.get(key).and_then(serde_json::Value::as_f64);
-            let pair = |key: &str| -> Option<String> {
-                let v = r.get(key)?.as_array()?;
-                Some(format!("{}-{}", v.first()?.as_f64()?, v.get(1)?.as_f64()?))
-            };
-            let (mean, cover_max, zeros) = (
-                f("mean_rel_error")?,
-                f("coverage_max_rel_error")?,
-                f("silent_zeros")?,
-            );
-            let pass = f("points")? > 0.0
-                && mean <= mean_bound
-                && cover_max <= coverage_bound
-                && zeros == 0.0;
+        for r in &table.regions {
             lines.push(format!(
                 "  {:>11} {:>11} {:>6} {:>8.3} {:>8.3} {:>8.3} {:>8.4}  {:>5} {:>8.3} {:>5}  {}",
-                pair("rho")?,
-                pair("theta_deg")?,
-                f("points")?,
-                100.0 * mean,
-                100.0 * f("p99_rel_error")?,
-                100.0 * f("max_rel_error")?,
-                f("fraction_above_1pct")?,
-                f("coverage_points")?,
-                100.0 * cover_max,
-                zeros,
-                if pass { "ok" } else { "ABOVE BOUND" }
+                format!("{}-{}", r.rho[0], r.rho[1]),
+                format!("{}-{}", r.theta_deg[0], r.theta_deg[1]),
+                r.points,
+                100.0 * r.mean_rel_error,
+                100.0 * r.p99_rel_error,
+                100.0 * r.max_rel_error,
+                r.fraction_above_1pct,
+                r.coverage_points,
+                100.0 * r.coverage_max_rel_error,
+                r.silent_zeros,
+                if r.passes(bounds) {
+                    "ok"
+                } else {
+                    "ABOVE BOUND"
+                }
             ));
         }
     }

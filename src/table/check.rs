@@ -58,7 +58,7 @@ pub const PEAK_FRACTION: f64 = 1e-8;
 pub const CHECK_SEED: u64 = 1;
 
 /// What a table must meet to be written without `--accept-error`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CheckBounds {
     /// Largest mean relative error of any region's weighted points.
     pub mean_rel_error: f64,
@@ -86,7 +86,7 @@ pub const COARSE_BOUNDS: CheckBounds = CheckBounds {
 };
 
 /// One region's result.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RegionCheck {
     /// ρ′ band [lo, hi] (intersected with the table's albedos).
     pub rho: [f64; 2],
@@ -121,14 +121,14 @@ impl RegionCheck {
 }
 
 /// A table's check: its regions, against its bounds.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TableCheck {
     /// η of the table.
     pub eta: f64,
     /// Seed of the points.
     pub seed: u64,
     /// Truth: the PBD rule.
-    pub rule: &'static str,
+    pub rule: String,
     /// The bounds.
     pub bounds: CheckBounds,
     /// One entry per region the table covers.
@@ -237,7 +237,7 @@ pub fn check(
     Ok(TableCheck {
         eta: table.eta(),
         seed: CHECK_SEED,
-        rule: "fast",
+        rule: "fast".into(),
         bounds,
         regions: results?,
     })
