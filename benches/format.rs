@@ -30,6 +30,7 @@ fn default_table() -> TableData {
         gwc: (0..n).flat_map(gwc_node).collect(),
         cdf: (0..n).map(|i| (i % 64) as f32 / 63.0).collect(),
         theta_cdf: Some(rho.iter().flat_map(|&p| [p; 10]).collect()),
+        harmonics: None,
         rho,
         theta,
         r,

@@ -1,8 +1,9 @@
 //! The angular table: bake of the default grid, evaluate, sample, pdf and the path-tracing draw,
 //! with the perpendicular model (pbrt's assumption: θ = 0 slice, uniform φ) measured in the same
 //! run as the baseline, and the Catmull-Rom weights on each of the table's three axes (an
-//! evaluation computes one set per axis). Run: `cargo bench --bench table`, or
-//! `cargo bench --bench table -- axes` for the weights alone.
+//! evaluation computes one set per axis), and the same lookups on a two-lobe table (η = 1.2).
+//! Run: `cargo bench --bench table`, or `cargo bench --bench table -- axes` for the weights
+//! alone.
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::rng::SplitMix64;
@@ -26,6 +27,9 @@ fn bench(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("default_grid_eta1.33", |b| {
         b.iter(|| bake(1.33, Moments::Exact, black_box(&grid), true).unwrap())
+    });
+    group.bench_function("default_grid_eta1.2_two_lobes", |b| {
+        b.iter(|| bake(1.2, Moments::Exact, black_box(&grid), true).unwrap())
     });
     group.finish();
 
@@ -116,6 +120,45 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             let [rho, _, _, _] = points[next(points.len())];
             view.sample_path(black_box(rho), uniforms[next(uniforms.len())])
+        })
+    });
+    group.finish();
+
+    // A two-lobe table (η = 1.2, `table::Lobes`), with its own perpendicular baseline
+    let (two, _) = bake(1.2, Moments::Exact, &grid, true).unwrap();
+    let view = two.view();
+    let mut group = c.benchmark_group("two_lobes");
+    let mut i = 0usize;
+    let mut next = |n: usize| advance(&mut i, n);
+    group.bench_function("eval", |b| {
+        b.iter(|| {
+            let [rho, theta, r, phi] = points[next(points.len())];
+            view.eval(
+                black_box(rho),
+                black_box(theta),
+                black_box(r),
+                black_box(phi),
+            )
+        })
+    });
+    group.bench_function("eval_perpendicular_baseline", |b| {
+        b.iter(|| {
+            let [rho, _, r, _] = points[next(points.len())];
+            view.eval_perpendicular(black_box(rho), black_box(r))
+        })
+    });
+    group.bench_function("sample", |b| {
+        b.iter(|| {
+            let [rho, theta, _, _] = points[next(points.len())];
+            let u = uniforms[next(uniforms.len())];
+            view.sample(black_box(rho), black_box(theta), u[0], u[1])
+        })
+    });
+    group.bench_function("sample_perpendicular_baseline", |b| {
+        b.iter(|| {
+            let [rho, _, _, _] = points[next(points.len())];
+            let u = uniforms[next(uniforms.len())];
+            view.sample_perpendicular(black_box(rho), u[0], u[1])
         })
     });
     group.finish();

@@ -38,6 +38,9 @@
 //! three-anchor fit below keeps the report's α ≥ 0; the minimax refinement reaches signed
 //! floors, and tables store them (format 1.1, required feature `signed-floor`).
 //!
+//! Near index matching one lobe is not enough at grazing incidence; [`TwoLobe`] adds a second
+//! (`gwc/two_lobe.rs`), which tables below η = 1.33 store by default.
+//!
 //! # Wrapped Cauchy density and distribution
 //!
 //! With h = |φ|/2, 1 + c² − 2c·cos φ = (1 − c)² + 4c·sin²h = (1 + c)² − 4c·cos²h; the first form
@@ -161,9 +164,11 @@
 mod minimax;
 mod sample;
 mod trig;
+mod two_lobe;
 
 pub use minimax::{refine_minimax, MinimaxFit, MINIMAX_MAX_SAMPLES};
 pub(crate) use sample::{uniform_azimuth, unit_interval};
+pub use two_lobe::{fit as fit_two_lobes, one_lobe_of, TwoLobe, C_MAX_TWO_LOBES};
 
 use std::f64::consts::{PI, TAU};
 

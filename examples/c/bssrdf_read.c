@@ -14,7 +14,8 @@
  * zstd) is rejected as unsupported, as the spec allows. Required feature bit 1
  * (signed-floor, format 1.1: gwc-params nodes with E_beta > E) is implemented: it changes
  * how the values are interpreted, not how they are stored, and this reader prints the
- * stored values. It does not check the values themselves (finite, node rules of
+ * stored values. So does required feature bit 2 (harmonics, format 1.2: a gwc-harmonics
+ * section, kind 0x23, makes a table's profile two lobes). It does not check the values themselves (finite, node rules of
  * section 10). Files of any minor of major 1 are read, as section 4 requires of a reader
  * that implements every required bit the file sets.
  *
@@ -39,8 +40,9 @@
 #define DTYPE_F32 2u
 #define CODEC_NONE 0u
 #define NO_TABLE 0xFFFFFFFFu
-/* Required feature bits this reader implements (section 4): bit 1, signed-floor. */
-#define KNOWN_REQUIRED 0x2u
+/* Required feature bits this reader implements (section 4): bit 1, signed-floor, and
+ * bit 2, harmonics (it prints stored values, whose storage neither bit changes). */
+#define KNOWN_REQUIRED 0x6u
 
 static const unsigned char MAGIC[12] = {0x89, 'B', 'S', 'S', 'R', 'D',
                                         'F',  '\r', '\n', 0x1A, '\n', 0x00};

@@ -9,7 +9,7 @@ use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::materials::{Library as MaterialLibrary, Material};
 use bssrdf_zoo::scene::artist::{self, EffectiveAlbedo};
 use bssrdf_zoo::scene::DEFAULT_ETA;
-use bssrdf_zoo::table::{self, bake_rows, AngularTable, Grid, GridPreset};
+use bssrdf_zoo::table::{self, bake_rows_lobes, AngularTable, Grid, GridPreset, Lobes};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Value};
@@ -27,6 +27,19 @@ pub enum GridArg {
     Default,
     /// 160 × 19 × 96.
     Fine,
+}
+
+/// `--lobes`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum LobesArg {
+    /// Two lobes below η = 1.33, one from there.
+    Auto,
+    /// One lobe (the report's model).
+    #[value(name = "1")]
+    One,
+    /// Two lobes.
+    #[value(name = "2")]
+    Two,
 }
 
 #[derive(Debug, Args)]
@@ -77,6 +90,11 @@ pub struct BakeArgs {
     /// Fresnel moments of the boundary.
     #[arg(long, value_enum, default_value = "exact")]
     fresnel_moments: MomentsArg,
+    /// Wrapped Cauchy lobes of the angular profile: 2 below η = 1.33, where one misses the
+    /// report's accuracy at grazing incidence, 1 from there (auto); 2 is 2.5–100 times more
+    /// accurate at grazing incidence and 1.5 times the size (docs/accuracy.md).
+    #[arg(long, value_enum, default_value = "auto")]
+    lobes: LobesArg,
     /// Leave out the θ-sampling table (only path tracers need it).
     #[arg(long)]
     no_theta_sampling: bool,
@@ -127,6 +145,8 @@ pub(super) struct Baker {
     preset: GridPreset,
     pub moments: Moments,
     threads: Option<usize>,
+    /// `--lobes`: `None` chooses by η ([`table::Lobes::for_eta`]).
+    lobes: Option<Lobes>,
     bar: ProgressBar,
     compression: Compression,
     record_bake_time: bool,
@@ -159,6 +179,11 @@ impl Baker {
             preset,
             moments: args.fresnel_moments.into(),
             threads: args.threads,
+            lobes: match args.lobes {
+                LobesArg::Auto => None,
+                LobesArg::One => Some(Lobes::One),
+                LobesArg::Two => Some(Lobes::Two),
+            },
             bar,
             compression: if args.compress {
                 Compression::Zstd {
@@ -171,6 +196,17 @@ impl Baker {
             seconds: 0.0,
             failures: Vec::new(),
         }
+    }
+
+    /// The lobes of the table this bake makes at η (`--lobes`, or by η).
+    pub fn lobes_at(&self, eta: f64) -> Lobes {
+        self.lobes.unwrap_or_else(|| Lobes::for_eta(eta))
+    }
+
+    /// The grid of the table this bake makes at η: the preset's for its lobes
+    /// ([`GridPreset::grid`]). Its albedo rows are always those of [`Baker::grid`].
+    pub fn grid_at(&self, eta: f64) -> Grid {
+        self.preset.grid(self.lobes_at(eta))
     }
 
     /// Announces `rows` more albedo rows to the progress bar.
@@ -188,9 +224,11 @@ impl Baker {
     ) -> Result<AngularTable, CliError> {
         let base = self.bar.position();
         self.bar.set_message(label);
-        let (grid, moments, bar) = (&self.grid, self.moments, &self.bar);
+        let grid = &self.grid_at(eta);
+        let (moments, bar) = (self.moments, &self.bar);
+        let lobes = self.lobes_at(eta);
         let (table, report) = super::with_threads(self.threads, || {
-            bake_rows(eta, moments, grid, rows, theta_sampling, &|k| {
+            bake_rows_lobes(eta, moments, grid, rows, theta_sampling, lobes, &|k| {
                 bar.set_position(base + k as u64)
             })
         })?
@@ -275,9 +313,11 @@ impl Baker {
         accuracy: Vec<Value>,
     ) -> Result<Provenance, CliError> {
         let grid = &self.grid;
+        let two = self.preset.grid(Lobes::Two);
         let mut settings = json!({
             "grid": format!("{:?}", self.preset).to_lowercase(),
             "dims": [grid.rho.len(), grid.theta.len(), grid.r.len()],
+            "two_lobe_dims": [two.rho.len(), two.theta.len(), two.r.len()],
             "fresnel_moments": self.moments.name(),
             "theta_sampling": theta_sampling,
             "anchors_cos_phi": bssrdf_zoo::gwc::ANCHOR_COS,
@@ -285,6 +325,15 @@ impl Baker {
                 "theta_min_deg": bssrdf_zoo::table::REFINE_THETA_MIN_DEG,
                 "extra_phi_deg": bssrdf_zoo::table::REFINE_PHI_DEG,
                 "also_where_the_fit_clamped": true,
+            },
+            "lobes": match self.lobes {
+                None => json!({"auto": {"two_below_eta": bssrdf_zoo::table::TWO_LOBES_BELOW_ETA}}),
+                Some(Lobes::One) => json!(1),
+                Some(Lobes::Two) => json!(2),
+            },
+            "two_lobe_fit": {
+                "azimuths_deg": bssrdf_zoo::table::two_lobe_azimuths().map(f64::to_degrees),
+                "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
             },
         });
         if let (Some(scene), Some(map)) = (scene, settings.as_object_mut()) {

@@ -7,6 +7,7 @@ use super::bake::{format_error, table_summary, BakeArgs, Baker, Summary};
 use super::CliError;
 use bssrdf_zoo::format::{Compression, LibraryBuilder, ModelKind, Provenance, TableData};
 use bssrdf_zoo::scene::{Integrator, Scene};
+use bssrdf_zoo::table::{Lobes, HARMONICS_PER_NODE};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -103,8 +104,6 @@ fn full_library_bytes(
     baker: &Baker,
     provenance: Provenance,
 ) -> Result<u64, CliError> {
-    let grid = &baker.grid;
-    let (n_rho, n_theta, n_r) = (grid.rho.len(), grid.theta.len(), grid.r.len());
     let mut etas: Vec<f64> = scene
         .materials()
         .iter()
@@ -115,6 +114,8 @@ fn full_library_bytes(
     let axis = |v: &[f64]| v.iter().map(|&x| x as f32).collect::<Vec<f32>>();
     let mut builder = LibraryBuilder::new();
     for &eta in &etas {
+        let grid = &baker.grid_at(eta);
+        let (n_rho, n_theta, n_r) = (grid.rho.len(), grid.theta.len(), grid.r.len());
         builder
             .add_table(TableData {
                 model: ModelKind::PbdAngular,
@@ -126,6 +127,8 @@ fn full_library_bytes(
                 gwc: vec![0.0; n_rho * n_theta * n_r * 3],
                 cdf: vec![0.0; n_rho * n_theta * n_r],
                 theta_cdf: Some(vec![0.0; n_rho * n_theta]),
+                harmonics: (baker.lobes_at(eta) == Lobes::Two)
+                    .then(|| vec![0.0; n_rho * n_theta * n_r * HARMONICS_PER_NODE]),
             })
             .map_err(format_error)?;
     }

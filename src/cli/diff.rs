@@ -227,6 +227,8 @@ fn compare_tables(
         json!(ta.theta_cdf().is_some()),
         json!(tb.theta_cdf().is_some()),
     );
+    let lobes = |t: &bssrdf_zoo::format::Table| if t.harmonics().is_some() { 2 } else { 1 };
+    differ("lobes", json!(lobes(ta)), json!(lobes(tb)));
     let axes = [AxisKind::Rho, AxisKind::Theta, AxisKind::R];
     let [ci, cj, ck] = axes.map(|k| common(ta.axis(k), tb.axis(k)));
     let [_, nta, nra] = ta.dims();
@@ -239,6 +241,10 @@ fn compare_tables(
         SectionStats::new("radial-cdf"),
     ];
     let mut theta_cdf = SectionStats::new("theta-cdf");
+    let mut harmonics = [
+        SectionStats::new("gwc-harmonics r*mu3"),
+        SectionStats::new("gwc-harmonics r*mu4"),
+    ];
     let (ga, gb) = (ta.gwc_params(), tb.gwc_params());
     let (ra, rb) = (ta.radial_cdf(), tb.radial_cdf());
     for &(ia, ib) in &ci {
@@ -264,6 +270,13 @@ fn compare_tables(
                 if let (Some(&x), Some(&y)) = (ra.get(na), rb.get(nb)) {
                     sections[3].add(x, y, at, tol);
                 }
+                if let (Some(ha), Some(hb)) = (ta.harmonics(), tb.harmonics()) {
+                    for (p, stats) in harmonics.iter_mut().enumerate() {
+                        if let (Some(&x), Some(&y)) = (ha.get(2 * na + p), hb.get(2 * nb + p)) {
+                            stats.add(x, y, at, tol);
+                        }
+                    }
+                }
             }
             if let (Some(a), Some(b)) = (ta.theta_cdf(), tb.theta_cdf()) {
                 if let (Some(&x), Some(&y)) = (a.get(ia * nta + ja), b.get(ib * ntb + jb)) {
@@ -282,6 +295,7 @@ fn compare_tables(
     if theta_cdf.count > 0 {
         all.push(&theta_cdf);
     }
+    all.extend(harmonics.iter().filter(|s| s.count > 0));
     let outside: usize = all.iter().map(|s| s.outside).sum();
     json!({
         "a": ta.index(), "b": tb.index(), "eta": ta.eta(),

@@ -86,6 +86,7 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
                 "fresnel_moments": fresnel_name(t.fresnel()), "dims": t.dims(),
                 "rho": t.axis(AxisKind::Rho), "theta": t.axis(AxisKind::Theta), "r": t.axis(AxisKind::R),
                 "theta_sampling": t.theta_cdf().is_some(),
+                "lobes": if t.harmonics().is_some() { 2 } else { 1 },
             }))
             .collect();
         let materials: Vec<_> = library
@@ -157,12 +158,13 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     for t in library.tables() {
         writeln!(
             out,
-            "  [{}] {} eta {} moments {} dims {:?} theta-sampling {}",
+            "  [{}] {} eta {} moments {} dims {:?} lobes {} theta-sampling {}",
             t.index(),
             t.model().name(),
             t.eta(),
             fresnel_name(t.fresnel()),
             t.dims(),
+            if t.harmonics().is_some() { 2 } else { 1 },
             if t.theta_cdf().is_some() { "yes" } else { "no" }
         )?;
         writeln!(out, "      rho:   {}", axis_summary(t.axis(AxisKind::Rho)))?;

@@ -31,6 +31,8 @@ struct Prepared {
     params: usize,
     radial_cdf: usize,
     theta_cdf: Option<usize>,
+    /// Position of the harmonics section of a two-lobe table.
+    harmonics: Option<usize>,
 }
 
 /// An opened library file, every table validated and prepared for lookups.
@@ -136,6 +138,7 @@ impl Library {
                 params: position(SectionKind::GwcParams).ok_or_else(unlocated)?,
                 radial_cdf: position(SectionKind::RadialCdf).ok_or_else(unlocated)?,
                 theta_cdf: position(SectionKind::ThetaCdf),
+                harmonics: position(SectionKind::Harmonics),
             };
             // The arrays found by position must be the very ones `TableRef::new` just checked.
             let same =
@@ -144,6 +147,11 @@ impl Library {
             let located = same(prepared.params, record.gwc_params())
                 && same(prepared.radial_cdf, record.radial_cdf())
                 && match (prepared.theta_cdf, record.theta_cdf()) {
+                    (Some(position), Some(checked)) => same(position, checked),
+                    (None, None) => true,
+                    _ => false,
+                }
+                && match (prepared.harmonics, view.harmonics()) {
                     (Some(position), Some(checked)) => same(position, checked),
                     (None, None) => true,
                     _ => false,
@@ -453,6 +461,7 @@ impl TableLookup {
             floats(file, p.radial_cdf),
             p.theta_cdf.filter(|_| theta_cdf).map(|t| floats(file, t)),
         )
+        .prevalidated_harmonics(p.harmonics.map(|h| floats(file, h)))
     }
 
     /// A handle for a medium of reduced albedo ρ′ = σ′s/σ′t and reduced extinction σ′t (mm⁻¹)

@@ -89,6 +89,10 @@ pub enum FormatError {
         section: usize,
         feature: &'static str,
     },
+    /// A table has a `gwc-harmonics` section (two lobes) but the file does not set required
+    /// feature bit 2: a reader that ignored the section would read one lobe.
+    #[error("section {section}: gwc-harmonics (two lobes) in a file without required feature bit 2 (harmonics)")]
+    HarmonicsNotDeclared { section: usize },
     /// A directory entry's rank or dimensions are malformed.
     #[error("section {section}: ndim {ndim} with dims {dims:?} is malformed (ndim must be 1..=4, unused dims 0)")]
     BadShape {
@@ -407,6 +411,7 @@ impl FormatError {
             FormatError::UnknownDtype { .. } => "unknown-dtype",
             FormatError::UnknownCodec { .. } => "unknown-codec",
             FormatError::FeatureNotDeclared { .. } => "feature-not-declared",
+            FormatError::HarmonicsNotDeclared { .. } => "harmonics-not-declared",
             FormatError::BadShape { .. } => "bad-shape",
             FormatError::SectionTooLarge { .. } => "section-too-large",
             FormatError::RawLengthMismatch { .. } => "raw-length-mismatch",

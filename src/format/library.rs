@@ -229,6 +229,11 @@ impl<'a> Table<'a> {
         self.section(SectionKind::ThetaCdf)
     }
 
+    /// The third and fourth harmonics times r, `[nρ][nθ][nr][2]`, if the table has two lobes.
+    pub fn harmonics(&self) -> Option<&'a [f32]> {
+        self.section(SectionKind::Harmonics)
+    }
+
     /// Decoded bytes of this table's section with kind code `kind` (including extension kinds
     /// this reader does not know), if present.
     pub fn raw_section(&self, kind: u32) -> Option<&'a [u8]> {

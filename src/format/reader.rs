@@ -516,6 +516,11 @@ fn parse_entry(
             feature: "zstd codec (required feature bit 0)",
         });
     }
+    if raw.kind.get() == SectionKind::Harmonics.code()
+        && header.required_features.get() & required_features::HARMONICS == 0
+    {
+        return Err(FormatError::HarmonicsNotDeclared { section: i });
+    }
     let ndim = raw.ndim.get();
     let all_dims = raw.dims.map(|d| d.get());
     let shape_ok = (1..=4).contains(&ndim) && all_dims[ndim as usize..].iter().all(|&d| d == 0);

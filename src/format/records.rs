@@ -326,6 +326,7 @@ impl TableHeader {
             SectionKind::GwcParams => vec![a, t, r, 3],
             SectionKind::RadialCdf => vec![a, t, r],
             SectionKind::ThetaCdf => vec![a, t],
+            SectionKind::Harmonics => vec![a, t, r, 2],
             SectionKind::Tables | SectionKind::Materials | SectionKind::Provenance => return None,
         })
     }

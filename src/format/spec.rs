@@ -13,8 +13,9 @@ pub const MAGIC: [u8; 12] = *b"\x89BSSRDF\r\n\x1a\n\0";
 /// The major version this crate reads and writes. Readers reject any other major.
 pub const VERSION_MAJOR: u16 = 1;
 /// The minor version this crate writes; it reads every minor of its major. Minor 1 added the
-/// required feature bit 1, [`required_features::SIGNED_FLOOR`].
-pub const VERSION_MINOR: u16 = 1;
+/// required feature bit 1, [`required_features::SIGNED_FLOOR`]; minor 2 the section
+/// [`SectionKind::Harmonics`] with required feature bit 2, [`required_features::HARMONICS`].
+pub const VERSION_MINOR: u16 = 2;
 /// Written as a little-endian u32 at byte 16; a byte-swapped file shows `0x0D0C0B0A`.
 pub const BYTE_ORDER_MARK: u32 = 0x0A0B_0C0D;
 
@@ -79,13 +80,17 @@ pub mod required_features {
     /// At least one `gwc-params` node has E_β > E: a negative floor α = (E − E_β)/(2πr) under
     /// its lobe (format 1.1). Readers that clamp E_β to E would misread such a file.
     pub const SIGNED_FLOOR: u64 = 1 << 1;
+    /// At least one table has a `gwc-harmonics` section: its profile is two lobes rebuilt from
+    /// four harmonics (format 1.2). Readers that ignore the section would read one lobe.
+    pub const HARMONICS: u64 = 1 << 2;
     /// Every required feature this reader understands.
-    pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR;
+    pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR | HARMONICS;
     /// Name of a required feature bit, for messages.
     pub fn name(bit: u32) -> &'static str {
         match bit {
             0 => "zstd-sections",
             1 => "signed-floor",
+            2 => "harmonics",
             _ => "unknown",
         }
     }
@@ -130,11 +135,14 @@ pub enum SectionKind {
     RadialCdf = 0x21,
     /// CDF over θ of the effective albedo ρ_eff(ρ′, θ), `f32 [nρ][nθ]` (optional: path tracing).
     ThetaCdf = 0x22,
+    /// The third and fourth harmonics of the profile times r, (rμ₃, rμ₄), `f32 [nρ][nθ][nr][2]`
+    /// (format 1.2, two-lobe tables; required feature bit 2).
+    Harmonics = 0x23,
 }
 
 impl SectionKind {
-    /// Every kind version 1.0 defines, in code order.
-    pub const ALL: [SectionKind; 9] = [
+    /// Every kind versions 1.0 to 1.2 define, in code order.
+    pub const ALL: [SectionKind; 10] = [
         SectionKind::Tables,
         SectionKind::Materials,
         SectionKind::Provenance,
@@ -144,6 +152,7 @@ impl SectionKind {
         SectionKind::GwcParams,
         SectionKind::RadialCdf,
         SectionKind::ThetaCdf,
+        SectionKind::Harmonics,
     ];
 
     /// The kind's code in a directory entry.
@@ -151,7 +160,7 @@ impl SectionKind {
         self as u32
     }
 
-    /// The kind with this code, if version 1.0 defines one.
+    /// The kind with this code, if versions 1.0 to 1.2 define one.
     pub fn from_code(code: u32) -> Option<SectionKind> {
         SectionKind::ALL.into_iter().find(|k| k.code() == code)
     }
@@ -168,6 +177,7 @@ impl SectionKind {
             SectionKind::GwcParams => "gwc-params",
             SectionKind::RadialCdf => "radial-cdf",
             SectionKind::ThetaCdf => "theta-cdf",
+            SectionKind::Harmonics => "gwc-harmonics",
         }
     }
 

@@ -63,6 +63,9 @@ pub struct TableData {
     pub cdf: Vec<f32>,
     /// CDF over θ of the effective albedo, `[nρ][nθ]`, if wanted (path tracing samples θ with it).
     pub theta_cdf: Option<Vec<f32>>,
+    /// For a two-lobe table, the profile's third and fourth harmonics times r, (rμ₃, rμ₄),
+    /// `[nρ][nθ][nr][2]` (format-spec.md §10); the file then needs format 1.2's `harmonics` bit.
+    pub harmonics: Option<Vec<f32>>,
 }
 
 /// A section of a kind this version does not define, for extensions and tests.
@@ -195,6 +198,9 @@ impl LibraryBuilder {
         put(SectionKind::RadialCdf, &table.cdf)?;
         if let Some(albedo) = &table.theta_cdf {
             put(SectionKind::ThetaCdf, albedo)?;
+        }
+        if let Some(harmonics) = &table.harmonics {
+            put(SectionKind::Harmonics, harmonics)?;
         }
         self.tables.push((header, sections));
         Ok(index)
@@ -376,8 +382,16 @@ impl LibraryBuilder {
                 .get(&SectionKind::GwcParams.code())
                 .is_some_and(|p| has_signed_floor_bytes(&p.bytes))
         });
+        let harmonics = self
+            .tables
+            .iter()
+            .any(|(_, table_sections)| table_sections.contains_key(&SectionKind::Harmonics.code()));
         let required = if signed_floor {
             required_features::SIGNED_FLOOR
+        } else {
+            0
+        } | if harmonics {
+            required_features::HARMONICS
         } else {
             0
         };

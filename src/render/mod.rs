@@ -83,7 +83,7 @@ use crate::fresnel::Moments;
 use crate::materials::{Material, Rgb};
 use crate::pbd::Pbd;
 use crate::rng::mix64;
-use crate::table::{bake, AngularTable, Grid, GridPreset};
+use crate::table::{bake, AngularTable, GridPreset};
 use crate::walk::ExitWalk;
 use rayon::prelude::*;
 use source::Source;
@@ -349,7 +349,10 @@ impl Renderer {
         let moments = Moments::Exact;
         let table = match config.model {
             Model::Mc => None,
-            _ => Some(bake(eta, moments, &Grid::preset(config.grid), false)?.0),
+            _ => {
+                let grid = config.grid.grid(crate::table::Lobes::for_eta(eta));
+                Some(bake(eta, moments, &grid, false)?.0)
+            }
         };
         let (mut pbd, mut pbd_expected) = (None, None);
         if config.model == Model::Pbd {

@@ -7,7 +7,7 @@ fn coarse_table() -> AngularTable {
     bake(
         1.33,
         Moments::Exact,
-        &Grid::preset(GridPreset::Coarse),
+        &crate::table::Grid::preset(GridPreset::Coarse),
         false,
     )
     .unwrap()

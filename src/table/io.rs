@@ -38,6 +38,7 @@ impl AngularTable {
             gwc: self.params.clone(),
             cdf: self.radial_cdf.clone(),
             theta_cdf: self.theta_cdf.clone(),
+            harmonics: self.harmonics.clone(),
         }
     }
 }
@@ -79,14 +80,18 @@ impl<'a> FileTable<'a> {
 
     /// The lookup view (cheap: borrows the file's arrays).
     pub fn view(&self) -> Result<TableRef<'_>, TableError> {
-        TableRef::new(
+        let view = TableRef::new(
             self.table.eta(),
             self.moments,
             &self.axes,
             self.table.gwc_params(),
             self.table.radial_cdf(),
             self.table.theta_cdf(),
-        )
+        )?;
+        match self.table.harmonics() {
+            Some(harmonics) => view.with_harmonics(harmonics),
+            None => Ok(view),
+        }
     }
 
     /// The format's record of this table.
@@ -102,13 +107,17 @@ impl<'a> FileTable<'a> {
     /// Copies the table into memory.
     pub fn to_owned_table(&self) -> Result<AngularTable, TableError> {
         let view = self.view()?;
-        AngularTable::from_parts(
+        let table = AngularTable::from_parts(
             view.eta(),
             self.moments,
             self.axes.clone(),
             self.table.gwc_params().to_vec(),
             self.table.radial_cdf().to_vec(),
             self.table.theta_cdf().map(<[f32]>::to_vec),
-        )
+        )?;
+        match self.table.harmonics() {
+            Some(harmonics) => table.with_harmonics(harmonics.to_vec()),
+            None => Ok(table),
+        }
     }
 }

@@ -12,9 +12,9 @@
 //! stored value comes back exactly.
 
 use super::albedo::AlbedoWeights;
-use super::{TableRef, PARAMS_PER_NODE};
+use super::{TableRef, HARMONICS_PER_NODE, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
-use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc};
+use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc, TwoLobe};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// One draw of (r, φ) for a given (ρ′, θ).
@@ -92,6 +92,37 @@ impl Blend {
 enum Lobe {
     Share(f64),
     Beta(f64),
+}
+
+/// The angular profile at one (ρ′, θ, r) as the samplers use it: one lobe, or two for tables
+/// with a second lobe.
+#[derive(Debug, Clone, Copy)]
+enum Profile {
+    One(Gwc),
+    Two(TwoLobe),
+}
+
+impl Profile {
+    fn sample_with_pdf(&self, u: f64) -> (f64, f64) {
+        match self {
+            Profile::One(g) => g.sample_with_pdf(u),
+            Profile::Two(g) => g.sample_with_pdf(u),
+        }
+    }
+
+    fn pdf(&self, phi: f64) -> f64 {
+        match self {
+            Profile::One(g) => g.pdf(phi),
+            Profile::Two(g) => g.pdf(phi),
+        }
+    }
+
+    fn cdf(&self, phi: f64) -> f64 {
+        match self {
+            Profile::One(g) => g.cdf(phi),
+            Profile::Two(g) => g.cdf(phi),
+        }
+    }
 }
 
 impl<'a> TableRef<'a> {
@@ -329,15 +360,146 @@ impl<'a> TableRef<'a> {
     /// the samplers: its normalised density in φ is the table's, its energy the plain spline
     /// of E (see [`TableRef::cell_from`]; the density does not depend on it).
     #[inline(always)]
-    fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Gwc {
+    fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Profile {
         let first = self.radial_window(w);
         // Through `black_box`: seen through, the interleaved reads of (E, E_β, c) below make the
         // compiler split the blend into half-empty vectors (measured 2× slower)
         let acc = std::hint::black_box(self.window_params(s, first));
-        match self.cell_from::<false>(acc, first, r_eval, w, s.blend) {
-            (_, Lobe::Share(share), c) => Gwc::normalised(share, c),
-            (e, Lobe::Beta(beta), c) => Gwc::from_table(e, beta, c, r_eval),
+        if let Some(second) = self.harmonics {
+            let window = self.harmonics_window(s, second, first);
+            return Profile::Two(
+                self.two_lobe_cell::<false>(acc, &window, first, r_eval, w, s.blend),
+            );
         }
+        Profile::One(
+            match self.cell_from::<false>(acc, first, r_eval, w, s.blend) {
+                (_, Lobe::Share(share), c) => Gwc::normalised(share, c),
+                (e, Lobe::Beta(beta), c) => Gwc::from_table(e, beta, c, r_eval),
+            },
+        )
+    }
+
+    /// The harmonics μ₁ … μ₄ of a two-lobe table, times r, at the four radius nodes
+    /// `first..first + 4`, blended over the slice in f64: Σ ω E_βc and Σ ω E_βc² from the first
+    /// array (its one lobe carries the first two harmonics, `table::bake`), Σ ω rμ₃ and
+    /// Σ ω rμ₄ from the second (ω the slice's weights). Harmonics are linear in the profile, so
+    /// their blend is the blend of the nodes' profiles' harmonics, however each node's fit
+    /// split its profile into lobes.
+    fn harmonics_window(&self, s: &Slice, second: &[f32], first: usize) -> [[f64; 4]; 4] {
+        let mut acc = [[0.0f64; 4]; 4];
+        let n = s.len.min(16);
+        let (_, _, n_r) = self.axes.dims();
+        for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights[..n]) {
+            let w = f64::from(w);
+            let mut add = |k: usize, p: &[f32], h: &[f32]| {
+                let (e_beta, c) = (f64::from(p[1]), f64::from(p[2]));
+                let wm = w * e_beta * c;
+                acc[k][0] += wm;
+                acc[k][1] += wm * c;
+                acc[k][2] += w * f64::from(h[0]);
+                acc[k][3] += w * f64::from(h[1]);
+            };
+            let node = offset as usize + first;
+            // The four nodes' values are contiguous in each array: one bounds check per array
+            let windows = (n_r >= 4)
+                .then(|| {
+                    let p = self.params.get(node * PARAMS_PER_NODE..)?;
+                    let h = second.get(node * HARMONICS_PER_NODE..)?;
+                    Some((
+                        p.first_chunk::<{ 4 * PARAMS_PER_NODE }>()?,
+                        h.first_chunk::<{ 4 * HARMONICS_PER_NODE }>()?,
+                    ))
+                })
+                .flatten();
+            match windows {
+                Some((p, h)) => {
+                    for k in 0..4 {
+                        add(
+                            k,
+                            &p[PARAMS_PER_NODE * k..PARAMS_PER_NODE * (k + 1)],
+                            &h[HARMONICS_PER_NODE * k..HARMONICS_PER_NODE * (k + 1)],
+                        );
+                    }
+                }
+                // Fewer than four radii: node by node (those past the axis weigh 0 later)
+                None => {
+                    for k in 0..4 {
+                        let at = node + k;
+                        if let (Some(p), Some(h)) = (
+                            self.params
+                                .get(at * PARAMS_PER_NODE..(at + 1) * PARAMS_PER_NODE),
+                            second.get(at * HARMONICS_PER_NODE..(at + 1) * HARMONICS_PER_NODE),
+                        ) {
+                            add(k, p, h);
+                        }
+                    }
+                }
+            }
+        }
+        acc
+    }
+
+    /// The two-lobe profile at `r_eval` from the first array's window `acc` (E, E_β, c blended
+    /// with the slice's weights) and [`TableRef::harmonics_window`]: E as
+    /// [`TableRef::cell_from`] gives it, the harmonics interpolated along r as the lobe's
+    /// energy is there (in the first two intervals μₙ = rμₙ/r on the straight line through
+    /// nodes 1 and 2; elsewhere their shares of E, the spline of the nodes' shares where all
+    /// four hold energy (`LOG_ENERGY`), else the ratio of the splines), and the profile of
+    /// [`TwoLobe::from_moments`]. With `LOG_ENERGY` false, the samplers' profile of E/r = 1.
+    fn two_lobe_cell<const LOG_ENERGY: bool>(
+        &self,
+        acc: [f32; 12],
+        window: &[[f64; 4]; 4],
+        first: usize,
+        r_eval: f64,
+        w: &Weights,
+        blend: Blend,
+    ) -> TwoLobe {
+        let (e_total, _, _) = self.cell_from::<LOG_ENERGY>(acc, first, r_eval, w, blend);
+        let e = |k: usize| f64::from(acc[PARAMS_PER_NODE * k]);
+        let r_nodes = self.axes.r().as_slice();
+        if w.segment() <= 1 && r_nodes[0] == 0.0 {
+            let node = |k: usize| window[k - first].map(|m| m / r_nodes[k]);
+            let a = node(1);
+            let (b, t) = match r_nodes.get(2) {
+                Some(&r2) => (node(2), (r_eval - r_nodes[1]) / (r2 - r_nodes[1])),
+                None => (a, 0.0),
+            };
+            let m = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
+            return TwoLobe::from_moments((e_total / r_eval).max(0.0), m);
+        }
+        let weights = node_weights(first, w);
+        let (mut e_lin, mut m_lin, mut node_share) = (0.0, [0.0; 4], [0.0; 4]);
+        let mut positive = true;
+        for (k, &wk) in weights.iter().enumerate() {
+            if wk == 0.0 {
+                continue;
+            }
+            e_lin += wk * e(k);
+            for n in 0..4 {
+                m_lin[n] += wk * window[k][n];
+                if e(k) > 0.0 {
+                    node_share[n] += wk * (window[k][n] / e(k));
+                }
+            }
+            positive &= e(k) > 0.0;
+        }
+        let e_per_r = if LOG_ENERGY {
+            (e_total / r_eval).max(0.0)
+        } else {
+            1.0
+        };
+        let m = std::array::from_fn(|n| {
+            let share = if LOG_ENERGY && positive {
+                node_share[n]
+            } else if e_lin > 0.0 {
+                m_lin[n] / e_lin
+            } else {
+                0.0
+            };
+            share * e_per_r
+        });
+        TwoLobe::from_moments(e_per_r, m)
     }
 
     /// The first of the four consecutive radius nodes, inside the axis, that hold the weights
@@ -378,14 +540,7 @@ impl<'a> TableRef<'a> {
         let segment = w.segment();
         let params: [[f64; 3]; 4] =
             std::array::from_fn(|k| std::array::from_fn(|j| f64::from(acc[3 * k + j])));
-        // Weight of window node first + k: entry first + k + 1 − segment of the four weights,
-        // whose entries for nodes −1 and n_r (dropped here) are 0.
-        let wa = w.as_array();
-        let weights = match (first + 1).checked_sub(segment) {
-            Some(0) => wa,
-            Some(_) => [wa[1], wa[2], wa[3], 0.0],
-            None => [0.0, wa[0], wa[1], wa[2]],
-        };
+        let weights = node_weights(first, w);
         let r_nodes = self.axes.r().as_slice();
         if segment <= 1 && r_nodes[0] == 0.0 {
             return self.first_intervals_cell(params, first, r_eval, blend);
@@ -520,8 +675,8 @@ impl<'a> TableRef<'a> {
         Some((r_eval, w))
     }
 
-    /// The GWC profile at (slice, r), `None` where [`TableRef::radius`] is.
-    fn profile_at(&self, s: &Slice, r: f64) -> Option<Gwc> {
+    /// The angular profile at (slice, r), `None` where [`TableRef::radius`] is.
+    fn profile_at(&self, s: &Slice, r: f64) -> Option<Profile> {
         let (r_eval, w) = self.radius(r)?;
         Some(self.profile(s, r_eval, &w))
     }
@@ -535,6 +690,9 @@ impl<'a> TableRef<'a> {
     /// radial support (r < 0, r beyond the last node, NaN r or φ) and beyond the critical angle
     /// (η < 1) the value is 0.
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
+        if let Some(second) = self.harmonics {
+            return self.eval_two_lobes(second, rho, theta, r, phi);
+        }
         let cell = self.cell_at_point(rho, theta, r)?;
         if !phi.is_finite() || !self.light_enters(theta) {
             return Some(0.0);
@@ -542,6 +700,33 @@ impl<'a> TableRef<'a> {
         Some(cell.map_or(0.0, |[e_per_r, beta, c]| {
             table_value(e_per_r, beta, c, wrap_phi(phi))
         }))
+    }
+
+    /// [`TableRef::eval`] of a table with a second lobe: the cell of [`TableRef::cell_from`]
+    /// and [`TableRef::harmonics_cell`] (logarithmic energies), as a [`TwoLobe`].
+    #[inline(never)]
+    fn eval_two_lobes(
+        &self,
+        second: &[f32],
+        rho: f64,
+        theta: f64,
+        r: f64,
+        phi: f64,
+    ) -> Option<f64> {
+        let value = self.with_slice(rho, theta, |s| {
+            let Some((r_eval, w)) = self.radius(r) else {
+                return 0.0;
+            };
+            let first = self.radial_window(&w);
+            let acc = self.window_params(s, first);
+            let window = self.harmonics_window(s, second, first);
+            self.two_lobe_cell::<true>(acc, &window, first, r_eval, &w, s.blend)
+                .eval(wrap_phi(phi))
+        })?;
+        if !phi.is_finite() || !self.light_enters(theta) {
+            return Some(0.0);
+        }
+        Some(value)
     }
 
     /// The profile at (ρ′, θ, r) as (E/r ≥ 0, β ∈ [0, lobe_cap(E/r, c)], c), the same profile as
@@ -760,6 +945,19 @@ impl<'a> TableRef<'a> {
             let g = self.profile_at(s, r)?;
             Some((u_r, g.cdf(wrap_phi(phi))))
         })?
+    }
+}
+
+/// The weights of the window nodes `first..first + 4` from the radius weights `w`: node
+/// first + k takes entry first + k + 1 − segment of the four, whose entries for nodes −1 and
+/// n_r (dropped here) are 0.
+#[inline(always)]
+fn node_weights(first: usize, w: &Weights) -> [f64; 4] {
+    let wa = w.as_array();
+    match (first + 1).checked_sub(w.segment()) {
+        Some(0) => wa,
+        Some(_) => [wa[1], wa[2], wa[3], 0.0],
+        None => [0.0, wa[0], wa[1], wa[2]],
     }
 }
 

@@ -16,7 +16,11 @@
 //! - **c**, the lobe concentration;
 //! - the radial CDF ∫₀^r E dr′ of the Catmull-Rom spline through the stored E (for sampling r),
 //!   whose last node is the effective albedo ρ_eff(ρ′, θ);
-//! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ).
+//! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ);
+//! - for a two-lobe table ([`Lobes::Two`], by default below η = 1.33), the profile's third and
+//!   fourth harmonics times r, r·μ₃ and r·μ₄, beside (E, E_β, c) of the one lobe with its first
+//!   two: lookups interpolate the four harmonics and rebuild two lobes from them
+//!   ([`crate::gwc::TwoLobe::from_moments`], `lookup.rs`; docs/accuracy.md).
 //!
 //! Evaluation (algorithm 1) interpolates (E, E_β, c) with tensor-product Catmull-Rom weights in
 //! (ρ′, θ, r), with slope 0 at θ = 90° where PBD's is and at the node before (80° on the
@@ -60,7 +64,8 @@ mod validate;
 
 pub(crate) use albedo::AlbedoAxis;
 pub use bake::{
-    bake, node_cell, BakeReport, Grid, GridPreset, NodeCell, REFINE_PHI_DEG, REFINE_THETA_MIN_DEG,
+    bake, bake_lobes, node_cell, two_lobe_azimuths, BakeReport, Grid, GridPreset, Lobes, NodeCell,
+    REFINE_PHI_DEG, REFINE_THETA_MIN_DEG, TWO_LOBES_BELOW_ETA,
 };
 pub use check::{
     check, CheckBounds, RegionCheck, TableCheck, BOUNDS as CHECK_BOUNDS, CHECK_SEED,
@@ -69,7 +74,9 @@ pub use check::{
 };
 pub use io::FileTable;
 pub use lookup::{reduced_to_mm, PathSample, Sample, World};
-pub use subset::{bake_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
+pub use subset::{
+    bake_rows, bake_rows_lobes, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError,
+};
 pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
 
 use crate::catmull_rom::{End, Nodes};
@@ -144,6 +151,7 @@ pub struct AngularTable {
     params: Vec<f32>,
     radial_cdf: Vec<f32>,
     theta_cdf: Option<Vec<f32>>,
+    harmonics: Option<Vec<f32>>,
 }
 
 /// A borrowed view of a table's arrays, as owned by [`AngularTable`] or mapped from a file.
@@ -156,7 +164,12 @@ pub struct TableRef<'a> {
     params: &'a [f32],
     radial_cdf: &'a [f32],
     theta_cdf: Option<&'a [f32]>,
+    /// (E_β₂, c₂) per node, `[nρ][nθ][nr][2]`, for tables with a second lobe.
+    harmonics: Option<&'a [f32]>,
 }
+
+/// Number of f32 values per node of the second lobe: E_β₂, c₂.
+pub const HARMONICS_PER_NODE: usize = 2;
 
 /// Why a table's arrays were rejected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -233,6 +246,35 @@ impl<'a> TableRef<'a> {
             params,
             radial_cdf,
             theta_cdf,
+            harmonics: None,
+        })
+    }
+
+    /// This view with a second lobe, (E_β₂, c₂) per node, `[nρ][nθ][nr][2]`: its length
+    /// checked against the axes and every value finite.
+    pub fn with_harmonics(self, harmonics: &'a [f32]) -> Result<Self, TableError> {
+        let (nrho, ntheta, nr) = self.axes.dims();
+        let expected = nrho * ntheta * nr * HARMONICS_PER_NODE;
+        if harmonics.len() != expected {
+            return Err(TableError::Length {
+                name: "harmonics",
+                len: harmonics.len(),
+                expected,
+                nrho,
+                ntheta,
+                nr,
+            });
+        }
+        if let Some(index) = harmonics.iter().position(|v| !v.is_finite()) {
+            return Err(TableError::NotFinite {
+                name: "harmonics",
+                index,
+                value: harmonics[index],
+            });
+        }
+        Ok(Self {
+            harmonics: Some(harmonics),
+            ..self
         })
     }
 
@@ -255,7 +297,14 @@ impl<'a> TableRef<'a> {
             params,
             radial_cdf,
             theta_cdf,
+            harmonics: None,
         }
+    }
+
+    /// [`TableRef::prevalidated`]'s view with a second lobe [`TableRef::with_harmonics`]
+    /// has already accepted with these axes.
+    pub(crate) fn prevalidated_harmonics(self, harmonics: Option<&'a [f32]>) -> Self {
+        Self { harmonics, ..self }
     }
 
     /// Relative index of refraction the table was baked for.
@@ -269,6 +318,10 @@ impl<'a> TableRef<'a> {
     /// Whether the θ-sampling table (path tracing) is present.
     pub fn has_theta_sampling(&self) -> bool {
         self.theta_cdf.is_some()
+    }
+    /// The second lobe (E_β₂, c₂) per node, if the table has one.
+    pub fn harmonics(&self) -> Option<&'a [f32]> {
+        self.harmonics
     }
 }
 
@@ -299,6 +352,16 @@ impl AngularTable {
             params,
             radial_cdf,
             theta_cdf,
+            harmonics: None,
+        })
+    }
+
+    /// This table with a second lobe (validated as in [`TableRef::with_harmonics`]).
+    pub fn with_harmonics(self, harmonics: Vec<f32>) -> Result<Self, TableError> {
+        self.view().with_harmonics(&harmonics)?;
+        Ok(Self {
+            harmonics: Some(harmonics),
+            ..self
         })
     }
 
@@ -311,6 +374,7 @@ impl AngularTable {
             params: &self.params,
             radial_cdf: &self.radial_cdf,
             theta_cdf: self.theta_cdf.as_deref(),
+            harmonics: self.harmonics.as_deref(),
         }
     }
     /// η.
@@ -337,10 +401,15 @@ impl AngularTable {
     pub fn theta_cdf(&self) -> Option<&[f32]> {
         self.theta_cdf.as_deref()
     }
+    /// (E_β₂, c₂) per node of the second lobe, `[nρ][nθ][nr][2]`, if the table has one.
+    pub fn harmonics(&self) -> Option<&[f32]> {
+        self.harmonics.as_deref()
+    }
     /// Size of the arrays in bytes.
     pub fn size_bytes(&self) -> usize {
         4 * (self.params.len()
             + self.radial_cdf.len()
-            + self.theta_cdf.as_ref().map_or(0, Vec::len))
+            + self.theta_cdf.as_ref().map_or(0, Vec::len)
+            + self.harmonics.as_ref().map_or(0, Vec::len))
     }
 }

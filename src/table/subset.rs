@@ -36,7 +36,10 @@
 //! kept, and the blocks give a progress callback.
 
 use super::albedo::FOLD_NODES;
-use super::{bake, AngularTable, Axes, BakeReport, Grid, TableError, PARAMS_PER_NODE};
+use super::{
+    bake_lobes, AngularTable, Axes, BakeReport, Grid, Lobes, TableError, HARMONICS_PER_NODE,
+    PARAMS_PER_NODE,
+};
 use crate::catmull_rom::Nodes;
 use crate::fresnel::Moments;
 use std::collections::BTreeMap;
@@ -219,26 +222,34 @@ impl AngularTable {
         let slice = |data: &[f32], per_row: usize| -> Vec<f32> {
             data[rows.start * per_row..rows.end * per_row].to_vec()
         };
-        Ok(AngularTable::from_parts(
+        let table = AngularTable::from_parts(
             self.eta(),
             self.moments(),
             axes,
             slice(self.params(), node * PARAMS_PER_NODE),
             slice(self.radial_cdf(), node),
             self.theta_cdf().map(|t| slice(t, n_theta)),
-        )?)
+        )?;
+        Ok(match self.harmonics() {
+            Some(h) => table.with_harmonics(slice(h, node * HARMONICS_PER_NODE))?,
+            None => table,
+        })
     }
 
     /// The same table without the θ-sampling CDF (for renderers that only particle-trace).
     pub fn without_theta_sampling(&self) -> Result<AngularTable, SubsetError> {
-        Ok(AngularTable::from_parts(
+        let table = AngularTable::from_parts(
             self.eta(),
             self.moments(),
             self.axes().clone(),
             self.params().to_vec(),
             self.radial_cdf().to_vec(),
             None,
-        )?)
+        )?;
+        Ok(match self.harmonics() {
+            Some(h) => table.with_harmonics(h.to_vec())?,
+            None => table,
+        })
     }
 
     /// Joins tables holding consecutive albedo rows of the same bake (same η, moments, θ and r
@@ -247,6 +258,7 @@ impl AngularTable {
         let first = parts.first().ok_or(SubsetError::Mismatch("no tables"))?;
         let mut rho: Vec<f64> = Vec::new();
         let (mut params, mut radial, mut theta) = (Vec::new(), Vec::new(), Vec::new());
+        let mut harmonics = Vec::new();
         for p in parts {
             if p.eta().to_bits() != first.eta().to_bits() || p.moments() != first.moments() {
                 return Err(SubsetError::Mismatch("eta or Fresnel moments"));
@@ -257,10 +269,14 @@ impl AngularTable {
             if p.theta_cdf().is_some() != first.theta_cdf().is_some() {
                 return Err(SubsetError::Mismatch("theta-sampling table"));
             }
+            if p.harmonics().is_some() != first.harmonics().is_some() {
+                return Err(SubsetError::Mismatch("number of lobes"));
+            }
             rho.extend_from_slice(p.axes().rho().as_slice());
             params.extend_from_slice(p.params());
             radial.extend_from_slice(p.radial_cdf());
             theta.extend_from_slice(p.theta_cdf().unwrap_or(&[]));
+            harmonics.extend_from_slice(p.harmonics().unwrap_or(&[]));
         }
         // Nodes::new rejects rows that do not increase across the parts.
         let axes = Axes::new(
@@ -269,14 +285,18 @@ impl AngularTable {
             first.axes().r().as_slice().to_vec(),
         )
         .map_err(|_| SubsetError::Mismatch("albedo rows must increase across the tables"))?;
-        Ok(AngularTable::from_parts(
+        let table = AngularTable::from_parts(
             first.eta(),
             first.moments(),
             axes,
             params,
             radial,
             first.theta_cdf().map(|_| theta),
-        )?)
+        )?;
+        Ok(match first.harmonics() {
+            Some(_) => table.with_harmonics(harmonics)?,
+            None => table,
+        })
     }
 }
 
@@ -290,6 +310,20 @@ pub fn bake_rows(
     grid: &Grid,
     rows: Range<usize>,
     theta_sampling: bool,
+    progress: &dyn Fn(usize),
+) -> Result<(AngularTable, BakeReport), SubsetError> {
+    let lobes = Lobes::for_eta(eta);
+    bake_rows_lobes(eta, moments, grid, rows, theta_sampling, lobes, progress)
+}
+
+/// [`bake_rows`] with the given lobes (as [`super::bake_lobes`]).
+pub fn bake_rows_lobes(
+    eta: f64,
+    moments: Moments,
+    grid: &Grid,
+    rows: Range<usize>,
+    theta_sampling: bool,
+    lobes: Lobes,
     progress: &dyn Fn(usize),
 ) -> Result<(AngularTable, BakeReport), SubsetError> {
     check_rows(&rows, grid.rho.len())?;
@@ -314,7 +348,8 @@ pub fn bake_rows(
     let mut refined = 0;
     let mut done = 0;
     for b in blocks {
-        let (table, report) = bake(eta, moments, &grid.rho_rows(b.clone())?, theta_sampling)?;
+        let block_grid = grid.rho_rows(b.clone())?;
+        let (table, report) = bake_lobes(eta, moments, &block_grid, theta_sampling, lobes)?;
         for (branch, count) in report.fit_branches {
             *fit_branches.entry(branch).or_insert(0) += count;
         }

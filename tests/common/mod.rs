@@ -53,6 +53,7 @@ pub fn synthetic_table(
         gwc,
         cdf,
         theta_cdf,
+        harmonics: None,
     }
 }
 
@@ -118,6 +119,7 @@ pub fn spec_example_builder() -> LibraryBuilder {
         gwc: vec![1.0, 2.0, 0.25, 0.5, 2.0, 0.125],
         cdf: vec![0.5, 1.0],
         theta_cdf: None,
+        harmonics: None,
     };
     let t = b.add_table(table).unwrap() as u32;
     b.add_material(Material {
@@ -238,6 +240,7 @@ pub mod kind {
     pub const GWC: u32 = 0x20;
     pub const CDF: u32 = 0x21;
     pub const ALBEDO: u32 = 0x22;
+    pub const HARMONICS: u32 = 0x23;
     pub const FILE: u32 = u32::MAX;
 }
 

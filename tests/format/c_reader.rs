@@ -112,6 +112,16 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
         let (code, _) = run(&exe, &data.join(format!("{file}.bssrdf")), 0, gwc, 0);
         assert_eq!(code, 0, "{file}");
     }
+    // Format 1.2 with required feature bit 2: the harmonics of a two-lobe table, read as the
+    // Rust reader reads them.
+    let two_lobes = data.join("valid/two-lobes.bssrdf");
+    let harmonics = SectionKind::Harmonics.code();
+    let library = Library::read(&two_lobes, Verify::Full).unwrap();
+    let expected = library.table(0).unwrap().harmonics().unwrap()[3];
+    let (code, stdout) = run(&exe, &two_lobes, 0, harmonics, 3);
+    assert_eq!(code, 0, "{stdout}");
+    let bits = stdout.split_whitespace().next().unwrap();
+    assert_eq!(u32::from_str_radix(bits, 16).unwrap(), expected.to_bits());
     for (file, why) in [
         ("invalid/bad-magic", "magic"),
         ("invalid/unsupported-major", "version"),

@@ -384,6 +384,36 @@ fn invalid_vectors() -> Vec<(&'static str, Raw)> {
     out
 }
 
+/// The tiny library with a `gwc-harmonics` section for its table (the harmonics of each
+/// node's one lobe, rμ₃ = E_β c³ and rμ₄ = E_β c⁴), declaring required feature bit 2 or not.
+fn two_lobes(declared: bool) -> Raw {
+    let mut secs = tiny().sections();
+    let gwc = secs.iter().find(|s| s.kind == kind::GWC).unwrap();
+    let values: Vec<f32> = gwc
+        .data
+        .chunks_exact(12)
+        .flat_map(|node| {
+            let f = |k: usize| f32::from_le_bytes(node[4 * k..4 * k + 4].try_into().unwrap());
+            let (e_beta, c) = (f(1), f(2));
+            [e_beta * c.powi(3), e_beta * c.powi(4)]
+        })
+        .collect();
+    let mut dims = gwc.dims.clone();
+    dims[3] = 2;
+    secs.push(Sec {
+        kind: kind::HARMONICS,
+        table: 0,
+        dtype: 2,
+        codec: 0,
+        flags: 1,
+        dims,
+        data: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        raw_len: None,
+    });
+    let required = if declared { 1 << 2 } else { 0 };
+    Raw::build(2, required, 0, 256, &secs)
+}
+
 /// Vectors that need compressed sections.
 fn packed_vectors() -> Vec<(&'static str, Raw)> {
     let mut out = Vec::new();
@@ -408,6 +438,8 @@ fn packed_vectors() -> Vec<(&'static str, Raw)> {
     secs[0].data = vec![0; 65536 * 64];
     secs[0] = secs[0].clone().zstd();
     out.push(("too-many-records", Raw::build(0, 1, 0, 256, &secs)));
+    // harmonics-not-declared: a gwc-harmonics section without required feature bit 2.
+    out.push(("harmonics-not-declared", two_lobes(false)));
     out
 }
 
@@ -432,7 +464,7 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
         data: [7.0f32, 8.0].iter().flat_map(|v| v.to_le_bytes()).collect(),
         raw_len: None,
     });
-    let mut raw = Raw::build(2, 0, 1 << 9, 256, &secs);
+    let mut raw = Raw::build(3, 0, 1 << 9, 256, &secs);
     raw.bytes[100] = 0x42;
     raw.fix_crcs();
     out.push(("newer-minor", raw.bytes));
@@ -441,6 +473,8 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
         "older-minor",
         Raw::build(0, 0, 0, 256, &tiny().sections()).bytes,
     ));
+    // Two lobes: the tiny library with a gwc-harmonics section, required feature bit 2.
+    out.push(("two-lobes", two_lobes(true).bytes));
     // Page alignment, one albedo row, no materials, no provenance, no θ CDF.
     let mut b = LibraryBuilder::new();
     b.set_alignment(4096).unwrap();
@@ -474,7 +508,7 @@ fn sync(dir: &Path, name: &str, bytes: &[u8]) {
 #[test]
 fn raw_editor_rebuilds_the_writer_output_exactly() {
     let raw = tiny();
-    let rebuilt = Raw::build(1, 0, 0, 256, &raw.sections());
+    let rebuilt = Raw::build(2, 0, 0, 256, &raw.sections());
     assert!(rebuilt.bytes == raw.bytes);
 }
 
@@ -564,7 +598,7 @@ fn every_valid_vector_is_accepted() {
 fn newer_minor_is_read_and_its_extensions_skipped_but_not_rewritten() {
     let path = data_dir("valid").join("newer-minor.bssrdf");
     let library = Library::open_mmap(&path, Verify::Full).unwrap();
-    assert_eq!(library.version(), (1, 2));
+    assert_eq!(library.version(), (1, 3));
     assert_eq!(library.optional_features(), 1 << 9);
     let table = library.table(0).unwrap();
     assert_eq!(table.dims(), [2, 2, 4]);

@@ -281,7 +281,7 @@ fn writer_sets_the_signed_floor_bit_exactly_when_a_node_needs_it() {
         Verify::Full,
     )
     .unwrap();
-    assert_eq!((plain.version(), plain.required_features()), ((1, 1), 0));
+    assert_eq!((plain.version(), plain.required_features()), ((1, 2), 0));
     // E_β = E at every node is not a negative floor either.
     let mut table = synthetic_table(1.3, 2, 3, 5, false);
     for node in table.gwc.chunks_exact_mut(3) {

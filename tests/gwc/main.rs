@@ -6,3 +6,4 @@ mod gwc_common;
 mod fit;
 mod minimax;
 mod profile;
+mod two_lobe;

@@ -29,6 +29,29 @@ pub(crate) fn default_table() -> &'static AngularTable {
     })
 }
 
+/// The default grid at η = 1.2, where tables have two lobes (`table::Lobes::for_eta`), baked
+/// once for the whole file.
+pub(crate) fn two_lobe_table() -> &'static AngularTable {
+    static TABLE: OnceLock<AngularTable> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        let table = bake(
+            1.2,
+            Moments::Exact,
+            &Grid::preset(GridPreset::Default),
+            true,
+        )
+        .unwrap()
+        .0;
+        assert!(table.harmonics().is_some());
+        table
+    })
+}
+
+/// Both kinds of table: one lobe (η = 1.33) and two (η = 1.2).
+fn both_tables() -> [&'static AngularTable; 2] {
+    [default_table(), two_lobe_table()]
+}
+
 /// The crate's pinned random stream, under the name these tests use.
 struct Rng(SplitMix64);
 impl Rng {
@@ -48,23 +71,28 @@ fn chi2_critical(k: usize) -> f64 {
 #[test]
 fn bake_is_bit_identical_on_any_thread_count() {
     let grid = Grid::preset(GridPreset::Coarse);
-    let run = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| bake(1.33, Moments::Exact, &grid, true).unwrap().0)
-    };
-    let (one, two) = (run(1), run(2));
-    let bits = |t: &AngularTable| -> Vec<u32> {
-        t.params()
-            .iter()
-            .chain(t.radial_cdf())
-            .map(|v| v.to_bits())
-            .collect()
-    };
-    assert_eq!(bits(&one), bits(&two));
-    assert_eq!(one, two);
+    // One lobe at η = 1.33, two at 1.2 (each row's two-lobe fits start from its previous
+    // radius, inside one task)
+    for eta in [1.33, 1.2] {
+        let run = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| bake(eta, Moments::Exact, &grid, true).unwrap().0)
+        };
+        let (one, two) = (run(1), run(2));
+        let bits = |t: &AngularTable| -> Vec<u32> {
+            t.params()
+                .iter()
+                .chain(t.radial_cdf())
+                .chain(t.harmonics().unwrap_or(&[]))
+                .map(|v| v.to_bits())
+                .collect()
+        };
+        assert_eq!(bits(&one), bits(&two));
+        assert_eq!(one, two);
+    }
 }
 
 #[test]
@@ -104,7 +132,12 @@ fn expected_fractions(
 
 #[test]
 fn samples_follow_the_pdf_chi_square() {
-    let table = default_table();
+    for table in both_tables() {
+        samples_follow_the_pdf(table);
+    }
+}
+
+fn samples_follow_the_pdf(table: &AngularTable) {
     let view = table.view();
     let r_nodes = table.axes().r().as_slice();
     // Bin edges: every radius node (bins follow the spline segments), 12 φ bins.
@@ -164,7 +197,8 @@ fn samples_follow_the_pdf_chi_square() {
         let crit = chi2_critical(dof - 1);
         assert!(
             chi2 < crit,
-            "{rho} {theta_deg}: chi2 {chi2:.1} > {crit:.1} (dof {dof})"
+            "η {} {rho} {theta_deg}: chi2 {chi2:.1} > {crit:.1} (dof {dof})",
+            table.eta()
         );
     }
 }
@@ -570,15 +604,15 @@ fn world_units_scale_r_by_one_over_sigma_t_and_s_by_sigma_t_squared() {
 
 #[test]
 fn round_trip_through_a_library_file_is_bit_exact_both_ways() {
+    for eta in [1.33, 1.2] {
+        round_trip_at(eta);
+    }
+}
+
+fn round_trip_at(eta: f64) {
     use bssrdf_zoo::format::{Compression, Library, LibraryBuilder, Verify};
     use bssrdf_zoo::table::FileTable;
-    let (table, _) = bake(
-        1.33,
-        Moments::Exact,
-        &Grid::preset(GridPreset::Coarse),
-        true,
-    )
-    .unwrap();
+    let (table, _) = bake(eta, Moments::Exact, &Grid::preset(GridPreset::Coarse), true).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("t.bssrdf");
     let mut builder = LibraryBuilder::new();
@@ -612,7 +646,13 @@ fn round_trip_through_a_library_file_is_bit_exact_both_ways() {
 
 #[test]
 fn invert_undoes_sample() {
-    let view = default_table().view();
+    for table in both_tables() {
+        invert_undoes_sample_of(table);
+    }
+}
+
+fn invert_undoes_sample_of(table: &AngularTable) {
+    let view = table.view();
     let mut rng = Rng(SplitMix64::new(21));
     for (rho, theta_deg) in [(0.5, 0.0), (0.9, 60.0), (0.999, 89.0)] {
         let theta = f64::to_radians(theta_deg);
