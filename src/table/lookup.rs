@@ -7,7 +7,9 @@
 //! ωᵢ = wᵢ (ρ′/ρ′ᵢ)², the Catmull-Rom weights of E/ρ′² times ρ′², with a node at ρ′ = 0 (E = 0
 //! there) folded into its neighbours (`table::albedo`). Every energy-like value (E, E_β, the
 //! radial CDF, ρ_eff and the θ CDF) blends with the ωᵢ; the concentration c is their weighted
-//! mean, Σ ωᵢcᵢ / Σ ωᵢ. Samplers and densities use the same weights, so `sample` and `pdf`, and
+//! mean, Σ ωᵢcᵢ / Σ ωᵢ. At the two ends of the ρ′ axis evaluation weighs the rows per radius
+//! node instead, taking out the far field of diffusion (`albedo_ends`, `table::albedo`, "The ends
+//! of the axis"). Samplers and densities use the same weights, so `sample` and `pdf`, and
 //! `sample_path` and `pdf_theta`, stay exact pairs; at a node the weights are 1 and 0 and every
 //! stored value comes back exactly.
 
@@ -16,6 +18,8 @@ use super::{TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
 use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+mod albedo_ends;
 
 /// One draw of (r, φ) for a given (ρ′, θ).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -551,7 +555,7 @@ impl<'a> TableRef<'a> {
     #[inline(always)]
     fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
         // Points off the quick ρ′ weights out of line (`AlbedoAxis::hot_weights`)
-        let Some(albedo) = self.axes.rho.hot_weights(rho) else {
+        let Some(albedo) = self.axes.rho.hot_eval_weights(rho) else {
             return self.cell_at_point_cold(rho, theta, r);
         };
         self.cell_at_point_with(albedo, rho, theta, r)
@@ -559,6 +563,10 @@ impl<'a> TableRef<'a> {
 
     #[inline(never)]
     fn cell_at_point_cold(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
+        // At the ends of the albedo axis, the spline of E/(ρ′² f) (`albedo_ends`)
+        if let Some(ends) = self.axes.rho.end_weights(rho) {
+            return self.cell_at_point_albedo_ends(&ends, rho, theta, r);
+        }
         self.cell_at_point_with(self.axes.rho.weights(rho)?, rho, theta, r)
     }
 
