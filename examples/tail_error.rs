@@ -39,7 +39,7 @@ const RHO_EDGES: [f64; 10] = [
     1.0 + 1e-9,
 ];
 /// Decades of truth/peak for the summary (lower edges).
-const DECADES: [f64; 6] = [1e-4, 1e-8, 1e-10, 1e-11, 1e-12, 0.0];
+const DECADES: [f64; 8] = [1e-4, 1e-6, 1e-7, 1e-8, 1e-10, 1e-11, 1e-12, 0.0];
 /// Worst points printed per ρ′ band.
 const WORST_PER_BAND: usize = 4;
 
