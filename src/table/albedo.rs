@@ -71,7 +71,7 @@ pub(crate) const EXTRAPOLATE_BELOW: f64 = 0.5;
 /// e^{−σ_tr r}, has no derivative in ρ′ (σ_tr ~ √(1 − ρ′)), and from ρ′ ≈ 0.999 up PBD at the
 /// end of the default r axis (243 reduced mfp) is above 10⁻¹² of its peak (1.1–1.4·10⁻¹² at
 /// 0.999, 4.5–6.1·10⁻⁸ at 1; η = 1.33). At r ≈ 243 the plain spline of E/ρ′² is within 0.6 %
-/// of the stored profiles below 0.99988 on the default axis, and off by 0.9 %, 1.6 %, 7 % and
+/// of the stored profiles below 0.99987 on the default axis, and off by 0.9 %, 1.6 %, 7 % and
 /// 21 % in its four segments above, those this albedo selects.
 pub(crate) const HIGH_ALBEDO: f64 = 0.9999;
 
