@@ -131,9 +131,10 @@ fn main() {
         "eta {eta}, {preset:?} grid, {} points, seed {seed}",
         points.len()
     ));
-    lines.push(format!(
+    lines.push(
         "rho band        | truth/peak  | points | mean rel err | max rel err | > 10 % | zeros"
-    ));
+            .to_string(),
+    );
     for band in RHO_EDGES.windows(2) {
         let mut upper = f64::INFINITY;
         for &lower in &DECADES {
@@ -169,12 +170,8 @@ fn main() {
         counted.iter().filter(|p| p.rel > 0.1).count(),
         counted.iter().filter(|p| p.zero).count()
     ));
-    lines.push(format!(
-        "worst points at or above 1e-12 of the peak, per rho band:"
-    ));
-    lines.push(format!(
-        "   rho   theta      r     phi   truth/peak   rel err  zero"
-    ));
+    lines.push("worst points at or above 1e-12 of the peak, per rho band:".to_string());
+    lines.push("   rho   theta      r     phi   truth/peak   rel err  zero".to_string());
     for band in RHO_EDGES.windows(2) {
         let mut worst: Vec<&Point> = points
             .iter()
