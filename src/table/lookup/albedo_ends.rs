@@ -73,6 +73,40 @@ impl TableRef<'_> {
         Some(Some([e_per_r, beta, c]))
     }
 
+    /// The rows of the spline at `ends` and their weights at the radius nodes `first..first + 4`
+    /// (module docs): per row, its albedo node i, the weight of its energies (E, E_β) at each
+    /// radius node, ŵᵢ/ρ′ᵢ² · f(ρ′, r_j)/f(ρ′ᵢ, r_j) times `window_rho`², and ŵᵢ, the weight of
+    /// its c; `None` for rows of weight 0. A table's other per-node values blend with them as
+    /// E_β and c do: energies with the first, shapes with the second.
+    fn ends_rows(
+        &self,
+        ends: &EndWeights,
+        rho: f64,
+        window_rho: f64,
+        first: usize,
+    ) -> [Option<(usize, [f64; 4], f64)>; 4] {
+        let (n_rho, _, n_r) = self.axes.dims();
+        let r_nodes = self.axes.r().as_slice();
+        // f(ρ′, r_j) at the window's radius nodes, times window_rho²
+        let sigma = sigma_tr(rho);
+        let near: [f64; 4] = std::array::from_fn(|n| {
+            let r = r_nodes.get(first + n).copied().unwrap_or(0.0);
+            window_rho * window_rho * far_field(sigma, r)
+        });
+        let weights = ends.weights.as_array();
+        std::array::from_fn(|k| {
+            let wk = weights[k];
+            let i = (ends.weights.segment() + k)
+                .checked_sub(1)
+                .filter(|&i| i < n_rho && wk != 0.0)?;
+            let inv_far = self.axes.far.row(i, n_r).get(first..).unwrap_or_default();
+            let energy = std::array::from_fn(|n| {
+                wk * ends.inv_squares[k] * near[n] * inv_far.get(n).copied().unwrap_or(0.0)
+            });
+            Some((i, energy, wk))
+        })
+    }
+
     /// (E, E_β, c) at the radius nodes `first..first + 4` (module docs), E and E_β over ρ′²
     /// times `window_rho`².
     fn ends_window(
@@ -83,23 +117,13 @@ impl TableRef<'_> {
         theta_weights: &Weights,
         first: usize,
     ) -> [f32; WINDOW] {
-        let (n_rho, n_theta, n_r) = self.axes.dims();
-        let r_nodes = self.axes.r().as_slice();
-        // f(ρ′, r_j) at the window's radius nodes, times window_rho²
-        let sigma = sigma_tr(rho);
-        let near: [f64; 4] = std::array::from_fn(|n| {
-            let r = r_nodes.get(first + n).copied().unwrap_or(0.0);
-            window_rho * window_rho * far_field(sigma, r)
-        });
-        let weights = ends.weights.as_array();
+        let (_, n_theta, n_r) = self.axes.dims();
         let mut acc = [0.0f64; WINDOW];
-        for (k, (&wk, inv_square)) in weights.iter().zip(ends.inv_squares).enumerate() {
-            let Some(i) = (ends.weights.segment() + k)
-                .checked_sub(1)
-                .filter(|&i| i < n_rho && wk != 0.0)
-            else {
-                continue;
-            };
+        for (i, energy, wk) in self
+            .ends_rows(ends, rho, window_rho, first)
+            .into_iter()
+            .flatten()
+        {
             // The row blended over θ, in f32 as every lookup's blend (`TableRef::window_params`)
             let mut row = [0.0f32; WINDOW];
             for (j, weight) in theta_weights.iter() {
@@ -108,15 +132,11 @@ impl TableRef<'_> {
                     axpy12(&mut row, weight as f32, window);
                 }
             }
-            // Its weight at radius node j: ŵᵢ/ρ′ᵢ² · f(ρ′, r_j)/f(ρ′ᵢ, r_j) for E and E_β, ŵᵢ
-            // for c
-            let inv_far = self.axes.far.row(i, n_r).get(first..).unwrap_or_default();
-            for (n, (acc, row)) in acc
+            for ((acc, row), energy) in acc
                 .chunks_exact_mut(PARAMS_PER_NODE)
                 .zip(row.chunks_exact(PARAMS_PER_NODE))
-                .enumerate()
+                .zip(energy)
             {
-                let energy = wk * inv_square * near[n] * inv_far.get(n).copied().unwrap_or(0.0);
                 acc[0] += energy * f64::from(row[0]);
                 acc[1] += energy * f64::from(row[1]);
                 acc[2] += wk * f64::from(row[2]);
