@@ -7,6 +7,8 @@
 //! table's own sampler) and times N calls of `eval` or `sample` over them; prints ns per call
 //! and a checksum. To compare two builds, copy `target/release/examples/lookup_loop` aside
 //! after each build and run the copies in alternation, keeping each one's minimum.
+//! `RHO=LO,HI` draws ρ′ uniformly in [LO, HI) instead, to time one part of the albedo axis
+//! (the ends take their own path, `table::albedo`, "The ends of the axis").
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::rng::SplitMix64;
@@ -28,7 +30,23 @@ fn main() {
     .expect("the default grid bakes");
     let view = table.view();
     let mut rng = SplitMix64::new(1);
-    let points = lookup_points(&view, &mut rng);
+    let points = match std::env::var("RHO") {
+        Ok(range) => {
+            let (lo, hi) = range
+                .split_once(',')
+                .and_then(|(lo, hi)| Some((lo.parse::<f64>().ok()?, hi.parse::<f64>().ok()?)))
+                .expect("RHO=LO,HI, two numbers");
+            (0..4096)
+                .map(|_| loop {
+                    let (rho, theta) = (lo + (hi - lo) * rng.next_f64(), 1.5 * rng.next_f64());
+                    if let Some(s) = view.sample(rho, theta, rng.next_f64(), rng.next_f64()) {
+                        break [rho, theta, s.r, s.phi];
+                    }
+                })
+                .collect()
+        }
+        Err(_) => lookup_points(&view, &mut rng),
+    };
     let us: Vec<[f64; 2]> = (0..4096)
         .map(|_| [rng.next_f64(), rng.next_f64()])
         .collect();

@@ -24,9 +24,38 @@
 //! at all). At a node ρ′ = ρ′ᵢ the weights are those of the plain spline, 1 there and 0
 //! elsewhere, and every stored value is reproduced exactly.
 //!
+//! # The ends of the axis
+//!
+//! Far out in r every PBD profile falls like the far field of a diffusion source,
+//! f(ρ′, r) = (1 + σ_tr r) e^{−σ_tr r} with σ_tr = √(3(1 − ρ′)/(2 − ρ′)) ([`sigma_tr`], Grosjean's
+//! D, `crate::medium`): there g changes with ρ′ exponentially, and near ρ′ = 1, where σ_tr falls
+//! like √(1 − ρ′), without a derivative. A polynomial in ρ′ follows neither where it has to
+//! reach furthest: below node 1, where node 0's g is extrapolated, and in the last segments.
+//! Against the profiles the bake stores at a point's own ρ′ (θ = 0 and 89°, η = 1.33, nothing
+//! interpolated along θ or r), the spline of g on the default axis was off below ρ′₂ by 0.7 % at
+//! r = 5, 5 % at 10, 20 % at 15 and 91 % at 22; at ρ′ < 0.02 its blend turned negative (the
+//! table 0) below about 10⁻¹¹ of the profile's peak. In the last three segments (ρ′ > 0.99991)
+//! it was off by 2 % at r = 100, 13 % at 200 and 22 % at 243, where PBD is still 10⁻⁸ of its
+//! peak ([`HIGH_ALBEDO`]). So at the two ends evaluation splines g/f instead:
+//!
+//! E(ρ′, r) = f(ρ′, r) ρ′² Σᵢ ŵᵢ Eᵢ/(ρ′ᵢ² f(ρ′ᵢ, r)),
+//!
+//! below node 1 of an axis from ρ′₀ = 0 with the folded weights ŵ (nodes 1 … m; the
+//! extrapolated node 0 is g/f's), and from the segment that holds [`HIGH_ALBEDO`] to the end with
+//! the plain Catmull-Rom weights ([`AlbedoAxis::end_weights`]). The weights then depend on r: the
+//! lookups apply them at each radius node of their window (`table::lookup::albedo_ends`). Against
+//! the same profiles, this spline is within 0.04 % below ρ′₂ (the plain spline of ln g, tried
+//! too, within 0.25 %) and 0.003 % in the last segments. There c is the plain spline Σ ŵᵢcᵢ,
+//! not the energy-weighted mean: over `examples/tail_error` at ρ′ < 0.02 (η = 1.33, down to
+//! 10⁻⁴ of the peak) the table is within 1.18 % of PBD (mean 0.20 %) with it, 1.90 % (0.28 %)
+//! with the mean. Only evaluation takes these weights; the samplers keep ωᵢ, whose blends of
+//! the rows' radial CDFs they invert, so `sample` and `pdf` stay an exact pair.
+//!
 //! Lookups find the weights of most points inline ([`AlbedoAxis::hot_weights`]), the fold on
 //! segment 1 included, as data; segment 0, the last segment and points the axis' cells miss take
-//! [`AlbedoAxis::weights`], out of line. Both give the same weights bit for bit.
+//! [`AlbedoAxis::weights`], out of line. Both give the same weights bit for bit. Evaluation
+//! takes the segments from [`HIGH_ALBEDO`] up out of line too ([`AlbedoAxis::hot_eval_weights`]),
+//! and at both ends [`AlbedoAxis::end_weights`].
 
 use crate::catmull_rom::{Nodes, Weights};
 
@@ -36,6 +65,15 @@ use crate::catmull_rom::{Nodes, Weights};
 /// them; measured on a 12-node axis with ρ′₁ = 0.517, ρ′₂ = 0.767, the cubic's g(0) put the
 /// spline at ρ′ = 0.1 hundreds of times off PBD (and negative), the constant g(0) = g₁ 7–220 %.
 pub(crate) const EXTRAPOLATE_BELOW: f64 = 0.5;
+
+/// From the segment that holds this albedo to ρ′ = 1, evaluation splines E/(ρ′² f) along ρ′
+/// (module docs, "The ends of the axis"). Towards ρ′ = 1 the far tail, E ~ f = (1 + σ_tr r)
+/// e^{−σ_tr r}, has no derivative in ρ′ (σ_tr ~ √(1 − ρ′)), and from ρ′ ≈ 0.999 up PBD at the
+/// end of the default r axis (243 reduced mfp) is above 10⁻¹² of its peak (1.1–1.4·10⁻¹² at
+/// 0.999, 4.5–6.1·10⁻⁸ at 1; η = 1.33). At r ≈ 243 the plain spline of E/ρ′² is within 0.6 %
+/// of the stored profiles below 0.99987 on the default axis, and off by 0.9 %, 1.6 %, 7 % and
+/// 21 % in its four segments above, those this albedo selects.
+pub(crate) const HIGH_ALBEDO: f64 = 0.9999;
 
 /// The last node that node 0's weight may move to (nodes 1 … this one, see the module docs):
 /// a Catmull-Rom window's worth, so that the folded weights are again four. A scene bake that
@@ -49,6 +87,13 @@ pub(crate) struct AlbedoAxis {
     nodes: Nodes,
     /// Per segment, how [`AlbedoAxis::hot_weights`] turns its Catmull-Rom weights into ω.
     hot: Box<[HotSegment]>,
+    /// Per segment i, 1/ρ′ⱼ² of its nodes i − 1 … i + 2 (0 outside the axis and at ρ′ⱼ = 0).
+    inv_squares: Box<[[f64; 4]]>,
+    /// The first segment of the high end of the axis (module docs, "The ends of the axis"), if
+    /// it has one.
+    high: Option<usize>,
+    /// ρ′ of its first node (+∞ without one): evaluation from there up is out of line.
+    high_from: f64,
     /// The segment whose weights [`AlbedoAxis::hot_weights`] moves one node up, to nodes 1–4
     /// (segment 1 with a node ρ′₀ = 0 and at least 5 nodes), or `usize::MAX`.
     shifted_segment: usize,
@@ -66,8 +111,7 @@ struct HotSegment {
     fold: [f64; 4],
     /// 1/ρ′ⱼ² of the four nodes the weights come out on (0 outside the axis and at ρ′ⱼ = 0):
     /// segment i's own nodes i − 1 … i + 2, except on the shifted segment (nodes 1–4). The
-    /// general path ([`AlbedoAxis::weights`]) reads them too; it folds segments 0 and 1 itself
-    /// and never lands on the shifted segment.
+    /// general path ([`AlbedoAxis::weights`]) reads the unshifted ones (`AlbedoAxis::inv_squares`).
     inv_squares: [f64; 4],
 }
 
@@ -82,6 +126,19 @@ pub(crate) struct AlbedoWeights {
     /// (the θ weights sum to 1). Finite: 1/f64::MIN_POSITIVE where no node has energy (ρ′ = 0;
     /// every weight, and so the blended c, is then 0).
     pub(crate) c_scale: f64,
+}
+
+/// The weights of a point at an end of the axis, for the spline of E/(ρ′² f) that evaluation
+/// takes there ([`AlbedoAxis::end_weights`], module docs).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct EndWeights {
+    /// The spline's weights: they sum to 1, and a node at ρ′ = 0 (or outside the axis) has
+    /// weight 0.
+    pub(crate) weights: Weights,
+    /// 1/ρ′ᵢ² of the nodes `weights.segment()` − 1 … + 2 (0 outside the axis).
+    pub(crate) inv_squares: [f64; 4],
+    /// Whether the point is at the low end (below node 1), else at the high end.
+    pub(crate) low: bool,
 }
 
 /// Two axes are equal when their nodes are (the rest is derived from them).
@@ -130,6 +187,8 @@ impl AlbedoAxis {
         } else {
             usize::MAX
         };
+        let high = high_end(x);
+        let high_from = high.map_or(f64::INFINITY, |first| x[first]);
         let hot = (0..inv_squares.len())
             .map(|i| {
                 // The fold, and the segment whose nodes the weights come out on
@@ -147,6 +206,9 @@ impl AlbedoAxis {
         Self {
             nodes,
             hot,
+            inv_squares: inv_squares.into(),
+            high,
+            high_from,
             shifted_segment,
             zero_node,
         }
@@ -155,6 +217,18 @@ impl AlbedoAxis {
     /// The spline nodes ρ′ᵢ.
     pub(crate) fn nodes(&self) -> &Nodes {
         &self.nodes
+    }
+
+    /// [`AlbedoAxis::hot_weights`] for evaluation: `None` also from the high end of the axis up
+    /// (and for NaN), where evaluation takes [`AlbedoAxis::end_weights`] out of line. The
+    /// samplers keep the quick weights there.
+    #[inline(always)]
+    pub(crate) fn hot_eval_weights(&self, rho: f64) -> Option<AlbedoWeights> {
+        if rho < self.high_from {
+            self.hot_weights(rho)
+        } else {
+            None
+        }
     }
 
     /// [`AlbedoAxis::weights`] where they are quickest to find, `None` elsewhere: in an interior
@@ -187,8 +261,32 @@ impl AlbedoAxis {
         } else {
             (w.segment(), w.as_array())
         };
-        let inv_squares = self.hot.get(segment).map_or([0.0; 4], |h| h.inv_squares);
+        let inv_squares = self.inv_squares.get(segment).copied().unwrap_or_default();
         Some(Self::energy_weights(rho, segment, w, inv_squares))
+    }
+
+    /// The weights of the spline of E/(ρ′² f) at the ends of the axis (module docs, "The ends
+    /// of the axis"): below node 1 of an axis from ρ′₀ = 0, ŵ with node 0's weight folded into
+    /// nodes 1 … m as in [`AlbedoAxis::weights`]; from the segment that holds [`HIGH_ALBEDO`]
+    /// up, the Catmull-Rom weights. `None` elsewhere and for NaN.
+    pub(crate) fn end_weights(&self, rho: f64) -> Option<EndWeights> {
+        let x = self.nodes.as_slice();
+        // (x has at least two nodes; NaN fails the comparisons)
+        let low = self.zero_node.is_some() && rho < x[1];
+        let (segment, w) = if low {
+            self.fold_zero_node(&self.nodes.weights(rho)?)
+        } else if self.high.is_some_and(|first| rho >= x[first]) {
+            let w = self.nodes.weights(rho)?;
+            (w.segment(), w.as_array())
+        } else {
+            return None;
+        };
+        let inv_squares = self.inv_squares.get(segment).copied().unwrap_or_default();
+        Some(EndWeights {
+            weights: Weights::from_parts(segment, w),
+            inv_squares,
+            low,
+        })
     }
 
     /// ωᵢ = ŵᵢ ρ′²/ρ′ᵢ² from the weights ŵ of nodes `segment` − 1 … `segment` + 2 and their
@@ -218,6 +316,20 @@ impl AlbedoAxis {
     /// (whose missing nodes have a = 0) segment n − 3 or 0.
     fn fold_zero_node(&self, w: &Weights) -> (usize, [f64; 4]) {
         let a = self.zero_node.unwrap_or_default();
+        if w.segment() == 0 && self.nodes.as_slice().len() > FOLD_NODES {
+            // The loop below on segment 0 (weights of nodes −1, 0, 1, 2), written out: the same
+            // operations, the same bits
+            let [_, w0, w1, w2] = w.as_array();
+            return (
+                2,
+                [
+                    w1 + w0 * a[0],
+                    w2 + w0 * a[1],
+                    0.0 + w0 * a[2],
+                    0.0 + w0 * a[3],
+                ],
+            );
+        }
         // Weights of nodes 0 … 4
         let mut by_node = [0.0; FOLD_NODES + 1];
         for (k, wk) in w.as_array().into_iter().enumerate() {
@@ -239,6 +351,105 @@ impl AlbedoAxis {
                 .map_or(0.0, |node| by_node[node])
         });
         (segment, w)
+    }
+}
+
+/// 1/f(ρ′ᵢ, r_j) at every radius node of the rows the splines at the ends of the axis use
+/// (module docs, "The ends of the axis"): nodes 1 … 4 of an axis from ρ′₀ = 0 and the nodes of
+/// the high end's segments. Derived from the axes once, so that a lookup there takes four
+/// exponentials (f at its own ρ′), not sixteen.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct FarField {
+    /// Per albedo node, the start of its row in `inv`, or `u32::MAX` for a node without one.
+    rows: Box<[u32]>,
+    /// The rows, n_r values each: min(1/f, 10³⁰⁰), finite where f underflows (far beyond where
+    /// any stored E does).
+    inv: Box<[f64]>,
+}
+
+impl FarField {
+    /// The rows of `axis` at the radius nodes `r` (at least 0 each).
+    pub(crate) fn new(axis: &AlbedoAxis, r: &[f64]) -> Self {
+        let x = axis.nodes.as_slice();
+        let n = x.len();
+        let low = if axis.zero_node.is_some() {
+            1..(FOLD_NODES + 1).min(n)
+        } else {
+            0..0
+        };
+        let high = axis.high.map_or(n..n, |first| first.saturating_sub(1)..n);
+        let mut rows = vec![u32::MAX; n].into_boxed_slice();
+        let mut inv = Vec::new();
+        for i in low.chain(high) {
+            if rows[i] != u32::MAX {
+                continue;
+            }
+            // Offsets fit u32: a table's f32 arrays are far smaller
+            rows[i] = inv.len() as u32;
+            let sigma = sigma_tr(x[i]);
+            inv.extend(r.iter().map(|&rj| {
+                let s = sigma * rj;
+                let v = s.exp() / (1.0 + s);
+                // (NaN and negative values only from radius nodes below 0, which a file may hold)
+                if v > 0.0 {
+                    v.min(1e300)
+                } else {
+                    0.0
+                }
+            }));
+        }
+        Self {
+            rows,
+            inv: inv.into(),
+        }
+    }
+
+    /// 1/f(ρ′ᵢ, r_j) of node i at every radius node; empty for a node without a row.
+    pub(crate) fn row(&self, i: usize, n_r: usize) -> &[f64] {
+        match self.rows.get(i) {
+            Some(&start) if start != u32::MAX => {
+                let start = start as usize;
+                self.inv.get(start..start + n_r).unwrap_or_default()
+            }
+            _ => &[],
+        }
+    }
+}
+
+/// f = (1 + σ_tr r) e^{−σ_tr r}, the far field of a diffusion source (module docs, "The ends
+/// of the axis"), for σ_tr ≥ 0 and r ≥ 0 in (0, 1]; 0 where it would be negative or NaN (radius
+/// nodes below 0, which a file may hold).
+pub(crate) fn far_field(sigma_tr: f64, r: f64) -> f64 {
+    let s = sigma_tr * r;
+    let f = (1.0 + s) * (-s).exp();
+    if f > 0.0 {
+        f.min(1e300)
+    } else {
+        0.0
+    }
+}
+
+/// σ_tr = √(3(1 − ρ′)/(2 − ρ′)) in reduced units (Grosjean's D = (2 − ρ′)/3, `crate::medium`),
+/// for ρ′ ∈ [0, 1]: the rate of the far field f = (1 + σ_tr r) e^{−σ_tr r} that evaluation takes
+/// out at the ends of the axis (module docs, "The ends of the axis").
+pub(crate) fn sigma_tr(rho: f64) -> f64 {
+    ((1.0 - rho) / ((2.0 - rho) / 3.0)).sqrt()
+}
+
+/// The first segment of the high end of the axis `x`: the segment that holds [`HIGH_ALBEDO`],
+/// or the first if every node lies above it; `None` if no segment reaches above it or a node
+/// lies above 1. Defined by the nodes around [`HIGH_ALBEDO`] alone, so that a scene bake's
+/// subset of the rows (`table::subset`) evaluates as the whole table does.
+fn high_end(x: &[f64]) -> Option<usize> {
+    let n = x.len();
+    // (The nodes are finite)
+    if x[n - 1] > 1.0 {
+        return None;
+    }
+    match x.iter().rposition(|&xi| xi <= HIGH_ALBEDO) {
+        Some(i) if i + 1 < n => Some(i),
+        Some(_) => None,
+        None => Some(0),
     }
 }
 
@@ -315,6 +526,69 @@ mod tests {
             let want = rho * rho * plain.evaluate(|i| g(x[i]), rho).unwrap();
             let got = spline(&a, g, rho);
             assert!((got / want - 1.0).abs() < 1e-6, "{rho}: {got} {want}");
+        }
+    }
+
+    #[test]
+    fn the_ends_take_their_own_weights_and_the_hot_path_leaves_them() {
+        let x: Vec<f64> = (0..100)
+            .map(|i| ((1.0 - (-8.0 * i as f64 / 99.0).exp()) / (1.0 - (-8.0f64).exp())) as f32)
+            .map(f64::from)
+            .collect();
+        let a = axis(&x);
+        // The segment that holds HIGH_ALBEDO and those above it, and nothing else from the top
+        let first = a.high.unwrap();
+        assert!(
+            x[first] <= HIGH_ALBEDO && x[first + 1] > HIGH_ALBEDO,
+            "{first}"
+        );
+        for rho in [0.0, 1e-9, 0.01, 0.07, x[first], 0.99995, 0.99999, 1.0] {
+            let ends = a.end_weights(rho).unwrap();
+            let w = ends.weights.as_array();
+            assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{rho}: {w:?}");
+            assert_eq!(ends.low, rho < x[1], "{rho}");
+            // Node 0 never carries weight; each weighted node has its 1/ρ′ᵢ²
+            for (k, (node, wk)) in ends.weights.iter().enumerate() {
+                assert!(node > 0 && wk != 0.0, "{rho}: {k}");
+            }
+            for (k, &inv) in ends.inv_squares.iter().enumerate() {
+                if w[k] != 0.0 {
+                    let node = ends.weights.segment() + k - 1;
+                    assert_eq!(inv, 1.0 / (x[node] * x[node]), "{rho}");
+                }
+            }
+            assert!(a.hot_eval_weights(rho).is_none(), "{rho}");
+        }
+        for rho in [x[1], 0.1, 0.5, 0.999, 0.99985] {
+            assert!(a.end_weights(rho).is_none(), "{rho}");
+        }
+        // At a node of the high end the weights are 1 there and 0 elsewhere (3e-16 for node
+        // 98 at the last node, the spline's own)
+        for (i, &xi) in x.iter().enumerate().skip(first) {
+            for (node, wk) in a.end_weights(xi).unwrap().weights.iter() {
+                let want = if node == i { 1.0 } else { 0.0 };
+                assert!((wk - want).abs() < 1e-15, "{i}: {node} {wk}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_high_end_depends_on_the_nodes_around_it_alone() {
+        // A subset of rows has the whole axis' high end where it keeps the nodes around 0.999,
+        // none where it stops below, and is all high end where every node lies above
+        assert_eq!(high_end(&[0.3, 0.6, 0.9]), None);
+        assert_eq!(high_end(&[0.9, 0.99995, 1.0]), Some(0));
+        assert_eq!(high_end(&[0.5, 0.9998, 0.99995, 1.0]), Some(1));
+        assert_eq!(high_end(&[0.5, 0.9999, 1.0]), Some(1));
+        assert_eq!(high_end(&[0.99995, 1.0]), Some(0));
+        assert_eq!(high_end(&[0.5, 1.5]), None);
+    }
+
+    #[test]
+    fn sigma_tr_is_the_diffusion_constants() {
+        for rho in [0.0, 0.1, 0.5, 0.9, 0.999, 1.0] {
+            let d = crate::medium::ReducedDiffusion::new(rho).unwrap();
+            assert_eq!(sigma_tr(rho), d.sigma_tr, "{rho}");
         }
     }
 

@@ -7,7 +7,9 @@
 //! ωᵢ = wᵢ (ρ′/ρ′ᵢ)², the Catmull-Rom weights of E/ρ′² times ρ′², with a node at ρ′ = 0 (E = 0
 //! there) folded into its neighbours (`table::albedo`). Every energy-like value (E, E_β, the
 //! radial CDF, ρ_eff and the θ CDF) blends with the ωᵢ; the concentration c is their weighted
-//! mean, Σ ωᵢcᵢ / Σ ωᵢ. Samplers and densities use the same weights, so `sample` and `pdf`, and
+//! mean, Σ ωᵢcᵢ / Σ ωᵢ. At the two ends of the ρ′ axis evaluation weighs the rows per radius
+//! node instead, taking out the far field of diffusion (`albedo_ends`, `table::albedo`, "The ends
+//! of the axis"). Samplers and densities use the same weights, so `sample` and `pdf`, and
 //! `sample_path` and `pdf_theta`, stay exact pairs; at a node the weights are 1 and 0 and every
 //! stored value comes back exactly.
 
@@ -16,6 +18,8 @@ use super::{TableRef, HARMONICS_PER_NODE, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
 use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc, TwoLobe};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+mod albedo_ends;
 
 /// One draw of (r, φ) for a given (ρ′, θ).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -366,10 +370,17 @@ impl<'a> TableRef<'a> {
         // compiler split the blend into half-empty vectors (measured 2× slower)
         let acc = std::hint::black_box(self.window_params(s, first));
         if let Some(second) = self.harmonics {
-            let window = self.harmonics_window(s, second, first);
-            return Profile::Two(
-                self.two_lobe_cell::<false>(acc, &window, first, r_eval, w, s.blend),
-            );
+            // The samplers' profile: normalised (E/r = 1) except in the first two intervals,
+            // where the harmonics are outright and E/r the plain spline's
+            let shares = self.harmonic_shares(s, second, first);
+            let e_per_r = if w.segment() <= 1 && self.axes.r().as_slice()[0] == 0.0 {
+                let (e, _, _) = self.cell_from::<false>(acc, first, r_eval, w, s.blend);
+                (e / r_eval).max(0.0)
+            } else {
+                1.0
+            };
+            let g = self.two_lobe_cell(acc, &shares, first, r_eval, w, e_per_r);
+            return Profile::Two(g);
         }
         Profile::One(
             match self.cell_from::<false>(acc, first, r_eval, w, s.blend) {
@@ -379,25 +390,31 @@ impl<'a> TableRef<'a> {
         )
     }
 
-    /// The harmonics μ₁ … μ₄ of a two-lobe table, times r, at the four radius nodes
-    /// `first..first + 4`, blended over the slice in f64: Σ ω E_βc and Σ ω E_βc² from the first
-    /// array (its one lobe carries the first two harmonics, `table::bake`), Σ ω rμ₃ and
-    /// Σ ω rμ₄ from the second (ω the slice's weights). Harmonics are linear in the profile, so
-    /// their blend is the blend of the nodes' profiles' harmonics, however each node's fit
-    /// split its profile into lobes.
-    fn harmonics_window(&self, s: &Slice, second: &[f32], first: usize) -> [[f64; 4]; 4] {
-        let mut acc = [[0.0f64; 4]; 4];
+    /// The shares of E that the harmonics μ₁ … μ₄ of a two-lobe table carry, rμₙ/E, at the four
+    /// radius nodes `first..first + 4`: per node, the mean over the slice's rows that hold
+    /// energy there of each row's own shares, weighted by the slice's weights ω (as the
+    /// concentration c is, [`AlbedoWeights::c_scale`]). Row by row the harmonics are E_βc and
+    /// E_βc² (the first array's one lobe carries the first two, `table::bake`), rμ₃ and rμ₄ (the
+    /// second array). Harmonics are linear in the profile, so blending them blends profiles
+    /// however each node's fit split its profile into lobes; blending their shares of E keeps
+    /// that at the ends of the albedo axis too, where E takes its own spline (`albedo_ends`)
+    /// that a blend of rμₙ would not follow. 0 at a node where no row holds energy.
+    fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> [[f64; 4]; 4] {
+        let (mut sum, mut weight) = ([[0.0f64; 4]; 4], [0.0f64; 4]);
         let n = s.len.min(16);
         let (_, _, n_r) = self.axes.dims();
         for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights[..n]) {
             let w = f64::from(w);
             let mut add = |k: usize, p: &[f32], h: &[f32]| {
-                let (e_beta, c) = (f64::from(p[1]), f64::from(p[2]));
-                let wm = w * e_beta * c;
-                acc[k][0] += wm;
-                acc[k][1] += wm * c;
-                acc[k][2] += w * f64::from(h[0]);
-                acc[k][3] += w * f64::from(h[1]);
+                let (e, e_beta, c) = (f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+                if e > 0.0 && w != 0.0 {
+                    let share = e_beta * c / e;
+                    let shares = [share, share * c, f64::from(h[0]) / e, f64::from(h[1]) / e];
+                    for (acc, x) in sum[k].iter_mut().zip(shares) {
+                        *acc += w * x;
+                    }
+                    weight[k] += w;
+                }
             };
             let node = offset as usize + first;
             // The four nodes' values are contiguous in each array: one bounds check per array
@@ -436,70 +453,54 @@ impl<'a> TableRef<'a> {
                 }
             }
         }
-        acc
+        std::array::from_fn(|k| {
+            if weight[k] != 0.0 {
+                sum[k].map(|x| x / weight[k])
+            } else {
+                [0.0; 4]
+            }
+        })
     }
 
-    /// The two-lobe profile at `r_eval` from the first array's window `acc` (E, E_β, c blended
-    /// with the slice's weights) and [`TableRef::harmonics_window`]: E as
-    /// [`TableRef::cell_from`] gives it, the harmonics interpolated along r as the lobe's
-    /// energy is there (in the first two intervals μₙ = rμₙ/r on the straight line through
-    /// nodes 1 and 2; elsewhere their shares of E, the spline of the nodes' shares where all
-    /// four hold energy (`LOG_ENERGY`), else the ratio of the splines), and the profile of
-    /// [`TwoLobe::from_moments`]. With `LOG_ENERGY` false, the samplers' profile of E/r = 1.
-    fn two_lobe_cell<const LOG_ENERGY: bool>(
+    /// The two-lobe profile of energy `e_per_r` = E/r at `r_eval`, from the first array's window
+    /// `acc` (E, E_β, c blended with the slice's weights) and [`TableRef::harmonic_shares`]: the
+    /// harmonics' shares of E interpolated along r, times E/r (in the first two intervals the
+    /// harmonics μₙ themselves, share × E/r at nodes 1 and 2, on the straight line between them,
+    /// as the one-lobe β is there: the ln(1/r) growth of E is isotropic), and the profile of
+    /// [`TwoLobe::from_moments`].
+    fn two_lobe_cell(
         &self,
         acc: [f32; 12],
-        window: &[[f64; 4]; 4],
+        shares: &[[f64; 4]; 4],
         first: usize,
         r_eval: f64,
         w: &Weights,
-        blend: Blend,
+        e_per_r: f64,
     ) -> TwoLobe {
-        let (e_total, _, _) = self.cell_from::<LOG_ENERGY>(acc, first, r_eval, w, blend);
-        let e = |k: usize| f64::from(acc[PARAMS_PER_NODE * k]);
         let r_nodes = self.axes.r().as_slice();
         if w.segment() <= 1 && r_nodes[0] == 0.0 {
-            let node = |k: usize| window[k - first].map(|m| m / r_nodes[k]);
+            let node = |k: usize| {
+                let e = f64::from(acc[PARAMS_PER_NODE * (k - first)]).max(0.0);
+                shares[k - first].map(|x| x * e / r_nodes[k])
+            };
             let a = node(1);
             let (b, t) = match r_nodes.get(2) {
                 Some(&r2) => (node(2), (r_eval - r_nodes[1]) / (r2 - r_nodes[1])),
                 None => (a, 0.0),
             };
             let m = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
-            return TwoLobe::from_moments((e_total / r_eval).max(0.0), m);
+            return TwoLobe::from_moments(e_per_r, m);
         }
         let weights = node_weights(first, w);
-        let (mut e_lin, mut m_lin, mut node_share) = (0.0, [0.0; 4], [0.0; 4]);
-        let mut positive = true;
+        let mut share = [0.0; 4];
         for (k, &wk) in weights.iter().enumerate() {
-            if wk == 0.0 {
-                continue;
-            }
-            e_lin += wk * e(k);
-            for n in 0..4 {
-                m_lin[n] += wk * window[k][n];
-                if e(k) > 0.0 {
-                    node_share[n] += wk * (window[k][n] / e(k));
+            if wk != 0.0 {
+                for (acc, x) in share.iter_mut().zip(shares[k]) {
+                    *acc += wk * x;
                 }
             }
-            positive &= e(k) > 0.0;
         }
-        let e_per_r = if LOG_ENERGY {
-            (e_total / r_eval).max(0.0)
-        } else {
-            1.0
-        };
-        let m = std::array::from_fn(|n| {
-            let share = if LOG_ENERGY && positive {
-                node_share[n]
-            } else if e_lin > 0.0 {
-                m_lin[n] / e_lin
-            } else {
-                0.0
-            };
-            share * e_per_r
-        });
-        TwoLobe::from_moments(e_per_r, m)
+        TwoLobe::from_moments(e_per_r, share.map(|x| x * e_per_r))
     }
 
     /// The first of the four consecutive radius nodes, inside the axis, that hold the weights
@@ -713,14 +714,19 @@ impl<'a> TableRef<'a> {
         r: f64,
         phi: f64,
     ) -> Option<f64> {
+        // E as a one-lobe table evaluates it (refinements along ρ′ and r included), the shape
+        // from the harmonics
+        let Some([e_per_r, ..]) = self.cell_at_point(rho, theta, r)? else {
+            return Some(0.0);
+        };
         let value = self.with_slice(rho, theta, |s| {
             let Some((r_eval, w)) = self.radius(r) else {
                 return 0.0;
             };
             let first = self.radial_window(&w);
             let acc = self.window_params(s, first);
-            let window = self.harmonics_window(s, second, first);
-            self.two_lobe_cell::<true>(acc, &window, first, r_eval, &w, s.blend)
+            let shares = self.harmonic_shares(s, second, first);
+            self.two_lobe_cell(acc, &shares, first, r_eval, &w, e_per_r)
                 .eval(wrap_phi(phi))
         })?;
         if !phi.is_finite() || !self.light_enters(theta) {
@@ -736,7 +742,7 @@ impl<'a> TableRef<'a> {
     #[inline(always)]
     fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
         // Points off the quick ρ′ weights out of line (`AlbedoAxis::hot_weights`)
-        let Some(albedo) = self.axes.rho.hot_weights(rho) else {
+        let Some(albedo) = self.axes.rho.hot_eval_weights(rho) else {
             return self.cell_at_point_cold(rho, theta, r);
         };
         self.cell_at_point_with(albedo, rho, theta, r)
@@ -744,6 +750,10 @@ impl<'a> TableRef<'a> {
 
     #[inline(never)]
     fn cell_at_point_cold(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
+        // At the ends of the albedo axis, the spline of E/(ρ′² f) (`albedo_ends`)
+        if let Some(ends) = self.axes.rho.end_weights(rho) {
+            return self.cell_at_point_albedo_ends(&ends, rho, theta, r);
+        }
         self.cell_at_point_with(self.axes.rho.weights(rho)?, rho, theta, r)
     }
 

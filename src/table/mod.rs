@@ -33,7 +33,10 @@
 //!   ωᵢ = wᵢ (ρ′/ρ′ᵢ)², and c is the ωᵢ-weighted mean Σ ωᵢcᵢ / Σ ωᵢ. A node at ρ′ = 0, whose
 //!   E = 0 says nothing of E/ρ′², hands its weight to the polynomial through the next nodes up
 //!   to four, below ρ′ = ½ (`albedo.rs`). The plain spline of E was 3.2 times PBD at ρ′ = 0.02
-//!   and 22 % above it at 0.05; this one is within 0.02 % (mean) there at θ = 0;
+//!   and 22 % above it at 0.05; this one is within 0.02 % (mean) there at θ = 0. Below the
+//!   first node above 0 and from ρ′ = 0.9999 up, evaluation splines E/(ρ′² f) instead, f the far
+//!   field (1 + σ_tr r) e^{−σ_tr r} of diffusion, so that the far tails there stay within a few
+//!   per cent of PBD down to 10⁻¹² of the profile's peak (`albedo.rs`, "The ends of the axis");
 //! - along r, E is interpolated as exp(Catmull-Rom of ln E) where the segment's energy is
 //!   positive, and the first interval [0, r₁] adds PBD's isotropic ln(1/r) growth,
 //!   ρ′² C_E cos θ′/π · ln(r₁/r), to the profile at r₁.
@@ -63,6 +66,7 @@ mod subset;
 mod validate;
 
 pub(crate) use albedo::AlbedoAxis;
+use albedo::FarField;
 pub use bake::{
     bake, bake_lobes, node_cell, two_lobe_azimuths, BakeReport, Grid, GridPreset, Lobes, NodeCell,
     REFINE_PHI_DEG, REFINE_THETA_MIN_DEG, TWO_LOBES_BELOW_ETA,
@@ -97,6 +101,8 @@ pub struct Axes {
     rho: AlbedoAxis,
     theta: Nodes,
     r: Nodes,
+    /// 1/f of the rows at the ends of the ρ′ axis, for evaluation there (`albedo.rs`).
+    far: FarField,
 }
 
 impl Axes {
@@ -113,10 +119,12 @@ impl Axes {
             Some(&last) if (last - FRAC_PI_2).abs() <= THETA_GRAZING_TOLERANCE => End::Even,
             _ => End::Chord,
         };
+        let (rho, r) = (AlbedoAxis::new(Nodes::new(rho)?), Nodes::new(r)?);
         Ok(Self {
-            rho: AlbedoAxis::new(Nodes::new(rho)?),
+            far: FarField::new(&rho, r.as_slice()),
+            rho,
             theta: Nodes::new(theta)?.with_end(end),
-            r: Nodes::new(r)?,
+            r,
         })
     }
     /// Reduced-albedo nodes.

@@ -1,6 +1,7 @@
 //! The bake's own check (`table::check`): a good table passes, a table that is a few per cent
 //! off everywhere fails in every region, and beyond the critical angle every lookup is 0.
 
+use crate::lookup::default_table;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{
     bake, check, AngularTable, Grid, GridPreset, CHECK_BOUNDS, CHECK_COARSE_BOUNDS, PARAMS_PER_NODE,
@@ -34,6 +35,21 @@ fn a_good_table_passes_in_every_region_and_is_deterministic() {
         .unwrap()
         .install(|| check(&table.view(), Moments::Exact, CHECK_COARSE_BOUNDS).unwrap());
     assert_eq!(again, result);
+}
+
+#[test]
+fn the_default_table_passes_with_its_spread_points_down_to_1e_12_of_the_peak() {
+    // The default and fine grids' bound reaches 10⁻¹² of the peak (issue 17): before the
+    // spline of E/(ρ′² f) at the ends of the albedo axis, this table failed it below
+    // ρ′ = 0.1 (tails up to 25 % off at r ≈ 15–18, exact zeros at ρ′ < 0.02)
+    assert_eq!(CHECK_BOUNDS.peak_fraction, 1e-12);
+    let result = check(&default_table().view(), Moments::Exact, CHECK_BOUNDS).unwrap();
+    assert_eq!(result.regions.len(), 25);
+    for r in &result.regions {
+        assert!(r.coverage_points > 100, "{r:?}");
+        assert_eq!(r.silent_zeros, 0, "{r:?}");
+        assert!(r.passes(&CHECK_BOUNDS), "{r:?}");
+    }
 }
 
 #[test]

@@ -9,6 +9,7 @@ mod arbitrary_inputs;
 mod catmull_rom;
 mod catmull_rom_even;
 mod check;
+mod far_tail;
 mod lookup;
 mod pinned;
 mod subset;
