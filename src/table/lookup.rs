@@ -400,62 +400,66 @@ impl<'a> TableRef<'a> {
     /// that at the ends of the albedo axis too, where E takes its own spline (`albedo_ends`)
     /// that a blend of rμₙ would not follow. 0 at a node where no row holds energy.
     fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> [[f64; 4]; 4] {
-        let (mut sum, mut weight) = ([[0.0f64; 4]; 4], [0.0f64; 4]);
+        // sum[n][k]: Σ ω × share n at node k; weight[k]: Σ ω over the rows with energy there.
+        // In f32, like the stored values and `window_params`, and laid out per harmonic so the
+        // four nodes of a row update together.
+        let (mut sum, mut weight) = ([[0.0f32; 4]; 4], [0.0f32; 4]);
         let n = s.len.min(16);
         let (_, _, n_r) = self.axes.dims();
-        for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights[..n]) {
-            let w = f64::from(w);
-            let mut add = |k: usize, p: &[f32], h: &[f32]| {
-                let (e, e_beta, c) = (f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
-                if e > 0.0 && w != 0.0 {
-                    let share = e_beta * c / e;
-                    let shares = [share, share * c, f64::from(h[0]) / e, f64::from(h[1]) / e];
-                    for (acc, x) in sum[k].iter_mut().zip(shares) {
-                        *acc += w * x;
-                    }
-                    weight[k] += w;
+        let mut add = |w: f32, p: &[f32; 12], h: &[f32; 8]| {
+            let e: [f32; 4] = std::array::from_fn(|k| p[3 * k]);
+            // 1/E where the node holds energy, else 0 (the row adds nothing there)
+            let inv = e.map(|e| if e > 0.0 { 1.0 / e } else { 0.0 });
+            let share1: [f32; 4] = std::array::from_fn(|k| p[3 * k + 1] * p[3 * k + 2] * inv[k]);
+            let shares = [
+                share1,
+                std::array::from_fn(|k| share1[k] * p[3 * k + 2]),
+                std::array::from_fn(|k| h[2 * k] * inv[k]),
+                std::array::from_fn(|k| h[2 * k + 1] * inv[k]),
+            ];
+            for (sum, x) in sum.iter_mut().zip(shares) {
+                for k in 0..4 {
+                    sum[k] += w * x[k];
                 }
-            };
+            }
+            for k in 0..4 {
+                weight[k] += if e[k] > 0.0 { w } else { 0.0 };
+            }
+        };
+        for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights[..n]) {
             let node = offset as usize + first;
             // The four nodes' values are contiguous in each array: one bounds check per array
             let windows = (n_r >= 4)
                 .then(|| {
                     let p = self.params.get(node * PARAMS_PER_NODE..)?;
                     let h = second.get(node * HARMONICS_PER_NODE..)?;
-                    Some((
-                        p.first_chunk::<{ 4 * PARAMS_PER_NODE }>()?,
-                        h.first_chunk::<{ 4 * HARMONICS_PER_NODE }>()?,
-                    ))
+                    Some((p.first_chunk::<12>()?, h.first_chunk::<8>()?))
                 })
                 .flatten();
             match windows {
-                Some((p, h)) => {
-                    for k in 0..4 {
-                        add(
-                            k,
-                            &p[PARAMS_PER_NODE * k..PARAMS_PER_NODE * (k + 1)],
-                            &h[HARMONICS_PER_NODE * k..HARMONICS_PER_NODE * (k + 1)],
-                        );
-                    }
-                }
-                // Fewer than four radii: node by node (those past the axis weigh 0 later)
+                Some((p, h)) => add(w, p, h),
+                // Fewer than four radii (or the array's end): node by node, zeros past it
+                // (nodes past the axis weigh 0 later)
                 None => {
+                    let (mut p, mut h) = ([0.0f32; 12], [0.0f32; 8]);
                     for k in 0..4 {
                         let at = node + k;
-                        if let (Some(p), Some(h)) = (
+                        if let (Some(pk), Some(hk)) = (
                             self.params
                                 .get(at * PARAMS_PER_NODE..(at + 1) * PARAMS_PER_NODE),
                             second.get(at * HARMONICS_PER_NODE..(at + 1) * HARMONICS_PER_NODE),
                         ) {
-                            add(k, p, h);
+                            p[3 * k..3 * k + 3].copy_from_slice(pk);
+                            h[2 * k..2 * k + 2].copy_from_slice(hk);
                         }
                     }
+                    add(w, &p, &h);
                 }
             }
         }
         std::array::from_fn(|k| {
             if weight[k] != 0.0 {
-                sum[k].map(|x| x / weight[k])
+                std::array::from_fn(|n| f64::from(sum[n][k]) / f64::from(weight[k]))
             } else {
                 [0.0; 4]
             }
