@@ -20,13 +20,16 @@ use bssrdf_zoo::embed::{ChannelLookup, Library, TableLookup};
 use bssrdf_zoo::format::{Compression, LibraryBuilder};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::models::Model;
-use bssrdf_zoo::table::{bake, rows_for, AngularTable, Grid, RhoInterval, TableRef};
+use bssrdf_zoo::table::{
+    bake, bake_lobes, rows_for, AngularTable, Grid, Lobes, RhoInterval, TableRef,
+};
 
 /// The tables lookups are held to the rules on: `full` (a bake of a whole grid with θ
 /// sampling), two scene subsets of its albedo rows (ρ′ ∈ [0.3, 0.6] as a scene bake keeps it,
 /// and the first five rows, from ρ′ = 0), `full` without θ sampling, and small bakes at the
 /// ends of the η domain (0.75: no light enters beyond 48.6°; 2.5), at η = 1 with pbrt's
-/// Fresnel moments, and on a radius axis of three nodes.
+/// Fresnel moments, and on a radius axis of three nodes, with one lobe and with two (below
+/// η = 1.33 every bake has two, `table::Lobes`).
 pub fn tables(full: AngularTable) -> Vec<(&'static str, AngularTable)> {
     let rows = rows_for(full.axes().rho(), RhoInterval::new(0.3, 0.6).unwrap()).unwrap();
     let scene = full.subset_rows(rows).unwrap();
@@ -48,6 +51,12 @@ pub fn tables(full: AngularTable) -> Vec<(&'static str, AngularTable)> {
         ("eta 2.5", baked(2.5, Moments::Exact, &small)),
         ("eta 1 pbrt", baked(1.0, Moments::Pbrt, &small)),
         ("short r axis", baked(1.33, Moments::Exact, &short)),
+        (
+            "short r axis, two lobes",
+            bake_lobes(1.33, Moments::Exact, &short, true, Lobes::Two)
+                .unwrap()
+                .0,
+        ),
     ]
 }
 
