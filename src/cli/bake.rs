@@ -32,7 +32,7 @@ pub enum GridArg {
 /// `--lobes`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum LobesArg {
-    /// Two lobes below η = 1.33, one from there.
+    /// Two lobes for η in [1, 1.33), one elsewhere.
     Auto,
     /// One lobe (the report's model).
     #[value(name = "1")]
@@ -90,9 +90,11 @@ pub struct BakeArgs {
     /// Fresnel moments of the boundary.
     #[arg(long, value_enum, default_value = "exact")]
     fresnel_moments: MomentsArg,
-    /// Wrapped Cauchy lobes of the angular profile: 2 below η = 1.33, where one misses the
-    /// report's accuracy at grazing incidence, 1 from there (auto); 2 is 2.5–100 times more
-    /// accurate at grazing incidence and 1.5 times the size (docs/accuracy.md).
+    /// Wrapped Cauchy lobes of the angular profile: 2 for η in [1, 1.33), where one misses the
+    /// report's accuracy at grazing incidence, else 1 (auto). At η = 1.05–1.3 two are 28–47
+    /// times more accurate at 89°; on the default grid they keep the size (42 radii instead of
+    /// 64), on the others they take 1.5 times it; lookups take about 4 times as long
+    /// (docs/accuracy.md).
     #[arg(long, value_enum, default_value = "auto")]
     lobes: LobesArg,
     /// Leave out the θ-sampling table (only path tracers need it).
@@ -327,7 +329,7 @@ impl Baker {
                 "also_where_the_fit_clamped": true,
             },
             "lobes": match self.lobes {
-                None => json!({"auto": {"two_below_eta": bssrdf_zoo::table::TWO_LOBES_BELOW_ETA}}),
+                None => json!({"auto": {"two_from_eta": 1.0, "two_below_eta": bssrdf_zoo::table::TWO_LOBES_BELOW_ETA}}),
                 Some(Lobes::One) => json!(1),
                 Some(Lobes::Two) => json!(2),
             },

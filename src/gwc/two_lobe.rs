@@ -3,9 +3,10 @@
 //! Near index matching (η ≲ 1.3) and at grazing incidence the refracted beam runs just under
 //! the surface, and PBD's azimuthal profile becomes a sharp forward peak over a broad forward
 //! body. One lobe over a floor cannot follow both: at (η, ρ′, θ) = (1.2, 0.9, 89°) the best one
-//! is 0.8–1.1 % off (mean over φ, weighted by the profile) at every r, the best two 0.03–0.11 %;
-//! at (1.05, 0.99, 89°) 2.4–4.0 % against 0.12–0.20 % (`examples/angular_families.rs`). Tables
-//! store the second lobe in a section of their own (format-spec.md §10, `gwc-lobe2`).
+//! is 0.48–1.1 % off (mean over φ, weighted by the profile) at r from 0.01 to 10, the best two
+//! 0.016–0.045 % (`cargo run --release --example angular_families -- 1.2 0.9 89`). Tables store
+//! the profile's harmonics, from which lookups rebuild the lobes ([`TwoLobe::from_moments`];
+//! format-spec.md §10, `gwc-harmonics`).
 //!
 //! # Admissible profiles
 //!
@@ -24,8 +25,9 @@
 //!
 //! A signed floor is not a density of its own, so the sampler draws from the mixture of the
 //! profile's non-negative parts, max(2πα, 0)/2π + β₁·pdf_WC(c₁) + β₂·pdf_WC(c₂), normalised:
-//! the profile itself wherever α ≥ 0, and a density at most (β₁ + β₂)/(2πα + β₁ + β₂) times
-//! it where α < 0 (as one lobe's `Gwc::normalised` does). [`TwoLobe::pdf`] is that density
+//! the profile itself wherever α ≥ 0, and where α < 0 a density at least (2πα + β₁ + β₂)/(β₁ + β₂)
+//! times the normalised profile (as one lobe's `Gwc::normalised` does), so a renderer's weight
+//! S/pdf grows by at most the inverse of that. [`TwoLobe::pdf`] is that density
 //! exactly. The draw inverts the mixture's distribution function (monotone, since every part
 //! is ≥ 0) by Newton steps inside a bisection bracket, so [`TwoLobe::cdf`] undoes it.
 //!
@@ -88,7 +90,7 @@ impl TwoLobe {
 
     /// The profile whose floor and lobes match E/r = 2πα + β₁ + β₂ and the first four
     /// harmonics μₙ = ∫ f(φ) cos nφ dφ = β₁c₁ⁿ + β₂c₂ⁿ, n = 1 … 4 (`m`), which tables
-    /// interpolate instead of the lobes' parameters (module docs, "Interpolation"). Prony's
+    /// interpolate instead of the lobes' parameters (`table::lookup`). Prony's
     /// method: c₁ and c₂ are the roots of z² − pz + q with μₙ₊₂ = pμₙ₊₁ − qμₙ (n = 1, 2), and
     /// β₁, β₂ solve μ₁ and μ₂. Where that has no admissible answer (the Hankel determinant
     /// μ₁μ₃ − μ₂² vanishing relative to μ₂², complex or out-of-range roots, a negative mass), the

@@ -70,8 +70,8 @@ impl GridPreset {
     /// The grid of this preset for a table with `lobes`: [`Grid::preset`], except that the
     /// default grid of a two-lobe table has 42 radii instead of 64 (ratio 1.33 instead of 1.2
     /// between them), so that with its fifth and sixth value per node it stays within 1 MiB
-    /// (100 × 10 × 42 nodes × 24 bytes, 988 KiB). Measured at η = 1.2 and 1.25
-    /// (docs/accuracy.md): its error is within 0.01 % of the 64-radius grid's on the report's
+    /// (100 × 10 × 42 nodes × 24 bytes, 984 KiB). Measured at η = 1.2 and 1.25
+    /// (docs/accuracy.md): its error is within 0.02 % of the 64-radius grid's on the report's
     /// protocol, and the bake's check passes. (Fewer angles or albedo rows instead: 6 angles put
     /// (0.5, 60°) at 0.12 %, above the report's 0.08 %; 64 albedo rows miss the far tails at
     /// ρ′ < 0.1 by up to 80 %.)
@@ -153,18 +153,22 @@ pub struct BakeReport {
 pub enum Lobes {
     /// One lobe over a floor: (E, E_β, c) per node.
     One,
-    /// Two lobes over a floor: (E, E_β₁, c₁) and (E_β₂, c₂) per node.
+    /// Two lobes over a floor: (E, E_β₁, c₁) and (rμ₃, rμ₄) per node.
     Two,
 }
 
-/// Below this η a bake takes two lobes unless told otherwise ([`Lobes::for_eta`]): there one
-/// lobe misses the report's table-2 figures at 60° and 89° (docs/accuracy.md).
+/// Below this η (and from η = 1) a bake takes two lobes unless told otherwise
+/// ([`Lobes::for_eta`]): there one lobe misses the report's table-2 figures at 60° and 89°
+/// (docs/accuracy.md).
 pub const TWO_LOBES_BELOW_ETA: f64 = 1.33;
 
 impl Lobes {
-    /// The lobes a bake takes by default at η: two below [`TWO_LOBES_BELOW_ETA`], one from it.
+    /// The lobes a bake takes by default at η: two in [1, [`TWO_LOBES_BELOW_ETA`]), one
+    /// elsewhere. Below η = 1 two lobes measured worse (the bake's check at η = 0.75: region
+    /// means 20–24 % against 18–22 % with one, just below the critical angle, where neither
+    /// model holds) and cost 4 times the lookup time.
     pub fn for_eta(eta: f64) -> Self {
-        if eta < TWO_LOBES_BELOW_ETA {
+        if (1.0..TWO_LOBES_BELOW_ETA).contains(&eta) {
             Lobes::Two
         } else {
             Lobes::One
@@ -417,7 +421,7 @@ fn r0_concentration(row: &[f32], r: &[f64]) -> f32 {
     (c(1) - slope * r[1]).clamp(-C_MAX_FIT, C_MAX_FIT) as f32
 }
 
-/// One baked (ρ′, θ) row: nr cells of (E, E_β, c), nr of (E_β₂, c₂) with two lobes (empty
+/// One baked (ρ′, θ) row: nr cells of (E, E_β, c), nr of (rμ₃, rμ₄) with two lobes (empty
 /// with one), the fit branch of each node (`None` for a two-lobe fit), and how many nodes were
 /// refined.
 type BakedRow = (Vec<f32>, Vec<f32>, Vec<Option<FitBranch>>, usize);

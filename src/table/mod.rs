@@ -17,7 +17,7 @@
 //! - the radial CDF ∫₀^r E dr′ of the Catmull-Rom spline through the stored E (for sampling r),
 //!   whose last node is the effective albedo ρ_eff(ρ′, θ);
 //! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ);
-//! - for a two-lobe table ([`Lobes::Two`], by default below η = 1.33), the profile's third and
+//! - for a two-lobe table ([`Lobes::Two`], by default for η in [1, 1.33)), the profile's third and
 //!   fourth harmonics times r, r·μ₃ and r·μ₄, beside (E, E_β, c) of the one lobe with its first
 //!   two: lookups interpolate the four harmonics and rebuild two lobes from them
 //!   ([`crate::gwc::TwoLobe::from_moments`], `lookup.rs`; docs/accuracy.md).
@@ -172,7 +172,7 @@ pub struct TableRef<'a> {
     params: &'a [f32],
     radial_cdf: &'a [f32],
     theta_cdf: Option<&'a [f32]>,
-    /// (E_β₂, c₂) per node, `[nρ][nθ][nr][2]`, for tables with a second lobe.
+    /// the harmonics (rμ₃, rμ₄) per node, `[nρ][nθ][nr][2]`, for tables with a second lobe.
     harmonics: Option<&'a [f32]>,
 }
 
@@ -258,7 +258,7 @@ impl<'a> TableRef<'a> {
         })
     }
 
-    /// This view with a second lobe, (E_β₂, c₂) per node, `[nρ][nθ][nr][2]`: its length
+    /// This view with a second lobe, the harmonics (rμ₃, rμ₄) per node, `[nρ][nθ][nr][2]`: its length
     /// checked against the axes and every value finite.
     pub fn with_harmonics(self, harmonics: &'a [f32]) -> Result<Self, TableError> {
         let (nrho, ntheta, nr) = self.axes.dims();
@@ -327,7 +327,7 @@ impl<'a> TableRef<'a> {
     pub fn has_theta_sampling(&self) -> bool {
         self.theta_cdf.is_some()
     }
-    /// The second lobe (E_β₂, c₂) per node, if the table has one.
+    /// The second lobe (rμ₃, rμ₄) per node, if the table has one.
     pub fn harmonics(&self) -> Option<&'a [f32]> {
         self.harmonics
     }
@@ -409,7 +409,7 @@ impl AngularTable {
     pub fn theta_cdf(&self) -> Option<&[f32]> {
         self.theta_cdf.as_deref()
     }
-    /// (E_β₂, c₂) per node of the second lobe, `[nρ][nθ][nr][2]`, if the table has one.
+    /// (rμ₃, rμ₄) per node of the second lobe, `[nρ][nθ][nr][2]`, if the table has one.
     pub fn harmonics(&self) -> Option<&[f32]> {
         self.harmonics.as_deref()
     }
