@@ -168,7 +168,9 @@ mod two_lobe;
 
 pub use minimax::{refine_minimax, MinimaxFit, MINIMAX_MAX_SAMPLES};
 pub(crate) use sample::{uniform_azimuth, unit_interval};
-pub use two_lobe::{fit as fit_two_lobes, one_lobe_of, TwoLobe, C_MAX_TWO_LOBES};
+pub use two_lobe::{
+    fit as fit_two_lobes, one_lobe_of, TwoLobe, C_MAX_TWO_LOBES, C_MIN_SECOND_LOBE,
+};
 
 use std::f64::consts::{PI, TAU};
 

@@ -51,7 +51,7 @@ use super::{cdf_wc, clamp_c, inv_cdf_wc, pdf_wc};
 pub const C_MAX_TWO_LOBES: f64 = 0.999;
 
 /// A profile with two lobes (see the module docs). Invariants: β₁, β₂ ≥ 0 and finite, c₁, c₂
-/// within [−[`C_LIMIT`], `C_LIMIT`], the profile ≥ 0 at every φ (to rounding).
+/// within [−[`C_LIMIT`](super::C_LIMIT), `C_LIMIT`], the profile ≥ 0 at every φ (to rounding).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TwoLobe {
     alpha: f64,
@@ -91,10 +91,11 @@ impl TwoLobe {
     /// The profile whose floor and lobes match E/r = 2πα + β₁ + β₂ and the first four
     /// harmonics μₙ = ∫ f(φ) cos nφ dφ = β₁c₁ⁿ + β₂c₂ⁿ, n = 1 … 4 (`m`), which tables
     /// interpolate instead of the lobes' parameters (`table::lookup`). Prony's
-    /// method: c₁ and c₂ are the roots of z² − pz + q with μₙ₊₂ = pμₙ₊₁ − qμₙ (n = 1, 2), and
-    /// β₁, β₂ solve μ₁ and μ₂. Where that has no admissible answer (the Hankel determinant
-    /// μ₁μ₃ − μ₂² vanishing relative to μ₂², complex or out-of-range roots, a negative mass), the
-    /// one lobe of the first two harmonics: c = μ₂/μ₁, β = μ₁/c. Then as
+    /// method: c₁ and c₂ are the roots of z² − pz + q with μₙ₊₂ = pμₙ₊₁ − qμₙ (n = 1, 2),
+    /// clamped into [[`C_MIN_SECOND_LOBE`], [`C_MAX_TWO_LOBES`]] (c₁ only from above), and β₁, β₂
+    /// solve μ₁ and μ₂ for them. Where that has no admissible answer (the Hankel determinant
+    /// μ₁μ₃ − μ₂² vanishing relative to μ₂², complex roots, clamped roots that meet, a negative
+    /// mass), the one lobe of the first two harmonics: c = μ₂/μ₁, β = μ₁/c. Then as
     /// [`TwoLobe::from_table`].
     pub fn from_moments(e_per_r: f64, m: [f64; 4]) -> Self {
         let [m1, m2, m3, m4] = m;
@@ -264,13 +265,26 @@ fn prony(m1: f64, m2: f64, m3: f64, m4: f64) -> Option<([f64; 2], [f64; 2])> {
     let c1 = 0.5 * (p + p.signum() * disc.sqrt());
     let c2 = if c1 != 0.0 { q / c1 } else { 0.0 };
     let (c1, c2) = if c1 >= c2 { (c1, c2) } else { (c2, c1) };
-    if !(c2 > 0.0 && c1 < 1.0 && c1 > c2) {
+    // Roots outside [C_MIN_SECOND_LOBE, C_MAX_TWO_LOBES] are clamped into it and the masses
+    // solved for the clamped pair: the same lobes where the roots lie inside, and continuous
+    // across its edges. (Falling back to the one lobe of μ₁, μ₂ where c₂ crossed 0 jumped the
+    // profile by 0.1–0.3 % between neighbouring lookups; as c₂ → 0 the exact lobes need
+    // β₂ → ∞ against a floor → −∞, their limit a cos φ term.)
+    let (c1, c2) = (
+        c1.min(C_MAX_TWO_LOBES),
+        c2.clamp(C_MIN_SECOND_LOBE, C_MAX_TWO_LOBES),
+    );
+    if c1 <= c2 {
         return None;
     }
     let b1 = (m2 - m1 * c2) / (c1 * (c1 - c2));
     let b2 = (m1 * c1 - m2) / (c2 * (c1 - c2));
     (b1 >= 0.0 && b2 >= 0.0 && b1.is_finite() && b2.is_finite()).then_some(([b1, b2], [c1, c2]))
 }
+
+/// The smallest concentration [`TwoLobe::from_moments`] gives the second lobe (see the clamp in
+/// `prony`): its mass stays within about μ₁/0.05 = 20 μ₁.
+pub const C_MIN_SECOND_LOBE: f64 = 0.05;
 
 /// The one lobe (β, c) with harmonics μ₁ and μ₂: c = μ₂/μ₁, β = μ₁/c; no lobe (0, 0) where
 /// μ₁ or μ₂ is not positive.
