@@ -3,7 +3,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use crate::gwc_common::{chi2_critical_1e6, integrate, SplitMix64, UniformRange};
+use crate::gwc_common::{chi2_critical_1e6, chi_square, integrate, SplitMix64, UniformRange};
 use bssrdf_zoo::gwc::{cdf_wc, floor_bound, inv_cdf_wc, lobe_cap, pdf_wc, Gwc, C_LIMIT};
 use bssrdf_zoo::Error;
 
@@ -386,43 +386,6 @@ fn sample_agrees_with_bisection_on_the_papers_cdf() {
     }
 }
 
-/// χ² statistic and its degrees of freedom for `SAMPLES` draws of `draw` against `g.pdf`.
-///
-/// Bins are equiprobable under the wrapped Cauchy lobe of `g` (edges cdf_WC⁻¹(i/64; c)), so a
-/// narrow peak is resolved; expected counts come from quadrature of the pdf, and bins
-/// expecting fewer than 5 are pooled.
-fn chi_square(g: &Gwc, draw: &mut dyn FnMut() -> f64) -> (f64, usize) {
-    const SAMPLES: usize = 200_000;
-    const BINS: usize = 64;
-    let edges: Vec<f64> = (0..=BINS)
-        .map(|i| inv_cdf_wc(i as f64 / BINS as f64, g.c()))
-        .collect();
-    let mut counts = [0usize; BINS];
-    for _ in 0..SAMPLES {
-        let phi = draw();
-        let bin = edges.partition_point(|&e| e <= phi).clamp(1, BINS) - 1;
-        counts[bin] += 1;
-    }
-    let (mut chi2, mut cells) = (0.0, 0);
-    let (mut pooled_obs, mut pooled_exp) = (0.0, 0.0);
-    for (i, &n) in counts.iter().enumerate() {
-        let mass = integrate(&|p| g.pdf(p), edges[i], edges[i + 1], 1e-12);
-        let expected = SAMPLES as f64 * mass;
-        if expected < 5.0 {
-            pooled_obs += n as f64;
-            pooled_exp += expected;
-        } else {
-            chi2 += (n as f64 - expected).powi(2) / expected;
-            cells += 1;
-        }
-    }
-    if pooled_exp > 0.0 {
-        chi2 += (pooled_obs - pooled_exp).powi(2) / pooled_exp;
-        cells += 1;
-    }
-    (chi2, cells - 1)
-}
-
 #[test]
 fn sample_matches_pdf_chi_square() {
     // Fixed seed. Threshold: Wilson–Hilferty χ² critical value at p = 1e-6, so each case would
@@ -443,7 +406,7 @@ fn sample_matches_pdf_chi_square() {
     let mut rng = SplitMix64::new(0x5eed);
     for (a, b, c) in cases {
         let g = Gwc::new(a, b, c).unwrap();
-        let (chi2, dof) = chi_square(&g, &mut || g.sample(rng.next_f64()));
+        let (chi2, dof) = chi_square(g.c(), &|p| g.pdf(p), &mut || g.sample(rng.next_f64()));
         let critical = chi2_critical_1e6(dof);
         assert!(
             chi2 < critical,
@@ -460,7 +423,7 @@ fn chi_square_detects_a_slightly_wrong_sampler() {
     let g = Gwc::new(0.1, 1.0, 0.5).unwrap();
     for wrong in [Gwc::new(0.1, 1.0, 0.53), Gwc::new(0.15, 1.0, 0.5)] {
         let wrong = wrong.unwrap();
-        let (chi2, dof) = chi_square(&g, &mut || wrong.sample(rng.next_f64()));
+        let (chi2, dof) = chi_square(g.c(), &|p| g.pdf(p), &mut || wrong.sample(rng.next_f64()));
         assert!(chi2 > chi2_critical_1e6(dof), "χ² = {chi2}");
     }
 }

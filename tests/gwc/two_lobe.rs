@@ -4,7 +4,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crate::gwc_common::{chi2_critical_1e6, integrate, SplitMix64, UniformRange};
+use crate::gwc_common::{chi2_critical_1e6, chi_square, integrate, SplitMix64, UniformRange};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::{fit_two_lobes, pdf_wc, TwoLobe, C_MAX_TWO_LOBES};
 use bssrdf_zoo::medium::Boundary;
@@ -171,39 +171,6 @@ fn sample_round_trips_through_cdf() {
     }
 }
 
-/// χ² of 200 000 draws in 64 bins equiprobable under the sharper lobe (so a narrow peak is
-/// resolved), expected counts by quadrature of the pdf, bins under 5 pooled: (χ², dof).
-fn chi_square(g: &TwoLobe, draw: &mut dyn FnMut() -> f64) -> (f64, usize) {
-    const SAMPLES: usize = 200_000;
-    const BINS: usize = 64;
-    let edges: Vec<f64> = (0..=BINS)
-        .map(|i| bssrdf_zoo::gwc::inv_cdf_wc(i as f64 / BINS as f64, g.c()[0]))
-        .collect();
-    let mut counts = [0usize; BINS];
-    for _ in 0..SAMPLES {
-        let phi = draw();
-        let bin = edges.partition_point(|&e| e <= phi).clamp(1, BINS) - 1;
-        counts[bin] += 1;
-    }
-    let (mut chi2, mut cells) = (0.0, 0);
-    let (mut pooled_obs, mut pooled_exp) = (0.0, 0.0);
-    for (i, &n) in counts.iter().enumerate() {
-        let expected = SAMPLES as f64 * integrate(&|p| g.pdf(p), edges[i], edges[i + 1], 1e-12);
-        if expected < 5.0 {
-            pooled_obs += n as f64;
-            pooled_exp += expected;
-        } else {
-            chi2 += (n as f64 - expected).powi(2) / expected;
-            cells += 1;
-        }
-    }
-    if pooled_exp > 0.0 {
-        chi2 += (pooled_obs - pooled_exp).powi(2) / pooled_exp;
-        cells += 1;
-    }
-    (chi2, cells - 1)
-}
-
 #[test]
 fn sample_matches_pdf_chi_square() {
     // Fixed seed; p = 1e-6 critical values. Cases: a floor over two lobes, a sharp lobe over
@@ -218,14 +185,16 @@ fn sample_matches_pdf_chi_square() {
     let mut rng = SplitMix64::new(0x5eed2);
     for (alpha, beta, c) in cases {
         let g = TwoLobe::from_table(TAU * alpha + beta[0] + beta[1], beta, c);
-        let (chi2, dof) = chi_square(&g, &mut || g.sample(rng.next_f64()));
+        let (chi2, dof) = chi_square(g.c()[0], &|p| g.pdf(p), &mut || g.sample(rng.next_f64()));
         let critical = chi2_critical_1e6(dof);
         assert!(chi2 < critical, "{g:?}: χ² = {chi2} ≥ {critical}");
     }
     // And it has power: drawing c₁ 0.02 too high fails
     let g = TwoLobe::from_table(TAU * 0.05 + 1.0, [0.6, 0.4], [0.5, 0.2]);
     let wrong = TwoLobe::from_table(TAU * 0.05 + 1.0, [0.6, 0.4], [0.52, 0.2]);
-    let (chi2, dof) = chi_square(&g, &mut || wrong.sample(rng.next_f64()));
+    let (chi2, dof) = chi_square(g.c()[0], &|p| g.pdf(p), &mut || {
+        wrong.sample(rng.next_f64())
+    });
     assert!(chi2 > chi2_critical_1e6(dof), "χ² = {chi2}");
 }
 
