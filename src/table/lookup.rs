@@ -148,11 +148,7 @@ impl<'a> TableRef<'a> {
 
     #[inline(always)]
     fn slice_with(&self, rho_weights: &AlbedoWeights, rho: f64, theta: f64) -> Option<Slice> {
-        // Hot cells apart, see `Nodes::hot_weights`
-        let theta_weights = match self.axes.theta().hot_weights(theta) {
-            Some(w) => w,
-            None => self.axes.theta().weights(theta)?,
-        };
+        let theta_weights = self.theta_weights(theta)?;
         Some(self.slice_of(rho_weights, &theta_weights, rho, theta))
     }
 
@@ -203,6 +199,16 @@ impl<'a> TableRef<'a> {
             offsets,
             weights,
             blend: Blend::new(albedo, rho, theta),
+        }
+    }
+
+    /// The Catmull-Rom weights along θ, `None` outside the axis; hot cells apart, see
+    /// `Nodes::hot_weights`.
+    #[inline(always)]
+    pub(super) fn theta_weights(&self, theta: f64) -> Option<Weights> {
+        match self.axes.theta().hot_weights(theta) {
+            Some(w) => Some(w),
+            None => self.axes.theta().weights(theta),
         }
     }
 
@@ -379,7 +385,7 @@ impl<'a> TableRef<'a> {
             } else {
                 1.0
             };
-            let g = self.two_lobe_cell(acc, &shares, first, r_eval, w, e_per_r);
+            let g = self.two_lobe_cell(|| acc, &shares, first, r_eval, w, e_per_r);
             return Profile::Two(g);
         }
         Profile::One(
@@ -474,7 +480,7 @@ impl<'a> TableRef<'a> {
     /// [`TwoLobe::from_moments`].
     fn two_lobe_cell(
         &self,
-        acc: [f32; 12],
+        window: impl FnOnce() -> [f32; 12],
         shares: &[[f64; 4]; 4],
         first: usize,
         r_eval: f64,
@@ -483,6 +489,7 @@ impl<'a> TableRef<'a> {
     ) -> TwoLobe {
         let r_nodes = self.axes.r().as_slice();
         if w.segment() <= 1 && r_nodes[0] == 0.0 {
+            let acc = window();
             let node = |k: usize| {
                 let e = f64::from(acc[PARAMS_PER_NODE * (k - first)]).max(0.0);
                 shares[k - first].map(|x| x * e / r_nodes[k])
@@ -728,9 +735,10 @@ impl<'a> TableRef<'a> {
                 return 0.0;
             };
             let first = self.radial_window(&w);
-            let acc = self.window_params(s, first);
             let shares = self.harmonic_shares(s, second, first);
-            self.two_lobe_cell(acc, &shares, first, r_eval, &w, e_per_r)
+            // The first array's window only in the first two intervals, which read it
+            let window = || self.window_params(s, first);
+            self.two_lobe_cell(window, &shares, first, r_eval, &w, e_per_r)
                 .eval(wrap_phi(phi))
         })?;
         if !phi.is_finite() || !self.light_enters(theta) {
@@ -769,12 +777,8 @@ impl<'a> TableRef<'a> {
         theta: f64,
         r: f64,
     ) -> Option<Option<[f64; 3]>> {
-        // The weight searches first: they are independent and overlap in the pipeline. Hot
-        // cells apart, see `Nodes::hot_weights`.
-        let theta_weights = match self.axes.theta().hot_weights(theta) {
-            Some(w) => w,
-            None => self.axes.theta().weights(theta)?,
-        };
+        // The weight searches first: they are independent and overlap in the pipeline
+        let theta_weights = self.theta_weights(theta)?;
         let Some((r_eval, w)) = self.radius(r) else {
             return Some(None);
         };

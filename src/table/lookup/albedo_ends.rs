@@ -45,10 +45,7 @@ impl TableRef<'_> {
         theta: f64,
         r: f64,
     ) -> Option<Option<[f64; 3]>> {
-        let theta_weights = match self.axes.theta().hot_weights(theta) {
-            Some(w) => w,
-            None => self.axes.theta().weights(theta)?,
-        };
+        let theta_weights = self.theta_weights(theta)?;
         let Some((r_eval, w)) = self.radius(r) else {
             return Some(None);
         };
