@@ -14,9 +14,9 @@
 #![no_main]
 #![allow(unsafe_code)]
 
-#[path = "../../tests/lookup_common/mod.rs"]
+#[path = "../../crates/zoo/tests/lookup_common/mod.rs"]
 mod lookup_common;
-#[path = "../../tests/models_common/mod.rs"]
+#[path = "../../crates/zoo/tests/models_common/mod.rs"]
 mod models_common;
 
 use std::sync::OnceLock;

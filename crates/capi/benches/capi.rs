@@ -1,0 +1,399 @@
+//! The cost of the embedding layers: evaluate, pdf, sample and the path-tracing draw through
+//! (1) a `TableRef` made once from the mapped file and the crate's `World` conversion (the
+//! direct baseline), (2) the Rust handle `embed::ChannelLookup`, (3) the C interface's
+//! `extern "C"` functions called from Rust. Same mapped file (default grid, η = 1.33), same
+//! random points over 64 media of random ρ′ and σ′t, so the three differ only by their layers.
+//! Run: `cargo bench --bench capi`.
+//!
+//! After criterion, a paired run prints the times and the ratios C / Rust handle and Rust
+//! handle / direct: the 4096 points in blocks of 512, each block timed 31 times per variant
+//! with the variants back to back (order alternating), each block's fastest time kept. On a
+//! shared machine whose load changes from millisecond to millisecond, these figures are far
+//! steadier than criterion's separate estimates, whose spread there exceeds the differences.
+#![allow(unsafe_code)]
+
+use std::ptr::null_mut;
+use std::time::Instant;
+
+use bssrdf::{self as capi, bssrdf_channel};
+use bssrdf_zoo::embed::{ChannelLookup, Library};
+use bssrdf_zoo::format::{self, Compression, LibraryBuilder, Verify};
+use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::table::{bake, FileTable, Grid, GridPreset, TableRef, World};
+use criterion::{black_box, Criterion};
+
+const MEDIA: usize = 64;
+
+/// The three ways to one table, and the points to look up.
+struct Fixture<'a> {
+    direct: Vec<(f64, World<'a>)>,
+    handles: Vec<ChannelLookup>,
+    channels: Vec<*mut bssrdf_channel>,
+    c_library: *mut capi::bssrdf_library,
+    /// (medium, [θ, r mm, φ]) where the table holds energy, as a renderer meets them.
+    points: Vec<(usize, [f64; 3])>,
+    uniforms: Vec<[f64; 4]>,
+}
+
+/// Bakes the default grid for η = 1.33 into `dir`.
+fn bench_file(dir: &std::path::Path) -> std::path::PathBuf {
+    let path = dir.join("bench.bssrdf");
+    let grid = Grid::preset(GridPreset::Default);
+    let (table, _) = bake(1.33, Moments::Exact, &grid, true).unwrap();
+    let mut builder = LibraryBuilder::new();
+    builder.add_table(table.to_table_data()).unwrap();
+    builder.write_atomic(&path, Compression::None).unwrap();
+    path
+}
+
+impl<'a> Fixture<'a> {
+    /// `view` is the direct way: table 0 of the file at `path`, opened by the caller.
+    fn new(path: &std::path::Path, view: TableRef<'a>) -> Fixture<'a> {
+        let library = Library::open_mmap(path).unwrap();
+        let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+        let mut c_library = null_mut();
+        // SAFETY: a valid path and output.
+        assert_eq!(
+            unsafe { capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut c_library) },
+            0
+        );
+
+        let mut rng = SplitMix64::new(1);
+        let (mut direct, mut handles, mut channels) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..MEDIA {
+            let (rho, st) = (0.05 + 0.95 * rng.next_f64(), 0.5 + 4.0 * rng.next_f64());
+            direct.push((rho, World::new(view, st).unwrap()));
+            handles.push(library.table(0).unwrap().medium(rho, st).unwrap());
+            let mut ch = null_mut();
+            // SAFETY: a live library and a valid output.
+            let status = unsafe { capi::bssrdf_library_medium(c_library, 0, rho, st, &mut ch) };
+            assert_eq!(status, 0);
+            channels.push(ch);
+        }
+        let points = (0..4096)
+            .map(|k| loop {
+                let m = k % MEDIA;
+                let theta = 1.5 * rng.next_f64();
+                if let Some(s) = handles[m].sample(theta, rng.next_f64(), rng.next_f64()) {
+                    break (m, [theta, s.r, s.phi]);
+                }
+            })
+            .collect();
+        let uniforms = (0..4096).map(|_| [0; 4].map(|_| rng.next_f64())).collect();
+        Fixture {
+            direct,
+            handles,
+            channels,
+            c_library,
+            points,
+            uniforms,
+        }
+    }
+
+    fn c_eval(&self, m: usize, [theta, r, phi]: [f64; 3]) -> f64 {
+        let mut value = 0.0;
+        // SAFETY: a live channel and a valid output.
+        let status =
+            unsafe { capi::bssrdf_channel_eval(self.channels[m], theta, r, phi, &mut value) };
+        value + f64::from(status)
+    }
+
+    fn c_pdf(&self, m: usize, [theta, r, phi]: [f64; 3]) -> f64 {
+        let mut value = 0.0;
+        // SAFETY: a live channel and a valid output.
+        let status =
+            unsafe { capi::bssrdf_channel_pdf(self.channels[m], theta, r, phi, &mut value) };
+        value + f64::from(status)
+    }
+
+    fn c_sample_path(&self, m: usize, u: [f64; 4]) -> f64 {
+        let mut p = capi::bssrdf_path_sample {
+            theta: 0.0,
+            r: 0.0,
+            phi: 0.0,
+            phi_prime: 0.0,
+            pdf_theta: 0.0,
+            pdf: 0.0,
+        };
+        // SAFETY: a live channel, 4 readable doubles and a valid output.
+        let status =
+            unsafe { capi::bssrdf_channel_sample_path(self.channels[m], u.as_ptr(), &mut p) };
+        p.r + f64::from(status)
+    }
+
+    fn c_sample(&self, m: usize, theta: f64, u: [f64; 4]) -> f64 {
+        let mut s = capi::bssrdf_sample {
+            r: 0.0,
+            phi: 0.0,
+            pdf: 0.0,
+        };
+        // SAFETY: a live channel and a valid output.
+        let status =
+            unsafe { capi::bssrdf_channel_sample(self.channels[m], theta, u[0], u[1], &mut s) };
+        s.r + f64::from(status)
+    }
+}
+
+impl Drop for Fixture<'_> {
+    fn drop(&mut self) {
+        // SAFETY: handles from `new`, released once.
+        unsafe {
+            for &ch in &self.channels {
+                capi::bssrdf_channel_release(ch);
+            }
+            capi::bssrdf_library_close(self.c_library);
+        }
+    }
+}
+
+fn bench(c: &mut Criterion, f: &Fixture) {
+    let (points, uniforms, worlds, handles, channels) =
+        (&f.points, &f.uniforms, &f.direct, &f.handles, &f.channels);
+    let mut i = 0usize;
+    let mut next = || {
+        i = (i + 1) % 4096;
+        i
+    };
+    let mut group = c.benchmark_group("capi");
+    group.bench_function("eval/direct", |b| {
+        b.iter(|| {
+            let (m, [theta, r, phi]) = points[next()];
+            let (rho, world) = &worlds[m];
+            world.eval(*rho, black_box(theta), black_box(r), black_box(phi))
+        })
+    });
+    group.bench_function("eval/rust_handle", |b| {
+        b.iter(|| {
+            let (m, [theta, r, phi]) = points[next()];
+            handles[m].eval(black_box(theta), black_box(r), black_box(phi))
+        })
+    });
+    group.bench_function("eval/c_api", |b| {
+        b.iter(|| {
+            let (m, [theta, r, phi]) = points[next()];
+            let mut value = 0.0;
+            // SAFETY: a live channel and a valid output.
+            let status = unsafe {
+                capi::bssrdf_channel_eval(channels[m], black_box(theta), r, phi, &mut value)
+            };
+            (status, value)
+        })
+    });
+    group.bench_function("sample/direct", |b| {
+        b.iter(|| {
+            let (m, [theta, _, _]) = points[next()];
+            let u = uniforms[next()];
+            let (rho, world) = &worlds[m];
+            world.sample(*rho, black_box(theta), u[0], u[1])
+        })
+    });
+    group.bench_function("sample/rust_handle", |b| {
+        b.iter(|| {
+            let (m, [theta, _, _]) = points[next()];
+            let u = uniforms[next()];
+            handles[m].sample(black_box(theta), u[0], u[1])
+        })
+    });
+    group.bench_function("sample/c_api", |b| {
+        b.iter(|| {
+            let (m, [theta, _, _]) = points[next()];
+            let u = uniforms[next()];
+            let mut s = capi::bssrdf_sample {
+                r: 0.0,
+                phi: 0.0,
+                pdf: 0.0,
+            };
+            // SAFETY: a live channel and a valid output.
+            let status = unsafe {
+                capi::bssrdf_channel_sample(channels[m], black_box(theta), u[0], u[1], &mut s)
+            };
+            (status, s)
+        })
+    });
+    group.bench_function("pdf/rust_handle", |b| {
+        b.iter(|| {
+            let (m, [theta, r, phi]) = points[next()];
+            handles[m].pdf(black_box(theta), black_box(r), black_box(phi))
+        })
+    });
+    group.bench_function("pdf/c_api", |b| {
+        b.iter(|| {
+            let (m, [theta, r, phi]) = points[next()];
+            let mut value = 0.0;
+            // SAFETY: a live channel and a valid output.
+            let status = unsafe {
+                capi::bssrdf_channel_pdf(channels[m], black_box(theta), r, phi, &mut value)
+            };
+            (status, value)
+        })
+    });
+    group.bench_function("sample_path/rust_handle", |b| {
+        b.iter(|| {
+            let (m, _) = points[next()];
+            handles[m].sample_path(black_box(uniforms[next()]))
+        })
+    });
+    group.bench_function("sample_path/c_api", |b| {
+        b.iter(|| {
+            let (m, _) = points[next()];
+            let u = black_box(uniforms[next()]);
+            let mut p = capi::bssrdf_path_sample {
+                theta: 0.0,
+                r: 0.0,
+                phi: 0.0,
+                phi_prime: 0.0,
+                pdf_theta: 0.0,
+                pdf: 0.0,
+            };
+            // SAFETY: a live channel, 4 readable doubles and a valid output.
+            let status =
+                unsafe { capi::bssrdf_channel_sample_path(channels[m], u.as_ptr(), &mut p) };
+            (status, p)
+        })
+    });
+    group.finish();
+}
+
+/// Lookups per timed block: about 0.1–0.4 ms, short enough that most blocks run without the
+/// process being descheduled on a loaded machine.
+const BLOCK: usize = 512;
+
+/// Nanoseconds per lookup of each variant: every block of `BLOCK` points is timed `reps`
+/// times per variant, the variants back to back in alternating order; each block keeps its
+/// fastest time (the runs no other process interrupted), and the blocks are summed.
+fn interleaved(reps: usize, variants: &mut [&mut dyn FnMut(usize) -> f64]) -> Vec<f64> {
+    let blocks = 4096 / BLOCK;
+    // best[block][variant], ns for the whole block.
+    let mut best = vec![vec![f64::INFINITY; variants.len()]; blocks];
+    let mut sink = 0.0;
+    for rep in 0..reps {
+        for (block, best) in best.iter_mut().enumerate() {
+            for k in 0..variants.len() {
+                // Alternate the order so that neither variant always runs first.
+                let v = if (rep + block) % 2 == 0 {
+                    k
+                } else {
+                    variants.len() - 1 - k
+                };
+                let start = Instant::now();
+                for i in block * BLOCK..(block + 1) * BLOCK {
+                    sink += (variants[v])(i);
+                }
+                best[v] = best[v].min(start.elapsed().as_nanos() as f64);
+            }
+        }
+    }
+    black_box(sink);
+    (0..variants.len())
+        .map(|v| best.iter().map(|b| b[v]).sum::<f64>() / 4096.0)
+        .collect()
+}
+
+/// Prints the times and ratios of an interleaved comparison.
+fn report(name: &str, labels: &[&str], ns: &[f64]) {
+    let times: Vec<String> = labels
+        .iter()
+        .zip(ns)
+        .map(|(l, t)| format!("{l} {t:.0} ns"))
+        .collect();
+    let mut line = format!("paired {name}: {}", times.join(", "));
+    if ns.len() == 3 {
+        line += &format!("; handle/direct {:.3}", ns[1] / ns[0]);
+    }
+    let n = ns.len();
+    line += &format!("; C/handle {:.3}", ns[n - 1] / ns[n - 2]);
+    println!("{line}");
+}
+
+/// The interleaved comparison (see the module docs).
+fn paired(f: &Fixture) {
+    let reps = 31;
+    let n = f.points.len();
+    let eval = interleaved(
+        reps,
+        &mut [
+            &mut |i| {
+                let (m, [theta, r, phi]) = f.points[i];
+                let (rho, world) = &f.direct[m];
+                world.eval(*rho, black_box(theta), r, phi).unwrap_or(0.0)
+            },
+            &mut |i| {
+                let (m, [theta, r, phi]) = f.points[i];
+                f.handles[m].eval(black_box(theta), r, phi).unwrap_or(0.0)
+            },
+            &mut |i| {
+                let (m, [theta, r, phi]) = f.points[i];
+                f.c_eval(m, [black_box(theta), r, phi])
+            },
+        ],
+    );
+    report("eval", &["direct", "handle", "C"], &eval);
+    let sample = interleaved(
+        reps,
+        &mut [
+            &mut |i| {
+                let (m, [theta, _, _]) = f.points[i];
+                let u = f.uniforms[(i + 1) % n];
+                let (rho, world) = &f.direct[m];
+                world
+                    .sample(*rho, black_box(theta), u[0], u[1])
+                    .map_or(0.0, |s| s.r)
+            },
+            &mut |i| {
+                let (m, [theta, _, _]) = f.points[i];
+                let u = f.uniforms[(i + 1) % n];
+                f.handles[m]
+                    .sample(black_box(theta), u[0], u[1])
+                    .map_or(0.0, |s| s.r)
+            },
+            &mut |i| {
+                let (m, [theta, _, _]) = f.points[i];
+                f.c_sample(m, black_box(theta), f.uniforms[(i + 1) % n])
+            },
+        ],
+    );
+    report("sample", &["direct", "handle", "C"], &sample);
+    let pdf = interleaved(
+        reps,
+        &mut [
+            &mut |i| {
+                let (m, [theta, r, phi]) = f.points[i];
+                f.handles[m].pdf(black_box(theta), r, phi)
+            },
+            &mut |i| {
+                let (m, [theta, r, phi]) = f.points[i];
+                f.c_pdf(m, [black_box(theta), r, phi])
+            },
+        ],
+    );
+    report("pdf", &["handle", "C"], &pdf);
+    let path = interleaved(
+        reps,
+        &mut [
+            &mut |i| {
+                let (m, _) = f.points[i];
+                f.handles[m]
+                    .sample_path(black_box(f.uniforms[i]))
+                    .map_or(0.0, |p| p.r)
+            },
+            &mut |i| {
+                let (m, _) = f.points[i];
+                f.c_sample_path(m, black_box(f.uniforms[i]))
+            },
+        ],
+    );
+    report("sample_path", &["handle", "C"], &path);
+}
+
+fn main() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = bench_file(dir.path());
+    let file = format::Library::open_mmap(&path, Verify::Full).unwrap();
+    let table = FileTable::new(file.table(0).unwrap()).unwrap();
+    let fixture = Fixture::new(&path, table.view().unwrap());
+    let mut criterion = Criterion::default().configure_from_args();
+    bench(&mut criterion, &fixture);
+    paired(&fixture);
+    criterion.final_summary();
+}

@@ -1,0 +1,719 @@
+//! The C interface: [`bssrdf_runtime::embed`] behind `extern "C"` functions, declared for C in
+//! `include/bssrdf_zoo.h` (written by hand; `tests/capi/header.rs` checks that it declares
+//! exactly these functions, structs and constants with the same types).
+//!
+//! Rules every entry point follows:
+//! - it returns a status (`BSSRDF_OK` = 0 or a `BSSRDF_ERROR_*` code), except the release
+//!   functions (which return nothing) and the two message functions;
+//! - on failure the message is kept in a **thread-local last error**
+//!   ([`bssrdf_last_error_message`]), valid until the next failing call on the same thread;
+//!   successful calls leave it untouched and do not allocate;
+//! - every pointer argument is checked: NULL gives `BSSRDF_ERROR_NULL_POINTER`;
+//! - no panic crosses the boundary: each body runs under `catch_unwind`, and a panic (a bug)
+//!   gives `BSSRDF_ERROR_PANIC`. This needs `panic = "unwind"`, the default profile setting;
+//! - outputs are written only on success, except handle outputs, set to NULL on failure.
+//!
+//! Handles are opaque pointers to Rust values: `bssrdf_library` (from
+//! [`bssrdf_library_open`], freed by [`bssrdf_library_close`]) and `bssrdf_channel` (from
+//! [`bssrdf_library_channel`] or [`bssrdf_library_medium`], freed by
+//! [`bssrdf_channel_release`]). A channel keeps the library's file open by itself, so the
+//! library may be closed first. Both are immutable: any number of threads may use the same
+//! handle at once; only closing or releasing it must not race with its other uses.
+//!
+//! This module and `format::map` are the only places with `unsafe` code. Here it is only
+//! pointer reads and writes at the boundary, and `#[no_mangle]` (which the lint also counts).
+#![allow(unsafe_code)]
+// C names, as the header spells them.
+#![allow(non_camel_case_types)]
+
+use std::cell::RefCell;
+use std::ffi::{c_char, c_int, CStr, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use bssrdf_runtime::embed::Rgb;
+use bssrdf_runtime::embed::{ChannelLookup, EmbedError, Library};
+use bssrdf_runtime::format::FormatError;
+
+/// Success.
+pub const BSSRDF_OK: c_int = 0;
+/// A pointer argument was NULL.
+pub const BSSRDF_ERROR_NULL_POINTER: c_int = 1;
+/// An argument is invalid: unknown flag bits, a channel other than 0, 1, 2, a string that is
+/// not UTF-8, a medium with σ′t not finite and in [1e-9, 1e12] mm⁻¹.
+pub const BSSRDF_ERROR_INVALID_ARGUMENT: c_int = 2;
+/// The operating system refused to open, map or read the file.
+pub const BSSRDF_ERROR_IO: c_int = 3;
+/// The file is not a valid library file (the message names the check that failed).
+pub const BSSRDF_ERROR_FORMAT: c_int = 4;
+/// No material of that name, or no table of that index.
+pub const BSSRDF_ERROR_NOT_FOUND: c_int = 5;
+/// A value lies outside what the table covers: θ outside its θ axis (or NaN) in a lookup, or a
+/// medium's ρ′ outside its albedo rows when a channel is made. Tables are never extrapolated.
+pub const BSSRDF_ERROR_OUT_OF_RANGE: c_int = 6;
+/// Sampling found nothing to sample: no energy stored there (ρ′ = 0, light beyond the critical
+/// angle), θ outside the table, or, for path sampling, a table baked without θ sampling.
+pub const BSSRDF_ERROR_NO_SAMPLE: c_int = 7;
+/// A bug: the library panicked; the panic was caught at the boundary.
+pub const BSSRDF_ERROR_PANIC: c_int = 8;
+
+/// [`bssrdf_library_open`]: map the file read-only (the default, `0`).
+pub const BSSRDF_OPEN_MAP: u32 = 0;
+/// [`bssrdf_library_open`]: read the file into memory instead of mapping it (for files another
+/// process may truncate while they are open, which kills a mapping process with SIGBUS).
+pub const BSSRDF_OPEN_READ: u32 = 1;
+
+/// An opened library file (opaque to C).
+pub struct bssrdf_library {
+    library: Library,
+    /// Material names with their NUL, for [`bssrdf_library_material_name`].
+    names: Vec<CString>,
+}
+
+/// The lookup handle of one medium on one table (opaque to C).
+pub struct bssrdf_channel {
+    lookup: ChannelLookup,
+}
+
+/// One draw of the exit point (see [`bssrdf_runtime::embed::Sample`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct bssrdf_sample {
+    /// Exit distance, mm.
+    pub r: f64,
+    /// Exit azimuth, radians in [−π, π], 0 forward.
+    pub phi: f64,
+    /// Density per mm² of the exit plane.
+    pub pdf: f64,
+}
+
+/// One path-tracing draw (see [`bssrdf_runtime::embed::PathSample`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct bssrdf_path_sample {
+    /// Incidence before refraction, radians.
+    pub theta: f64,
+    /// Exit distance, mm.
+    pub r: f64,
+    /// Exit azimuth relative to the plane of incidence, radians.
+    pub phi: f64,
+    /// Azimuth of the entry point seen from the exit point, radians.
+    pub phi_prime: f64,
+    /// Density of θ, per radian.
+    pub pdf_theta: f64,
+    /// Joint density pdf_theta · pdf(r, φ | θ) / (2π).
+    pub pdf: f64,
+}
+
+/// What a channel handle looks up: its medium and table.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct bssrdf_channel_info {
+    /// Reduced albedo ρ′ = σ′s/σ′t.
+    pub rho_prime: f64,
+    /// Reduced extinction σ′t, mm⁻¹.
+    pub sigma_t_prime: f64,
+    /// Relative index of refraction the table was baked for.
+    pub eta: f64,
+    /// Index of the table in the file.
+    pub table: usize,
+}
+
+/// The last error of a thread: a fixed message (hot paths: no allocation) or a formatted one.
+enum Message {
+    Static(&'static CStr),
+    Owned(CString),
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<Message> = const { RefCell::new(Message::Static(c"no error")) };
+}
+
+/// A failed call: its status code and message.
+struct Failure {
+    code: c_int,
+    message: Message,
+}
+
+impl Failure {
+    fn fixed(code: c_int, message: &'static CStr) -> Failure {
+        Failure {
+            code,
+            message: Message::Static(message),
+        }
+    }
+
+    fn text(code: c_int, message: String) -> Failure {
+        // Rust messages hold no NUL; should one ever, keep the text before it.
+        let bytes: Vec<u8> = message
+            .into_bytes()
+            .into_iter()
+            .take_while(|&b| b != 0)
+            .collect();
+        let message = CString::new(bytes).map_or(Message::Static(c"error"), Message::Owned);
+        Failure { code, message }
+    }
+
+    fn null(name: &'static CStr) -> Failure {
+        Failure::fixed(BSSRDF_ERROR_NULL_POINTER, name)
+    }
+}
+
+impl From<EmbedError> for Failure {
+    fn from(e: EmbedError) -> Failure {
+        let code = match &e {
+            EmbedError::Format(FormatError::Io { .. }) => BSSRDF_ERROR_IO,
+            EmbedError::Format(_) | EmbedError::Table { .. } | EmbedError::Sections { .. } => {
+                BSSRDF_ERROR_FORMAT
+            }
+            EmbedError::NoMaterial { .. } | EmbedError::NoTable { .. } => BSSRDF_ERROR_NOT_FOUND,
+            EmbedError::Medium { .. } | EmbedError::Bake(_) => BSSRDF_ERROR_INVALID_ARGUMENT,
+            EmbedError::AlbedoOutsideTable { .. } => BSSRDF_ERROR_OUT_OF_RANGE,
+        };
+        Failure::text(code, e.to_string())
+    }
+}
+
+/// Runs an entry point's body: catches panics, records failures in the thread's last error.
+#[inline(always)]
+fn guard(body: impl FnOnce() -> Result<(), Failure>) -> c_int {
+    let failure = match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => return BSSRDF_OK,
+        Ok(Err(failure)) => failure,
+        Err(_) => Failure::fixed(
+            BSSRDF_ERROR_PANIC,
+            c"internal error: bssrdf-zoo panicked (a bug; please report it); the call did nothing",
+        ),
+    };
+    // `try_with`: during thread teardown the slot may be gone; the code still tells the caller.
+    let _ = LAST_ERROR.try_with(|slot| {
+        if let Ok(mut slot) = slot.try_borrow_mut() {
+            *slot = failure.message;
+        }
+    });
+    failure.code
+}
+
+/// The value behind a handle or input pointer, or a NULL-pointer failure naming it.
+///
+/// # Safety
+/// `ptr` is NULL or points to a live, properly aligned `T` that nothing mutates during `'a`.
+#[inline(always)]
+unsafe fn input<'a, T>(ptr: *const T, name: &'static CStr) -> Result<&'a T, Failure> {
+    // SAFETY: the caller's contract (the header's, passed on): NULL or a live, aligned T.
+    unsafe { ptr.as_ref() }.ok_or_else(|| Failure::null(name))
+}
+
+/// The place an output goes, or a NULL-pointer failure naming it.
+///
+/// # Safety
+/// `ptr` is NULL or points to writable, properly aligned memory for a `T` that nothing else
+/// accesses during `'a` (its old contents are not read; `T` is `Copy` or a pointer).
+#[inline(always)]
+unsafe fn output<'a, T>(ptr: *mut T, name: &'static CStr) -> Result<&'a mut T, Failure> {
+    // SAFETY: the caller's contract (the header's, passed on): NULL or writable, aligned T.
+    unsafe { ptr.as_mut() }.ok_or_else(|| Failure::null(name))
+}
+
+/// A C string argument as UTF-8.
+///
+/// # Safety
+/// `ptr` is NULL or points to a NUL-terminated string that stays valid during `'a`.
+unsafe fn string<'a>(ptr: *const c_char, name: &'static CStr) -> Result<&'a str, Failure> {
+    if ptr.is_null() {
+        return Err(Failure::null(name));
+    }
+    // SAFETY: non-NULL, and the header requires a NUL-terminated string valid for the call.
+    let text = unsafe { CStr::from_ptr(ptr) };
+    text.to_str().map_err(|_| {
+        Failure::text(
+            BSSRDF_ERROR_INVALID_ARGUMENT,
+            format!("{} is not UTF-8: {text:?}", name.to_string_lossy()),
+        )
+    })
+}
+
+/// Opens the library file at `path` (a NUL-terminated path; any bytes on Unix, UTF-8
+/// elsewhere), validating all of it, and stores the new handle in `*out_library` (NULL on
+/// failure). `flags` is `BSSRDF_OPEN_MAP` (0) or `BSSRDF_OPEN_READ`.
+///
+/// # Safety
+/// `path` is NULL or a NUL-terminated string; `out_library` is NULL or points to writable
+/// storage for a pointer.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_library_open(
+    path: *const c_char,
+    flags: u32,
+    out_library: *mut *mut bssrdf_library,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_library, c"out_library is NULL") }?;
+        *out = std::ptr::null_mut();
+        if path.is_null() {
+            return Err(Failure::null(c"path is NULL"));
+        }
+        // SAFETY: non-NULL, and the contract requires a NUL-terminated string.
+        let bytes = unsafe { CStr::from_ptr(path) }.to_bytes();
+        let path = path_of(bytes)?;
+        let library = match flags {
+            BSSRDF_OPEN_MAP => Library::open_mmap(path)?,
+            BSSRDF_OPEN_READ => Library::read(path)?,
+            other => {
+                return Err(Failure::text(
+                    BSSRDF_ERROR_INVALID_ARGUMENT,
+                    format!(
+                        "flags = {other:#x}: expected BSSRDF_OPEN_MAP (0) or BSSRDF_OPEN_READ (1)"
+                    ),
+                ))
+            }
+        };
+        let names = library
+            .materials()
+            .iter()
+            .map(|m| CString::new(m.name.as_str()).unwrap_or_default())
+            .collect();
+        *out = Box::into_raw(Box::new(bssrdf_library { library, names }));
+        Ok(())
+    })
+}
+
+#[cfg(unix)]
+fn path_of(bytes: &[u8]) -> Result<&std::path::Path, Failure> {
+    use std::os::unix::ffi::OsStrExt;
+    Ok(std::path::Path::new(std::ffi::OsStr::from_bytes(bytes)))
+}
+
+#[cfg(not(unix))]
+fn path_of(bytes: &[u8]) -> Result<&std::path::Path, Failure> {
+    std::str::from_utf8(bytes)
+        .map(std::path::Path::new)
+        .map_err(|_| Failure::fixed(BSSRDF_ERROR_INVALID_ARGUMENT, c"path is not UTF-8"))
+}
+
+/// Closes a library handle (NULL is allowed and does nothing). Channels made from it stay
+/// valid: the file is unmapped when the last of them is released.
+///
+/// # Safety
+/// `library` is NULL or a handle from [`bssrdf_library_open`] not yet closed, which no other
+/// thread is using.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_library_close(library: *mut bssrdf_library) {
+    // SAFETY: the contract: NULL or a pointer from `Box::into_raw` in `bssrdf_library_open`,
+    // closed once.
+    unsafe { release(library) }
+}
+
+/// Stores the number of tables (one per η baked) in `*out_count`.
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_count` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_library_table_count(
+    library: *const bssrdf_library,
+    out_count: *mut usize,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let library = unsafe { input(library, c"library is NULL") }?;
+        // SAFETY: the function's contract.
+        *unsafe { output(out_count, c"out_count is NULL") }? = library.library.table_count();
+        Ok(())
+    })
+}
+
+/// Stores the number of materials in `*out_count`.
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_count` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_library_material_count(
+    library: *const bssrdf_library,
+    out_count: *mut usize,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let library = unsafe { input(library, c"library is NULL") }?;
+        // SAFETY: the function's contract.
+        *unsafe { output(out_count, c"out_count is NULL") }? = library.names.len();
+        Ok(())
+    })
+}
+
+/// Stores in `*out_name` the name of material `index` (UTF-8, NUL-terminated, owned by the
+/// library: valid until it is closed).
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_name` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_library_material_name(
+    library: *const bssrdf_library,
+    index: usize,
+    out_name: *mut *const c_char,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let library = unsafe { input(library, c"library is NULL") }?;
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_name, c"out_name is NULL") }?;
+        let name = library.names.get(index).ok_or_else(|| {
+            Failure::text(
+                BSSRDF_ERROR_NOT_FOUND,
+                format!(
+                    "no material {index}: the library holds {}",
+                    library.names.len()
+                ),
+            )
+        })?;
+        *out = name.as_ptr();
+        Ok(())
+    })
+}
+
+/// Makes the lookup handle of colour channel `channel` (0 red, 1 green, 2 blue) of the
+/// material called `material`, stored in `*out_channel` (NULL on failure). Release it with
+/// [`bssrdf_channel_release`].
+///
+/// # Safety
+/// `library` is NULL or an open handle; `material` is NULL or a NUL-terminated string;
+/// `out_channel` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_library_channel(
+    library: *const bssrdf_library,
+    material: *const c_char,
+    channel: c_int,
+    out_channel: *mut *mut bssrdf_channel,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_channel, c"out_channel is NULL") }?;
+        *out = std::ptr::null_mut();
+        // SAFETY: the function's contract.
+        let library = unsafe { input(library, c"library is NULL") }?;
+        // SAFETY: the function's contract.
+        let name = unsafe { string(material, c"material") }?;
+        let rgb = match channel {
+            0 => Rgb::Red,
+            1 => Rgb::Green,
+            2 => Rgb::Blue,
+            other => {
+                return Err(Failure::text(
+                    BSSRDF_ERROR_INVALID_ARGUMENT,
+                    format!("channel = {other}: expected 0 (red), 1 (green) or 2 (blue)"),
+                ))
+            }
+        };
+        let lookup = library.library.channel(name, rgb)?;
+        *out = Box::into_raw(Box::new(bssrdf_channel { lookup }));
+        Ok(())
+    })
+}
+
+/// Makes the lookup handle of a medium of reduced albedo `rho_prime` and reduced extinction
+/// `sigma_t_prime` (mm⁻¹) on table `table`, for media that are not material records of the
+/// file; stored in `*out_channel` (NULL on failure).
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_channel` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_library_medium(
+    library: *const bssrdf_library,
+    table: usize,
+    rho_prime: f64,
+    sigma_t_prime: f64,
+    out_channel: *mut *mut bssrdf_channel,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_channel, c"out_channel is NULL") }?;
+        *out = std::ptr::null_mut();
+        // SAFETY: the function's contract.
+        let library = unsafe { input(library, c"library is NULL") }?;
+        let lookup = library
+            .library
+            .table(table)?
+            .medium(rho_prime, sigma_t_prime)?;
+        *out = Box::into_raw(Box::new(bssrdf_channel { lookup }));
+        Ok(())
+    })
+}
+
+/// Releases a channel handle (NULL is allowed and does nothing).
+///
+/// # Safety
+/// `channel` is NULL or a handle not yet released, which no other thread is using.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_release(channel: *mut bssrdf_channel) {
+    // SAFETY: the contract: NULL or a pointer from `Box::into_raw` in this module, released once.
+    unsafe { release(channel) }
+}
+
+/// Frees a handle made by `Box::into_raw`; NULL does nothing. Dropping a handle cannot panic (an
+/// `Arc` decrement and perhaps an unmap), but it stays inside the panic guard all the same.
+///
+/// # Safety
+/// `handle` is NULL or a pointer from `Box::into_raw` of a `T`, freed once, which no other
+/// thread is using.
+unsafe fn release<T>(handle: *mut T) {
+    if handle.is_null() {
+        return;
+    }
+    // SAFETY: the caller's contract.
+    let handle = unsafe { Box::from_raw(handle) };
+    let _ = catch_unwind(AssertUnwindSafe(move || drop(handle)));
+}
+
+/// Stores the channel's ρ′, σ′t, η and table index in `*out_info`.
+///
+/// # Safety
+/// `channel` is NULL or a live handle; `out_info` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_get_info(
+    channel: *const bssrdf_channel,
+    out_info: *mut bssrdf_channel_info,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
+        // SAFETY: the function's contract.
+        *unsafe { output(out_info, c"out_info is NULL") }? = bssrdf_channel_info {
+            rho_prime: lookup.rho_prime(),
+            sigma_t_prime: lookup.sigma_t_prime(),
+            eta: lookup.table().eta(),
+            table: lookup.table().index(),
+        };
+        Ok(())
+    })
+}
+
+const THETA_OUTSIDE: &CStr =
+    c"theta is outside the table's theta axis (baked tables: [0, pi/2] radians) or NaN";
+
+/// S_p(r, φ; θ) in mm⁻², stored in `*out_value` (see [`ChannelLookup::eval`]): θ in radians
+/// before refraction, r in mm, φ in radians with 0 forward. `BSSRDF_ERROR_OUT_OF_RANGE` for θ
+/// outside the table.
+///
+/// # Safety
+/// `channel` is NULL or a live handle; `out_value` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_eval(
+    channel: *const bssrdf_channel,
+    theta: f64,
+    r_mm: f64,
+    phi: f64,
+    out_value: *mut f64,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_value, c"out_value is NULL") }?;
+        *out = lookup
+            .eval(theta, r_mm, phi)
+            .ok_or(Failure::fixed(BSSRDF_ERROR_OUT_OF_RANGE, THETA_OUTSIDE))?;
+        Ok(())
+    })
+}
+
+/// Density per mm² of [`bssrdf_channel_sample`] at (r, φ) (0 where it cannot sample), stored in
+/// `*out_pdf`.
+///
+/// # Safety
+/// `channel` is NULL or a live handle; `out_pdf` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_pdf(
+    channel: *const bssrdf_channel,
+    theta: f64,
+    r_mm: f64,
+    phi: f64,
+    out_pdf: *mut f64,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
+        // SAFETY: the function's contract.
+        *unsafe { output(out_pdf, c"out_pdf is NULL") }? = lookup.pdf(theta, r_mm, phi);
+        Ok(())
+    })
+}
+
+/// Draws the exit point for incidence θ from two uniforms in [0, 1) into `*out_sample` (r in
+/// mm, φ, density per mm²). `BSSRDF_ERROR_NO_SAMPLE` where there is nothing to sample.
+///
+/// # Safety
+/// `channel` is NULL or a live handle; `out_sample` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_sample(
+    channel: *const bssrdf_channel,
+    theta: f64,
+    u_r: f64,
+    u_phi: f64,
+    out_sample: *mut bssrdf_sample,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
+        let s = lookup.sample(theta, u_r, u_phi).ok_or(Failure::fixed(
+            BSSRDF_ERROR_NO_SAMPLE,
+            c"no sample: no energy stored for this medium at this theta, or theta outside the table",
+        ))?;
+        *out = bssrdf_sample {
+            r: s.r,
+            phi: s.phi,
+            pdf: s.pdf,
+        };
+        Ok(())
+    })
+}
+
+/// The path-tracing draw from the four uniforms `u[0..4]` in [0, 1) into `*out_sample`.
+/// `BSSRDF_ERROR_NO_SAMPLE` without θ sampling in the table or where there is nothing to sample.
+///
+/// # Safety
+/// `channel` is NULL or a live handle; `u` is NULL or points to 4 readable doubles;
+/// `out_sample` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_sample_path(
+    channel: *const bssrdf_channel,
+    u: *const f64,
+    out_sample: *mut bssrdf_path_sample,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
+        // SAFETY: the contract: 4 readable doubles, and [f64; 4] has the alignment of f64.
+        let u = *unsafe { input(u.cast::<[f64; 4]>(), c"u is NULL") }?;
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
+        let p = lookup.sample_path(u).ok_or(Failure::fixed(
+            BSSRDF_ERROR_NO_SAMPLE,
+            c"no sample: the table was baked without theta sampling, or stores no energy for this medium",
+        ))?;
+        *out = bssrdf_path_sample {
+            theta: p.theta,
+            r: p.r,
+            phi: p.phi,
+            phi_prime: p.phi_prime,
+            pdf_theta: p.pdf_theta,
+            pdf: p.pdf,
+        };
+        Ok(())
+    })
+}
+
+/// Density of θ in [`bssrdf_channel_sample_path`], per radian (0 without θ sampling), stored in
+/// `*out_pdf`.
+///
+/// # Safety
+/// `channel` is NULL or a live handle; `out_pdf` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_pdf_theta(
+    channel: *const bssrdf_channel,
+    theta: f64,
+    out_pdf: *mut f64,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
+        // SAFETY: the function's contract.
+        *unsafe { output(out_pdf, c"out_pdf is NULL") }? = lookup.pdf_theta(theta);
+        Ok(())
+    })
+}
+
+/// Effective albedo ρ_eff(θ) (dimensionless) stored in `*out_albedo`.
+/// `BSSRDF_ERROR_OUT_OF_RANGE` for θ outside the table.
+///
+/// # Safety
+/// `channel` is NULL or a live handle; `out_albedo` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_effective_albedo(
+    channel: *const bssrdf_channel,
+    theta: f64,
+    out_albedo: *mut f64,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_albedo, c"out_albedo is NULL") }?;
+        *out = lookup
+            .effective_albedo(theta)
+            .ok_or(Failure::fixed(BSSRDF_ERROR_OUT_OF_RANGE, THETA_OUTSIDE))?;
+        Ok(())
+    })
+}
+
+/// The message of the last failed call on this thread (UTF-8, NUL-terminated; "no error" if
+/// none failed yet). Valid until the next failing call on this thread; never NULL.
+#[no_mangle]
+pub extern "C" fn bssrdf_last_error_message() -> *const c_char {
+    catch_unwind(|| {
+        LAST_ERROR
+            .try_with(|slot| match &*slot.borrow() {
+                // The pointer outlives the borrow: the CString is replaced, and so freed, only
+                // by a later failing call on this thread, which the contract rules out.
+                Message::Static(s) => s.as_ptr(),
+                Message::Owned(s) => s.as_ptr(),
+            })
+            .unwrap_or(c"error message unavailable during thread teardown".as_ptr())
+    })
+    .unwrap_or(c"internal error".as_ptr())
+}
+
+/// The constant's name of a status code ("BSSRDF_OK", "BSSRDF_ERROR_IO", …), or
+/// "unknown status"; a static string.
+#[no_mangle]
+pub extern "C" fn bssrdf_status_name(status: c_int) -> *const c_char {
+    let name: &'static CStr = match status {
+        BSSRDF_OK => c"BSSRDF_OK",
+        BSSRDF_ERROR_NULL_POINTER => c"BSSRDF_ERROR_NULL_POINTER",
+        BSSRDF_ERROR_INVALID_ARGUMENT => c"BSSRDF_ERROR_INVALID_ARGUMENT",
+        BSSRDF_ERROR_IO => c"BSSRDF_ERROR_IO",
+        BSSRDF_ERROR_FORMAT => c"BSSRDF_ERROR_FORMAT",
+        BSSRDF_ERROR_NOT_FOUND => c"BSSRDF_ERROR_NOT_FOUND",
+        BSSRDF_ERROR_OUT_OF_RANGE => c"BSSRDF_ERROR_OUT_OF_RANGE",
+        BSSRDF_ERROR_NO_SAMPLE => c"BSSRDF_ERROR_NO_SAMPLE",
+        BSSRDF_ERROR_PANIC => c"BSSRDF_ERROR_PANIC",
+        _ => c"unknown status",
+    };
+    name.as_ptr()
+}
+
+#[cfg(test)]
+mod tests {
+    //! What only the module itself can check; the rest of the boundary's rules are tested
+    //! through the exported functions in `tests/capi/rust.rs` (from Rust) and `tests/capi/c_program.rs`
+    //! (from C).
+
+    use super::*;
+
+    fn last_error() -> String {
+        // SAFETY: a NUL-terminated string valid until the next failing call on this thread.
+        unsafe { CStr::from_ptr(bssrdf_last_error_message()) }
+            .to_string_lossy()
+            .into_owned()
+    }
+
+    #[test]
+    fn a_panic_is_caught_and_reported() {
+        let status = guard(|| panic!("deliberate"));
+        assert_eq!(status, BSSRDF_ERROR_PANIC);
+        assert!(last_error().contains("panicked"), "{}", last_error());
+        assert_eq!(guard(|| Ok(())), BSSRDF_OK);
+        assert!(
+            last_error().contains("panicked"),
+            "success leaves the message"
+        );
+    }
+
+    #[test]
+    fn the_last_error_is_per_thread() {
+        let status = guard(|| Err(Failure::text(BSSRDF_ERROR_IO, "on this thread".into())));
+        assert_eq!(status, BSSRDF_ERROR_IO);
+        let other = std::thread::spawn(last_error).join().unwrap();
+        assert_eq!(other, "no error");
+        assert_eq!(last_error(), "on this thread");
+    }
+}

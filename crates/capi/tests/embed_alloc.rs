@@ -1,0 +1,157 @@
+//! Lookups never allocate: through the Rust handles (`embed`) and through the C interface,
+//! on success and on failure. A counting global allocator counts the allocations of the
+//! current thread only, so the test harness's own threads cannot disturb the count; this
+//! file is a test binary of its own because it replaces the global allocator.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+use bssrdf as capi;
+use bssrdf_zoo::embed::bake_library;
+use bssrdf_zoo::materials::{self, Rgb};
+use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::table::Grid;
+
+struct Counting;
+
+thread_local! {
+    // Const-initialised and without destructor: usable inside the allocator.
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+// SAFETY: forwards every call to the system allocator unchanged; only counts.
+#[allow(unsafe_code)]
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        // SAFETY: the caller's contract is passed on unchanged.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: the caller's contract is passed on unchanged.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        // SAFETY: the caller's contract is passed on unchanged.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made by this thread while running `f`.
+fn allocations(f: impl FnOnce()) -> u64 {
+    let before = ALLOCATIONS.with(Cell::get);
+    f();
+    ALLOCATIONS.with(Cell::get) - before
+}
+
+#[test]
+fn the_counter_counts() {
+    assert!(allocations(|| drop(std::hint::black_box(vec![1u8; 64]))) >= 1);
+}
+
+#[test]
+fn rust_handle_lookups_and_clones_never_allocate() {
+    let skin = materials::Library::builtin().get("skin1").unwrap().clone();
+    let library = bake_library(&[&skin], &Grid::ferrier(12, 5, 16)).unwrap();
+    let handles: Vec<_> = Rgb::ALL
+        .map(|c| library.channel("skin1", c).unwrap())
+        .into();
+    let table = library.table(0).unwrap();
+    let mut rng = SplitMix64::new(3);
+    let mut sink = 0.0;
+    let n = allocations(|| {
+        for k in 0..3000 {
+            let h = &handles[k % 3];
+            // θ up to 1.1 × 90°: a tenth of the lookups fall outside the table.
+            let theta = 1.1 * std::f64::consts::FRAC_PI_2 * rng.next_f64();
+            let (r, phi) = (3.0 * rng.next_f64(), 6.0 * rng.next_f64() - 3.0);
+            let u = [0; 4].map(|_| rng.next_f64());
+            sink += h.eval(theta, r, phi).unwrap_or(0.0);
+            sink += h.pdf(theta, r, phi);
+            sink += h.sample(theta, u[0], u[1]).map_or(0.0, |s| s.r);
+            sink += h.sample_path(u).map_or(0.0, |s| s.pdf);
+            sink += h.pdf_theta(theta);
+            sink += h.effective_albedo(theta).unwrap_or(0.0);
+            sink += table.view().eval(u[2], theta, r, phi).unwrap_or(0.0);
+            let clone = std::hint::black_box(h.clone());
+            sink += clone.rho_prime();
+        }
+    });
+    assert!(sink.is_finite() && sink > 0.0);
+    assert_eq!(n, 0, "{n} allocations in 3000 rounds of lookups");
+}
+
+#[test]
+#[allow(unsafe_code)]
+fn c_interface_lookups_never_allocate_even_when_they_fail() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("skin.bssrdf");
+    let skin = materials::Library::builtin().get("skin1").unwrap().clone();
+    bake_library(&[&skin], &Grid::ferrier(12, 5, 16))
+        .unwrap()
+        .write(&path)
+        .unwrap();
+    let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+    let mut library = std::ptr::null_mut();
+    let mut channel = std::ptr::null_mut();
+    // SAFETY: valid strings and outputs; the handles are released below, once.
+    unsafe {
+        assert_eq!(
+            capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library),
+            0
+        );
+        let status = capi::bssrdf_library_channel(library, c"skin1".as_ptr(), 1, &mut channel);
+        assert_eq!(status, 0);
+    }
+    let mut rng = SplitMix64::new(4);
+    let mut failures = 0;
+    let n = allocations(|| {
+        for _ in 0..3000 {
+            let theta = 1.1 * std::f64::consts::FRAC_PI_2 * rng.next_f64();
+            let (r, phi) = (3.0 * rng.next_f64(), 6.0 * rng.next_f64() - 3.0);
+            let u = [0; 4].map(|_| rng.next_f64());
+            let mut value = 0.0;
+            let mut sample = capi::bssrdf_sample {
+                r: 0.0,
+                phi: 0.0,
+                pdf: 0.0,
+            };
+            let mut path_sample = capi::bssrdf_path_sample {
+                theta: 0.0,
+                r: 0.0,
+                phi: 0.0,
+                phi_prime: 0.0,
+                pdf_theta: 0.0,
+                pdf: 0.0,
+            };
+            // SAFETY: a live channel handle and valid outputs.
+            let statuses = unsafe {
+                [
+                    capi::bssrdf_channel_eval(channel, theta, r, phi, &mut value),
+                    capi::bssrdf_channel_pdf(channel, theta, r, phi, &mut value),
+                    capi::bssrdf_channel_sample(channel, theta, u[0], u[1], &mut sample),
+                    capi::bssrdf_channel_sample_path(channel, u.as_ptr(), &mut path_sample),
+                    capi::bssrdf_channel_pdf_theta(channel, theta, &mut value),
+                    capi::bssrdf_channel_effective_albedo(channel, theta, &mut value),
+                    capi::bssrdf_channel_eval(channel, theta, r, phi, std::ptr::null_mut()),
+                ]
+            };
+            failures += statuses.iter().filter(|&&s| s != 0).count();
+            std::hint::black_box((value, sample, path_sample));
+        }
+    });
+    // SAFETY: handles from above, released once.
+    unsafe {
+        capi::bssrdf_channel_release(channel);
+        capi::bssrdf_library_close(library);
+    }
+    assert!(
+        failures > 3000,
+        "the failure paths ran ({failures} failures)"
+    );
+    assert_eq!(n, 0, "{n} allocations in 3000 rounds of C lookups");
+}

@@ -1,0 +1,293 @@
+//! The per-medium lookup handle: S_p, sampling and densities in world units.
+
+use super::TableLookup;
+use crate::table::World;
+
+/// One draw of the exit point for a given incidence, in world units.
+///
+/// ```
+/// # use bssrdf_zoo::embed::Library;
+/// # use bssrdf_zoo::materials::Rgb;
+/// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+/// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+/// let red = library.channel("skin1", Rgb::Red)?;
+/// let s = red.sample(0.4, 0.5, 0.5).unwrap();
+/// // Exit point (x, y) in the tangent frame whose x axis points along the refracted beam.
+/// let (x, y) = (s.r * s.phi.cos(), s.r * s.phi.sin());
+/// assert!(s.pdf > 0.0 && x.hypot(y) > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Distance of the exit point from the entry point, mm.
+    pub r: f64,
+    /// Exit azimuth, radians in [−π, π], 0 forward.
+    pub phi: f64,
+    /// Density per unit area of the exit plane, mm⁻².
+    pub pdf: f64,
+}
+
+/// One path-tracing draw (Ferrier §7.1, algorithm 3), in world units: the incidence θ, the exit
+/// point (r, φ) relative to the plane of incidence, and the azimuth φ′ of the entry point seen
+/// from the exit point.
+///
+/// ```
+/// # use bssrdf_zoo::embed::Library;
+/// # use bssrdf_zoo::materials::Rgb;
+/// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+/// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+/// let red = library.channel("skin1", Rgb::Red)?;
+/// let p = red.sample_path([0.3, 0.5, 0.5, 0.9]).unwrap();
+/// assert!((0.0..=std::f64::consts::FRAC_PI_2).contains(&p.theta));
+/// assert_eq!(p.pdf_theta, red.pdf_theta(p.theta));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathSample {
+    /// Incidence θ_i before refraction, radians.
+    pub theta: f64,
+    /// Exit distance, mm.
+    pub r: f64,
+    /// Exit azimuth relative to the plane of incidence, radians.
+    pub phi: f64,
+    /// Azimuth of the entry point seen from the exit point, uniform, radians in [−π, π).
+    pub phi_prime: f64,
+    /// Density of θ, per radian.
+    pub pdf_theta: f64,
+    /// Joint density pdf_theta · pdf(r, φ | θ) / (2π), per radian per mm² per radian.
+    pub pdf: f64,
+}
+
+/// Lookups for one medium (one colour channel of a material, or any ρ′ and σ′t) on one table,
+/// in world units: r in mm, S and densities per mm², θ and φ in radians.
+///
+/// A lookup at (θ, r, φ) is the table's at (ρ′, θ, σ′t r, φ), times σ′t² for S and the
+/// densities (bit for bit what [`crate::table::World`] computes). ρ′ was checked against the
+/// table's albedo rows when the handle was made, so evaluation returns `None` only for θ outside
+/// the table's θ axis ([0, π/2] for baked tables) or NaN. Cheap to clone (one `Arc`),
+/// `Send + Sync`, keeps the library alive; lookups never allocate.
+///
+/// ```
+/// # use bssrdf_zoo::embed::Library;
+/// use bssrdf_zoo::materials::Rgb;
+/// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+/// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+/// let blue = library.channel("skin1", Rgb::Blue)?;
+/// let workers: Vec<_> = (0..2)
+///     .map(|k| {
+///         let blue = blue.clone();
+///         std::thread::spawn(move || blue.eval(0.3 * k as f64, 0.25, 0.0).unwrap())
+///     })
+///     .collect();
+/// for w in workers {
+///     assert!(w.join().unwrap() > 0.0);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct ChannelLookup {
+    table: TableLookup,
+    rho: f64,
+    sigma_t_prime: f64,
+}
+
+impl ChannelLookup {
+    /// `rho` inside the table's albedo rows and `sigma_t_prime` in [1e-9, 1e12] (checked by the
+    /// makers in `library.rs`).
+    pub(super) fn new(table: TableLookup, rho: f64, sigma_t_prime: f64) -> Self {
+        Self {
+            table,
+            rho,
+            sigma_t_prime,
+        }
+    }
+
+    /// The table the medium is looked up in (its reduced-unit [`TableLookup::view`], η, index).
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// assert_eq!(red.table().eta(), 1.3);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn table(&self) -> &TableLookup {
+        &self.table
+    }
+
+    /// Reduced albedo ρ′ = σ′s/σ′t of the medium.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// assert_eq!(red.rho_prime(), 0.74 / (0.74 + 0.032));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn rho_prime(&self) -> f64 {
+        self.rho
+    }
+
+    /// Reduced extinction σ′t = σs(1 − g) + σa of the medium, mm⁻¹.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// assert_eq!(red.sigma_t_prime(), 0.74 + 0.032);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn sigma_t_prime(&self) -> f64 {
+        self.sigma_t_prime
+    }
+
+    /// S_p(r, φ; θ) in mm⁻² at distance `r_mm` (mm) and azimuth `phi` from the entry point,
+    /// for light entering at incidence `theta` (radians, before refraction). Multiple
+    /// scattering per unit area per unit power entering the medium (no entry Fresnel factor).
+    /// 0 outside the radial support (r < 0, beyond the last radius node, NaN r or φ); `None`
+    /// for θ outside the table's θ axis.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// let theta = 60f64.to_radians();
+    /// let forward = red.eval(theta, 1.0, 0.0).unwrap();
+    /// let backward = red.eval(theta, 1.0, std::f64::consts::PI).unwrap();
+    /// assert!(forward > backward); // oblique light exits ahead of the entry point
+    /// assert_eq!(red.eval(2.0, 1.0, 0.0), None); // θ > 90°
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn eval(&self, theta: f64, r_mm: f64, phi: f64) -> Option<f64> {
+        let st = self.sigma_t_prime;
+        Some(
+            st * st
+                * self
+                    .table
+                    .view_with(false)
+                    .eval(self.rho, theta, st * r_mm, phi)?,
+        )
+    }
+
+    /// Density per mm² of [`ChannelLookup::sample`] at (r, φ): 0 where it cannot sample.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// assert!(red.pdf(0.5, 1.0, 0.3) > 0.0);
+    /// assert_eq!(red.pdf(0.5, -1.0, 0.3), 0.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn pdf(&self, theta: f64, r_mm: f64, phi: f64) -> f64 {
+        let st = self.sigma_t_prime;
+        st * st
+            * self
+                .table
+                .view_with(false)
+                .pdf(self.rho, theta, st * r_mm, phi)
+    }
+
+    /// Draws the exit point (r in mm, φ) for incidence θ from two uniforms in [0, 1), with its
+    /// density per mm² (equal to [`ChannelLookup::pdf`] there). `None` where the table holds no
+    /// energy (ρ′ = 0, light beyond the critical angle) or θ is outside the table.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// let s = red.sample(0.5, 0.25, 0.75).unwrap();
+    /// let weight = red.eval(0.5, s.r, s.phi).unwrap() / s.pdf; // ≈ ρ_eff(θ)
+    /// assert!((weight / red.effective_albedo(0.5).unwrap() - 1.0).abs() < 0.05);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn sample(&self, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
+        let world = World::prevalidated(self.table.view_with(false), self.sigma_t_prime);
+        let s = world.sample(self.rho, theta, u_r, u_phi)?;
+        Some(Sample {
+            r: s.r,
+            phi: s.phi,
+            pdf: s.pdf_area,
+        })
+    }
+
+    /// The path-tracing draw from four uniforms: θ from ρ_eff(ρ′, ·), then (r, φ) given θ, then
+    /// φ′ uniform (Ferrier's algorithm 3). `None` if the table was baked without θ sampling or
+    /// holds no energy for this medium.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let green = library.channel("skin1", Rgb::Green)?;
+    /// let p = green.sample_path([0.1, 0.2, 0.3, 0.4]).unwrap();
+    /// let given_theta = green.pdf(p.theta, p.r, p.phi);
+    /// assert!((p.pdf - p.pdf_theta * given_theta / std::f64::consts::TAU).abs() <= 1e-12 * p.pdf);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn sample_path(&self, u: [f64; 4]) -> Option<PathSample> {
+        let world = World::prevalidated(self.table.view(), self.sigma_t_prime);
+        let p = world.sample_path(self.rho, u)?;
+        Some(PathSample {
+            theta: p.theta,
+            r: p.r,
+            phi: p.phi,
+            phi_prime: p.phi_prime,
+            pdf_theta: p.pdf_theta,
+            pdf: p.pdf,
+        })
+    }
+
+    /// Density of θ in [`ChannelLookup::sample_path`], per radian (0 without θ sampling).
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let green = library.channel("skin1", Rgb::Green)?;
+    /// assert!(green.pdf_theta(0.2) > 0.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn pdf_theta(&self, theta: f64) -> f64 {
+        self.table.view().pdf_theta(self.rho, theta)
+    }
+
+    /// Effective albedo ρ_eff(θ) = ∫∫ S dA: the multiply scattered power leaving the surface per
+    /// unit power entering at incidence θ (dimensionless, the same in every unit system).
+    /// `None` for θ outside the table.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let [r, b] = [Rgb::Red, Rgb::Blue].map(|c| library.channel("skin1", c).unwrap());
+    /// assert!(r.effective_albedo(0.0).unwrap() > b.effective_albedo(0.0).unwrap());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn effective_albedo(&self, theta: f64) -> Option<f64> {
+        self.table
+            .view_with(false)
+            .effective_albedo(self.rho, theta)
+    }
+}

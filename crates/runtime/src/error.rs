@@ -1,0 +1,112 @@
+//! Typed errors of the library: one variant per failure, messages in lowercase that name the
+//! offending value and what would be valid. The binary adds context and maps them to exit codes.
+
+use thiserror::Error;
+
+/// Every error the library returns.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum Error {
+    /// A physical parameter is NaN or infinite.
+    #[error("{name} = {value} is not a finite number")]
+    NotFinite { name: &'static str, value: f64 },
+    /// A coefficient that must be non-negative is negative.
+    #[error("{name} = {value} is negative; it must be >= 0")]
+    Negative { name: &'static str, value: f64 },
+    /// The Henyey–Greenstein asymmetry is outside the open interval (-1, 1).
+    #[error("g = {0} is outside (-1, 1)")]
+    AsymmetryOutOfRange(f64),
+    /// σ′t = σ′s + σa is zero: the medium neither scatters nor absorbs.
+    #[error("reduced extinction sigma_t' = 0 (sigma_s*(1-g) + sigma_a): the medium is vacuum")]
+    Vacuum,
+    /// A table's arrays are inconsistent with its axes or hold non-finite values.
+    #[error(transparent)]
+    Table(#[from] crate::table::TableError),
+    /// A value is outside the range the quantity allows.
+    #[error("{name} = {} is outside [{}, {}]", number(*value), number(*min), number(*max))]
+    OutOfRange {
+        name: &'static str,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+    /// A quantity that must be strictly positive is zero or negative.
+    #[error("{name} = {value} must be > 0")]
+    NotPositive { name: &'static str, value: f64 },
+    /// Two edges of a range are not in increasing order.
+    #[error("{lo_name} = {lo} must be below {hi_name} = {hi}")]
+    EdgesNotIncreasing {
+        lo_name: &'static str,
+        lo: f64,
+        hi_name: &'static str,
+        hi: f64,
+    },
+    /// A count (photons, bins) is outside the range the code accepts.
+    #[error("{name} = {value} is outside [{min}, {max}]")]
+    CountOutOfRange {
+        name: &'static str,
+        value: u64,
+        min: u64,
+        max: u64,
+    },
+    /// A model name that is not in the registry.
+    #[error("unknown model {name:?}; expected one of {expected}")]
+    UnknownModel {
+        name: String,
+        expected: &'static str,
+    },
+    /// Two values that must agree do not (e.g. a shared table baked for another η).
+    #[error("{name} = {found} does not match the required {expected}")]
+    Mismatch {
+        name: &'static str,
+        found: String,
+        expected: String,
+    },
+}
+
+/// A number as a message shows it: plain where that is short (0.75, 2.5, 300), in exponent form
+/// where it is not (1e-9, 1e308 rather than 309 digits).
+pub fn number(x: f64) -> String {
+    let plain = x.to_string();
+    let exponent = format!("{x:e}");
+    if plain.len() <= exponent.len() {
+        plain
+    } else {
+        exponent
+    }
+}
+
+/// Result with the library's error type.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Checks that `value` is finite, naming it in the error otherwise.
+pub fn finite(name: &'static str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::NotFinite { name, value })
+    }
+}
+
+/// Checks that `value` is finite and within `[min, max]`.
+pub fn in_range(name: &'static str, value: f64, min: f64, max: f64) -> Result<f64> {
+    finite(name, value)?;
+    if (min..=max).contains(&value) {
+        Ok(value)
+    } else {
+        Err(Error::OutOfRange {
+            name,
+            value,
+            min,
+            max,
+        })
+    }
+}
+
+/// Checks that `value` is finite and ≥ 0 (−0 allowed), naming it in the error otherwise.
+pub fn non_negative(name: &'static str, value: f64) -> Result<f64> {
+    finite(name, value)?;
+    if value < 0.0 {
+        return Err(Error::Negative { name, value });
+    }
+    Ok(value)
+}

@@ -1,0 +1,307 @@
+//! Two wrapped Cauchy lobes over a floor: f(φ) = α + β₁·pdf_WC(φ; c₁) + β₂·pdf_WC(φ; c₂).
+//!
+//! Near index matching (η ≲ 1.3) and at grazing incidence the refracted beam runs just under
+//! the surface, and PBD's azimuthal profile becomes a sharp forward peak over a broad forward
+//! body. One lobe over a floor cannot follow both: at (η, ρ′, θ) = (1.2, 0.9, 89°) the best one
+//! is 0.48–1.1 % off (mean over φ, weighted by the profile) at r from 0.01 to 10, the best two
+//! 0.016–0.045 % (`cargo run --release --example angular_families -- 1.2 0.9 89`). Tables store
+//! the profile's harmonics, from which lookups rebuild the lobes ([`TwoLobe::from_moments`];
+//! format-spec.md §10, `gwc-harmonics`).
+//!
+//! # Admissible profiles
+//!
+//! β₁, β₂ ≥ 0, c₁, c₂ ∈ (−1, 1) and α signed, as one lobe's ([`super::floor_bound`]), down to
+//! where the profile would dip below 0. The minimum of a lobe is opposite its peak,
+//! β·(1 − |c|)/(2π(1 + |c|)), and the minimum of the sum is at least the sum of the minima, so
+//! the profile is ≥ 0 at every φ when
+//!
+//! 2πα + Σ βᵢ(1 − |cᵢ|)/(1 + |cᵢ|) ≥ 0, i.e. Σ βᵢ·2|cᵢ|/(1 + |cᵢ|) ≤ E/r = 2πα + β₁ + β₂
+//!
+//! (exact when both lobes peak on the same side, as PBD's do). [`TwoLobe::from_table`] scales
+//! both lobes down by one factor where an interpolated cell breaks it, keeping E/r and the
+//! shapes, as [`super::cap_lobe`] does for one lobe.
+//!
+//! # Sampling
+//!
+//! A signed floor is not a density of its own, so the sampler draws from the mixture of the
+//! profile's non-negative parts, max(2πα, 0)/2π + β₁·pdf_WC(c₁) + β₂·pdf_WC(c₂), normalised:
+//! the profile itself wherever α ≥ 0, and where α < 0 a density at least (2πα + β₁ + β₂)/(β₁ + β₂)
+//! times the normalised profile (as one lobe's `Gwc::normalised` does), so a renderer's weight
+//! S/pdf grows by at most the inverse of that. [`TwoLobe::pdf`] is that density
+//! exactly. The draw inverts the mixture's distribution function (monotone, since every part
+//! is ≥ 0) by Newton steps inside a bisection bracket, so [`TwoLobe::cdf`] undoes it.
+//!
+
+use std::f64::consts::{PI, TAU};
+
+use super::{cdf_wc, clamp_c, inv_cdf_wc, pdf_wc};
+
+/// Largest concentration [`fit`] uses: at (η, ρ′, θ) = (1, 0.9, 89°) PBD's sharp lobe has
+/// c ≈ 0.982 at small r.
+pub const C_MAX_TWO_LOBES: f64 = 0.999;
+
+/// A profile with two lobes (see the module docs). Invariants: β₁, β₂ ≥ 0 and finite, c₁, c₂
+/// within [−[`C_LIMIT`](super::C_LIMIT), `C_LIMIT`], the profile ≥ 0 at every φ (to rounding).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TwoLobe {
+    alpha: f64,
+    beta: [f64; 2],
+    c: [f64; 2],
+}
+
+impl TwoLobe {
+    /// The profile α + β₁·pdf_WC(c₁) + β₂·pdf_WC(c₂) as given, or `None` where it breaks the
+    /// invariants: a value not finite, β < 0, |c| > [`C_LIMIT`](super::C_LIMIT), or the profile
+    /// below 0 somewhere by more than 10⁻¹² of its scale (module docs, "Admissible profiles").
+    pub fn new(alpha: f64, beta: [f64; 2], c: [f64; 2]) -> Option<Self> {
+        let finite = alpha.is_finite() && beta.iter().chain(&c).all(|v| v.is_finite());
+        if !finite || beta.iter().any(|&b| b < 0.0) || c.iter().any(|&c| c.abs() > super::C_LIMIT) {
+            return None;
+        }
+        let minimum: f64 = TAU * alpha
+            + (0..2)
+                .map(|i| beta[i] * (1.0 - c[i].abs()) / (1.0 + c[i].abs()))
+                .sum::<f64>();
+        let scale = (TAU * alpha).abs() + beta[0] + beta[1];
+        (minimum >= -1e-12 * scale).then_some(Self { alpha, beta, c })
+    }
+
+    /// The profile of a table cell: E/r = 2πα + β₁ + β₂ and the lobes (β, c), with c clamped
+    /// as in [`pdf_wc`], β NaN or negative taken as 0, E/r negative or not finite as 0, and
+    /// both β scaled by one factor where the profile would dip below 0 (module docs).
+    pub fn from_table(e_per_r: f64, beta: [f64; 2], c: [f64; 2]) -> Self {
+        let c = c.map(clamp_c);
+        let mut beta = beta.map(|b| if b.is_finite() { b.max(0.0) } else { 0.0 });
+        let e_per_r = if e_per_r.is_finite() {
+            e_per_r.max(0.0)
+        } else {
+            0.0
+        };
+        let need: f64 = (0..2)
+            .map(|i| {
+                let a = c[i].abs();
+                beta[i] * 2.0 * a / (1.0 + a)
+            })
+            .sum();
+        if need > e_per_r {
+            let k = e_per_r / need;
+            beta = beta.map(|b| b * k);
+        }
+        Self {
+            alpha: (e_per_r - beta[0] - beta[1]) / TAU,
+            beta,
+            c,
+        }
+    }
+
+    /// The profile whose floor and lobes match E/r = 2πα + β₁ + β₂ and the first four
+    /// harmonics μₙ = ∫ f(φ) cos nφ dφ = β₁c₁ⁿ + β₂c₂ⁿ, n = 1 … 4 (`m`), which tables
+    /// interpolate instead of the lobes' parameters (`table::lookup`). Prony's
+    /// method: c₁ and c₂ are the roots of z² − pz + q with μₙ₊₂ = pμₙ₊₁ − qμₙ (n = 1, 2),
+    /// clamped into [[`C_MIN_SECOND_LOBE`], [`C_MAX_TWO_LOBES`]] (c₁ only from above), and β₁, β₂
+    /// solve μ₁ and μ₂ for them. Where that has no admissible answer (the Hankel determinant
+    /// μ₁μ₃ − μ₂² vanishing relative to μ₂², complex roots, clamped roots that meet, a negative
+    /// mass), the one lobe of the first two harmonics: c = μ₂/μ₁, β = μ₁/c. Then as
+    /// [`TwoLobe::from_table`].
+    pub fn from_moments(e_per_r: f64, m: [f64; 4]) -> Self {
+        let [m1, m2, m3, m4] = m;
+        if let Some((beta, c)) = prony(m1, m2, m3, m4) {
+            return Self::from_table(e_per_r, beta, c);
+        }
+        let (beta, c) = one_lobe_of(m1, m2);
+        Self::from_table(e_per_r, [beta, 0.0], [c, c])
+    }
+
+    /// The harmonics μₙ = β₁c₁ⁿ + β₂c₂ⁿ, n = 1 … 4 ([`TwoLobe::from_moments`]).
+    pub fn harmonics(&self) -> [f64; 4] {
+        std::array::from_fn(|n| {
+            let n = n as i32 + 1;
+            self.beta[0] * self.c[0].powi(n) + self.beta[1] * self.c[1].powi(n)
+        })
+    }
+
+    /// The floor α (signed).
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// The lobes' masses (β₁, β₂).
+    pub fn beta(&self) -> [f64; 2] {
+        self.beta
+    }
+
+    /// The lobes' concentrations (c₁, c₂).
+    pub fn c(&self) -> [f64; 2] {
+        self.c
+    }
+
+    /// ∫ f dφ = 2πα + β₁ + β₂.
+    pub fn integral(&self) -> f64 {
+        TAU * self.alpha + self.beta[0] + self.beta[1]
+    }
+
+    /// f(φ), ≥ 0; 0 for φ outside [−π, π] or NaN.
+    pub fn eval(&self, phi: f64) -> f64 {
+        if !super::in_domain(phi) {
+            return 0.0;
+        }
+        (self.alpha + self.beta[0] * pdf_wc(phi, self.c[0]) + self.beta[1] * pdf_wc(phi, self.c[1]))
+            .max(0.0)
+    }
+
+    /// Weights of the sampler's mixture (floor, lobe 1, lobe 2), summing to 1: the uniform
+    /// density alone for the zero profile.
+    fn mixture(&self) -> [f64; 3] {
+        let parts = [(TAU * self.alpha).max(0.0), self.beta[0], self.beta[1]];
+        let total: f64 = parts.iter().sum();
+        if total > 0.0 && total.is_finite() {
+            parts.map(|p| p / total)
+        } else {
+            [1.0, 0.0, 0.0]
+        }
+    }
+
+    /// Density of [`TwoLobe::sample`] in rad⁻¹ (module docs); 0 outside [−π, π] or NaN.
+    pub fn pdf(&self, phi: f64) -> f64 {
+        if !super::in_domain(phi) {
+            return 0.0;
+        }
+        let [p0, p1, p2] = self.mixture();
+        p0 / TAU + p1 * pdf_wc(phi, self.c[0]) + p2 * pdf_wc(phi, self.c[1])
+    }
+
+    /// Distribution function of [`TwoLobe::pdf`] from −π: 0 at −π (and below, or NaN), 1 at π.
+    pub fn cdf(&self, phi: f64) -> f64 {
+        if phi.is_nan() || phi <= -PI {
+            return 0.0;
+        }
+        if phi >= PI {
+            return 1.0;
+        }
+        let [p0, p1, p2] = self.mixture();
+        (p0 * (phi + PI) / TAU + p1 * cdf_wc(phi, self.c[0]) + p2 * cdf_wc(phi, self.c[1]))
+            .clamp(0.0, 1.0)
+    }
+
+    /// φ ∈ [−π, π] with [`TwoLobe::cdf`] = u (u clamped into [0, 1], NaN → 0), and
+    /// [`TwoLobe::pdf`] there.
+    ///
+    /// Starts from the inverse of the heaviest part alone; Newton steps on cdf(φ) − u, each
+    /// kept inside a bracket that every step shrinks (bisection when a step would leave it),
+    /// until the residual is at most [`super::SAMPLE_U_TOL`] or the bracket is down to
+    /// adjacent floats (at most 200 steps).
+    pub fn sample_with_pdf(&self, u: f64) -> (f64, f64) {
+        let u = super::unit_interval(u);
+        let weights = self.mixture();
+        let heaviest = (0..3).fold(0, |m, k| if weights[k] > weights[m] { k } else { m });
+        if weights[heaviest] >= 1.0 {
+            // One part alone: invert it directly
+            let phi = match heaviest {
+                0 => super::uniform_azimuth(u),
+                k => inv_cdf_wc(u, self.c[k - 1]),
+            };
+            return (phi, self.pdf(phi));
+        }
+        let mut phi = match heaviest {
+            0 => super::uniform_azimuth(u),
+            k => inv_cdf_wc(u, self.c[k - 1]),
+        };
+        let (mut lo, mut hi) = (-PI, PI);
+        for _ in 0..200 {
+            let (cdf, p) = self.cdf_and_pdf(phi, weights);
+            let f = cdf - u;
+            if f.abs() <= super::SAMPLE_U_TOL {
+                break;
+            }
+            if f > 0.0 {
+                hi = phi;
+            } else {
+                lo = phi;
+            }
+            if super::next_towards(lo, hi) >= hi {
+                break;
+            }
+            let step = phi - f / p;
+            phi = if p > 0.0 && step > lo && step < hi {
+                step
+            } else {
+                0.5 * (lo + hi)
+            };
+        }
+        (phi, self.pdf(phi))
+    }
+
+    /// [`TwoLobe::cdf`] and [`TwoLobe::pdf`] at φ ∈ [−π, π] with the mixture's `weights`,
+    /// from one half-angle per lobe.
+    fn cdf_and_pdf(&self, phi: f64, weights: [f64; 3]) -> (f64, f64) {
+        let (s, co) = super::half_angle(phi);
+        let (mut cdf, mut pdf) = (weights[0] * (phi + PI) / TAU, weights[0] / TAU);
+        for (&w, &c) in weights[1..].iter().zip(&self.c) {
+            if w > 0.0 {
+                let c = clamp_c(c);
+                let tail = super::tail_wc(s, co, c);
+                cdf += w * if phi >= 0.0 { 1.0 - tail } else { tail };
+                pdf += w * super::pdf_wc_half(s, co, c);
+            }
+        }
+        (cdf.clamp(0.0, 1.0), pdf)
+    }
+
+    /// [`TwoLobe::sample_with_pdf`]'s φ.
+    pub fn sample(&self, u: f64) -> f64 {
+        self.sample_with_pdf(u).0
+    }
+}
+
+/// The lobes (β, c) with harmonics (μ₁ … μ₄), by Prony's method ([`TwoLobe::from_moments`]),
+/// `None` where they are not two admissible lobes.
+fn prony(m1: f64, m2: f64, m3: f64, m4: f64) -> Option<([f64; 2], [f64; 2])> {
+    let det = m1 * m3 - m2 * m2;
+    // (NaN harmonics fail here too)
+    if det.is_nan() || det.abs() <= 1e-9 * m2 * m2 {
+        return None;
+    }
+    let p = (m1 * m4 - m2 * m3) / det;
+    let q = (m2 * m4 - m3 * m3) / det;
+    let disc = p * p - 4.0 * q;
+    if disc.is_nan() || disc <= 0.0 {
+        return None;
+    }
+    // The larger root without cancellation, the smaller from the product q
+    let c1 = 0.5 * (p + p.signum() * disc.sqrt());
+    let c2 = if c1 != 0.0 { q / c1 } else { 0.0 };
+    let (c1, c2) = if c1 >= c2 { (c1, c2) } else { (c2, c1) };
+    // Roots outside [C_MIN_SECOND_LOBE, C_MAX_TWO_LOBES] are clamped into it and the masses
+    // solved for the clamped pair: the same lobes where the roots lie inside, and continuous
+    // across its edges. (Falling back to the one lobe of μ₁, μ₂ where c₂ crossed 0 jumped the
+    // profile by 0.1–0.3 % between neighbouring lookups; as c₂ → 0 the exact lobes need
+    // β₂ → ∞ against a floor → −∞, their limit a cos φ term.)
+    let (c1, c2) = (
+        c1.min(C_MAX_TWO_LOBES),
+        c2.clamp(C_MIN_SECOND_LOBE, C_MAX_TWO_LOBES),
+    );
+    if c1 <= c2 {
+        return None;
+    }
+    let b1 = (m2 - m1 * c2) / (c1 * (c1 - c2));
+    let b2 = (m1 * c1 - m2) / (c2 * (c1 - c2));
+    (b1 >= 0.0 && b2 >= 0.0 && b1.is_finite() && b2.is_finite()).then_some(([b1, b2], [c1, c2]))
+}
+
+/// The smallest concentration [`TwoLobe::from_moments`] gives the second lobe (see the clamp in
+/// `prony`): its mass stays within about μ₁/0.05 = 20 μ₁.
+pub const C_MIN_SECOND_LOBE: f64 = 0.05;
+
+/// The one lobe (β, c) with harmonics μ₁ and μ₂: c = μ₂/μ₁, β = μ₁/c; no lobe (0, 0) where
+/// μ₁ or μ₂ is not positive.
+pub fn one_lobe_of(m1: f64, m2: f64) -> (f64, f64) {
+    if m1 > 0.0 && m2 > 0.0 {
+        let c = (m2 / m1).min(C_MAX_TWO_LOBES);
+        (m1 / c, c)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+// The fit's largest concentration is one evaluation represents as is.
+const _: () = assert!(C_MAX_TWO_LOBES < super::C_LIMIT);

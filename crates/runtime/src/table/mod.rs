@@ -1,0 +1,408 @@
+//! The angular table model: photon beam diffusion at any incidence, tabulated over
+//! (ρ′, θ, r) with a General Wrapped Cauchy (GWC) profile over φ (Ferrier 2016, §3–4, §7.1).
+//!
+//! | axis | unit | default nodes (Ferrier §3.1) |
+//! |---|---|---|
+//! | ρ′ reduced albedo | – | 100: ρ_i = (1 − e^{−8i/99})/(1 − e^{−8}) |
+//! | θ incidence before refraction | rad | 10: 0°, 10°, …, 90° |
+//! | r exit distance | reduced mean free paths | 64: r₀ = 0, r_i = 0.0025·1.2^i |
+//!
+//! Axis values are data carried by every table (a scene bake keeps only some albedo rows), not
+//! formulas in the reader. Per node the table stores, as f32:
+//! - **E** = r ∫ S dφ = (2πα + β) r, the radial energy (Ferrier eq. 1);
+//! - **E_β** = β r, the part of E carried by the wrapped-Cauchy lobe. The report stores β itself;
+//!   β diverges at r₀ = 0 like the profile does (S ~ ln 1/r), while β r → 0 like E, so the r₀
+//!   node holds its true limit and E and E_β interpolate with the same weights;
+//! - **c**, the lobe concentration;
+//! - the radial CDF ∫₀^r E dr′ of the Catmull-Rom spline through the stored E (for sampling r),
+//!   whose last node is the effective albedo ρ_eff(ρ′, θ);
+//! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ);
+//! - for a two-lobe table ([`Lobes::Two`], by default for η in [1, 1.33)), the profile's third and
+//!   fourth harmonics times r, r·μ₃ and r·μ₄, beside (E, E_β, c) of the one lobe with its first
+//!   two: lookups interpolate the four harmonics and rebuild two lobes from them
+//!   ([`crate::gwc::TwoLobe::from_moments`], `lookup.rs`; docs/accuracy.md).
+//!
+//! Evaluation (algorithm 1) interpolates (E, E_β, c) with tensor-product Catmull-Rom weights in
+//! (ρ′, θ, r), with slope 0 at θ = 90° where PBD's is and at the node before (80° on the
+//! default grid) the slope of the quartic even about 90° through the last three nodes (see
+//! [`Axes::new`]), forms
+//! α = (E − E_β)/(2πr), β = E_β/r and returns α + β pdf_WC(φ; c). The crate's evaluation refines
+//! the spline along ρ′ as it does along r, each refinement measured against PBD (README):
+//! - along ρ′, PBD's explicit factor ρ′² is taken out: the energies (E, E_β, the radial CDF, ρ_eff,
+//!   the θ CDF) are ρ′² times the spline of their values over ρ′ᵢ², that is the rows weigh
+//!   ωᵢ = wᵢ (ρ′/ρ′ᵢ)², and c is the ωᵢ-weighted mean Σ ωᵢcᵢ / Σ ωᵢ. A node at ρ′ = 0, whose
+//!   E = 0 says nothing of E/ρ′², hands its weight to the polynomial through the next nodes up
+//!   to four, below ρ′ = ½ (`albedo.rs`). The plain spline of E was 3.2 times PBD at ρ′ = 0.02
+//!   and 22 % above it at 0.05; this one is within 0.02 % (mean) there at θ = 0. Below the
+//!   first node above 0 and from ρ′ = 0.9999 up, evaluation splines E/(ρ′² f) instead, f the far
+//!   field (1 + σ_tr r) e^{−σ_tr r} of diffusion, so that the far tails there stay within a few
+//!   per cent of PBD down to 10⁻¹² of the profile's peak (`albedo.rs`, "The ends of the axis");
+//! - along r, E is interpolated as exp(Catmull-Rom of ln E) where the segment's energy is
+//!   positive, and the first interval [0, r₁] adds PBD's isotropic ln(1/r) growth,
+//!   ρ′² C_E cos θ′/π · ln(r₁/r), to the profile at r₁.
+//!
+//! At a node ρ′ᵢ the weights along ρ′ are 1 there and 0 elsewhere: the refinement along ρ′
+//! changes nothing of what the node stores.
+//! Sampling (algorithm 2) draws r from the plain spline along r of E interpolated at (ρ′, θ)
+//! (with the weights along ρ′ of evaluation), then φ
+//! from the GWC profile at that r by Newton–bisection on its analytic CDF; `pdf` is exactly the
+//! density of `sample`. Because evaluation refines the spline, S/pdf is ρ_eff only to within
+//! a median 8e-5 and a 99th percentile 2e-3 (the first interval, ~1e-4 of the samples, differs
+//! most): importance weights are nearly constant, and unbiased regardless.
+//!
+//! Units: all lookups are in reduced units (σ′t = 1); [`World`] converts (r scales with 1/σ′t,
+//! S with σ′t²).
+//!
+//! Where it breaks down: at r = 0 the model returns its continuous limit from the first radius
+//! interval (PBD itself diverges there); outside the stored axes a lookup is an error, never an
+//! extrapolation; the GWC profile is monotone in |φ| (see [`crate::gwc`]).
+
+mod albedo;
+mod io;
+mod lookup;
+mod subset;
+
+use albedo::FarField;
+pub use albedo::{AlbedoAxis, AlbedoWeights};
+pub use io::FileTable;
+pub use lookup::{reduced_to_mm, PathSample, Sample, World};
+pub use subset::{check_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
+
+use crate::catmull_rom::{End, Nodes};
+use crate::fresnel::Moments;
+use std::f64::consts::FRAC_PI_2;
+
+/// Number of f32 values per (ρ′, θ, r) node in the parameter array: E, E_β, c.
+pub const PARAMS_PER_NODE: usize = 3;
+
+/// How far from π/2 the last θ node may lie and still be grazing incidence, where the θ spline
+/// has slope 0 (format-spec.md §10), radians: 8 f32 ulps there. π/2 rounded to f32, the node
+/// the bake writes, is 4.4·10⁻⁸ above it.
+pub const THETA_GRAZING_TOLERANCE: f64 = 1e-6;
+
+/// The three axes of a table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axes {
+    rho: AlbedoAxis,
+    theta: Nodes,
+    r: Nodes,
+    /// 1/f of the rows at the ends of the ρ′ axis, for evaluation there (`albedo.rs`).
+    far: FarField,
+}
+
+impl Axes {
+    /// Builds axes from node values (each validated: ≥ 2 finite, strictly increasing nodes).
+    ///
+    /// This is where every table (baked, read from a file, or a subset) gets its splines, so
+    /// all of them interpolate alike: chord slopes at the ends of the ρ′ and r axes and at
+    /// θ's first node, and an even end along θ when its last node is π/2 (within
+    /// [`THETA_GRAZING_TOLERANCE`]): PBD depends on θ only through sin θ = η sin θ′, which is
+    /// even about π/2, so the slope there is 0 and the one at the node before is the even
+    /// quartic's through the last three nodes ([`End::Even`], format-spec.md §10).
+    pub fn new(rho: Vec<f64>, theta: Vec<f64>, r: Vec<f64>) -> crate::Result<Self> {
+        let end = match theta.last() {
+            Some(&last) if (last - FRAC_PI_2).abs() <= THETA_GRAZING_TOLERANCE => End::Even,
+            _ => End::Chord,
+        };
+        let (rho, r) = (AlbedoAxis::new(Nodes::new(rho)?), Nodes::new(r)?);
+        Ok(Self {
+            far: FarField::new(&rho, r.as_slice()),
+            rho,
+            theta: Nodes::new(theta)?.with_end(end),
+            r,
+        })
+    }
+    /// Reduced-albedo nodes.
+    pub fn rho(&self) -> &Nodes {
+        self.rho.nodes()
+    }
+    /// Incidence nodes, radians.
+    pub fn theta(&self) -> &Nodes {
+        &self.theta
+    }
+    /// Radius nodes, reduced mean free paths.
+    pub fn r(&self) -> &Nodes {
+        &self.r
+    }
+    /// (nρ, nθ, nr).
+    pub fn dims(&self) -> (usize, usize, usize) {
+        (
+            self.rho().as_slice().len(),
+            self.theta.as_slice().len(),
+            self.r.as_slice().len(),
+        )
+    }
+}
+
+/// A baked angular table held in memory (see [`TableRef`] for lookups).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AngularTable {
+    eta: f64,
+    c_e: f64,
+    moments: Moments,
+    axes: Axes,
+    params: Vec<f32>,
+    radial_cdf: Vec<f32>,
+    theta_cdf: Option<Vec<f32>>,
+    harmonics: Option<Vec<f32>>,
+}
+
+/// A borrowed view of a table's arrays, as owned by [`AngularTable`] or mapped from a file.
+#[derive(Debug, Clone, Copy)]
+pub struct TableRef<'a> {
+    eta: f64,
+    /// C_E of the boundary, for the ln(1/r) growth in the first radius interval.
+    c_e: f64,
+    axes: &'a Axes,
+    params: &'a [f32],
+    radial_cdf: &'a [f32],
+    theta_cdf: Option<&'a [f32]>,
+    /// the harmonics (rμ₃, rμ₄) per node, `[nρ][nθ][nr][2]`, for tables with a second lobe.
+    harmonics: Option<&'a [f32]>,
+}
+
+/// Number of f32 values per node of the second lobe: E_β₂, c₂.
+pub const HARMONICS_PER_NODE: usize = 2;
+
+/// Why a table's arrays were rejected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TableError {
+    /// An array does not have the length the axes imply.
+    #[error("{name} has {len} values; the axes ({nrho}x{ntheta}x{nr}) need {expected}")]
+    Length {
+        name: &'static str,
+        len: usize,
+        expected: usize,
+        nrho: usize,
+        ntheta: usize,
+        nr: usize,
+    },
+    /// The axes stored in a file are not valid spline nodes.
+    #[error("a table axis is not strictly increasing and finite")]
+    Axes,
+    /// The relative index of refraction is outside the models' domain.
+    #[error("eta = {} is outside [{}, {}]", crate::error::number(*.0), crate::medium::ETA_MIN, crate::medium::ETA_MAX)]
+    Eta(f64),
+    /// A value is NaN or infinite.
+    #[error("{name}[{index}] = {value} is not finite")]
+    NotFinite {
+        name: &'static str,
+        index: usize,
+        value: f32,
+    },
+}
+
+impl<'a> TableRef<'a> {
+    /// Checks the array lengths against the axes and that every value is finite.
+    pub fn new(
+        eta: f64,
+        moments: Moments,
+        axes: &'a Axes,
+        params: &'a [f32],
+        radial_cdf: &'a [f32],
+        theta_cdf: Option<&'a [f32]>,
+    ) -> Result<Self, TableError> {
+        let (nrho, ntheta, nr) = axes.dims();
+        let cells = nrho * ntheta * nr;
+        let check = |name, data: &[f32], expected| {
+            if data.len() != expected {
+                return Err(TableError::Length {
+                    name,
+                    len: data.len(),
+                    expected,
+                    nrho,
+                    ntheta,
+                    nr,
+                });
+            }
+            match data.iter().position(|v| !v.is_finite()) {
+                Some(index) => Err(TableError::NotFinite {
+                    name,
+                    index,
+                    value: data[index],
+                }),
+                None => Ok(()),
+            }
+        };
+        check("params", params, cells * PARAMS_PER_NODE)?;
+        check("radial_cdf", radial_cdf, cells)?;
+        if let Some(t) = theta_cdf {
+            check("theta_cdf", t, nrho * ntheta)?;
+        }
+        let c_e = crate::medium::Boundary::new(eta, moments)
+            .map_err(|_| TableError::Eta(eta))?
+            .c_e();
+        Ok(Self {
+            eta,
+            c_e,
+            axes,
+            params,
+            radial_cdf,
+            theta_cdf,
+            harmonics: None,
+        })
+    }
+
+    /// This view with a second lobe, the harmonics (rμ₃, rμ₄) per node, `[nρ][nθ][nr][2]`: its length
+    /// checked against the axes and every value finite.
+    pub fn with_harmonics(self, harmonics: &'a [f32]) -> Result<Self, TableError> {
+        let (nrho, ntheta, nr) = self.axes.dims();
+        let expected = nrho * ntheta * nr * HARMONICS_PER_NODE;
+        if harmonics.len() != expected {
+            return Err(TableError::Length {
+                name: "harmonics",
+                len: harmonics.len(),
+                expected,
+                nrho,
+                ntheta,
+                nr,
+            });
+        }
+        if let Some(index) = harmonics.iter().position(|v| !v.is_finite()) {
+            return Err(TableError::NotFinite {
+                name: "harmonics",
+                index,
+                value: harmonics[index],
+            });
+        }
+        Ok(Self {
+            harmonics: Some(harmonics),
+            ..self
+        })
+    }
+
+    /// A view of arrays that [`TableRef::new`] has already accepted with these axes, with
+    /// `c_e = Boundary::new(eta, moments)?.c_e()` as `new` computes it: O(1), no checks and no
+    /// Fresnel integration, for handles that rebuild their view on every lookup
+    /// (`crate::embed`). Arrays of other lengths make lookups panic; they are never unsound.
+    pub(crate) fn prevalidated(
+        eta: f64,
+        c_e: f64,
+        axes: &'a Axes,
+        params: &'a [f32],
+        radial_cdf: &'a [f32],
+        theta_cdf: Option<&'a [f32]>,
+    ) -> Self {
+        Self {
+            eta,
+            c_e,
+            axes,
+            params,
+            radial_cdf,
+            theta_cdf,
+            harmonics: None,
+        }
+    }
+
+    /// [`TableRef::prevalidated`]'s view with a second lobe [`TableRef::with_harmonics`]
+    /// has already accepted with these axes.
+    pub(crate) fn prevalidated_harmonics(self, harmonics: Option<&'a [f32]>) -> Self {
+        Self { harmonics, ..self }
+    }
+
+    /// Relative index of refraction the table was baked for.
+    pub fn eta(&self) -> f64 {
+        self.eta
+    }
+    /// The axes.
+    pub fn axes(&self) -> &'a Axes {
+        self.axes
+    }
+    /// Whether the θ-sampling table (path tracing) is present.
+    pub fn has_theta_sampling(&self) -> bool {
+        self.theta_cdf.is_some()
+    }
+    /// The second lobe (rμ₃, rμ₄) per node, if the table has one.
+    pub fn harmonics(&self) -> Option<&'a [f32]> {
+        self.harmonics
+    }
+}
+
+impl AngularTable {
+    /// Assembles a table from its parts (validated as in [`TableRef::new`]).
+    pub fn from_parts(
+        eta: f64,
+        moments: Moments,
+        axes: Axes,
+        params: Vec<f32>,
+        radial_cdf: Vec<f32>,
+        theta_cdf: Option<Vec<f32>>,
+    ) -> Result<Self, TableError> {
+        let c_e = TableRef::new(
+            eta,
+            moments,
+            &axes,
+            &params,
+            &radial_cdf,
+            theta_cdf.as_deref(),
+        )?
+        .c_e;
+        Ok(Self {
+            eta,
+            c_e,
+            moments,
+            axes,
+            params,
+            radial_cdf,
+            theta_cdf,
+            harmonics: None,
+        })
+    }
+
+    /// This table with a second lobe (validated as in [`TableRef::with_harmonics`]).
+    pub fn with_harmonics(self, harmonics: Vec<f32>) -> Result<Self, TableError> {
+        self.view().with_harmonics(&harmonics)?;
+        Ok(Self {
+            harmonics: Some(harmonics),
+            ..self
+        })
+    }
+
+    /// A lookup view.
+    pub fn view(&self) -> TableRef<'_> {
+        TableRef {
+            eta: self.eta,
+            c_e: self.c_e,
+            axes: &self.axes,
+            params: &self.params,
+            radial_cdf: &self.radial_cdf,
+            theta_cdf: self.theta_cdf.as_deref(),
+            harmonics: self.harmonics.as_deref(),
+        }
+    }
+    /// η.
+    pub fn eta(&self) -> f64 {
+        self.eta
+    }
+    /// Fresnel moments used at bake.
+    pub fn moments(&self) -> Moments {
+        self.moments
+    }
+    /// The axes.
+    pub fn axes(&self) -> &Axes {
+        &self.axes
+    }
+    /// (E, E_β, c) per node, `[nρ][nθ][nr][3]`.
+    pub fn params(&self) -> &[f32] {
+        &self.params
+    }
+    /// Radial CDF, `[nρ][nθ][nr]`.
+    pub fn radial_cdf(&self) -> &[f32] {
+        &self.radial_cdf
+    }
+    /// θ-sampling CDF over θ of ρ_eff, `[nρ][nθ]`, if kept.
+    pub fn theta_cdf(&self) -> Option<&[f32]> {
+        self.theta_cdf.as_deref()
+    }
+    /// (rμ₃, rμ₄) per node of the second lobe, `[nρ][nθ][nr][2]`, if the table has one.
+    pub fn harmonics(&self) -> Option<&[f32]> {
+        self.harmonics.as_deref()
+    }
+    /// Size of the arrays in bytes.
+    pub fn size_bytes(&self) -> usize {
+        4 * (self.params.len()
+            + self.radial_cdf.len()
+            + self.theta_cdf.as_ref().map_or(0, Vec::len)
+            + self.harmonics.as_ref().map_or(0, Vec::len))
+    }
+}

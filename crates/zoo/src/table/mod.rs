@@ -1,0 +1,19 @@
+//! The angular table: its lookups are the runtime's ([`bssrdf_runtime::table`], re-exported
+//! here); the bake from photon beam diffusion, its self-check and the report's validation
+//! protocol are here.
+
+mod bake;
+mod check;
+mod validate;
+
+pub use bake::{
+    bake, bake_lobes, bake_rows, bake_rows_lobes, node_cell, two_lobe_azimuths, BakeReport, Grid,
+    GridPreset, Lobes, NodeCell, REFINE_PHI_DEG, REFINE_THETA_MIN_DEG, TWO_LOBES_BELOW_ETA,
+};
+pub use bssrdf_runtime::table::*;
+pub use check::{
+    check, CheckBounds, RegionCheck, TableCheck, BOUNDS as CHECK_BOUNDS, CHECK_SEED,
+    COARSE_BOUNDS as CHECK_COARSE_BOUNDS, COVERAGE_POINTS, PEAK_FRACTION, RHO_BANDS,
+    THETA_BANDS_DEG, WEIGHTED_POINTS,
+};
+pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
