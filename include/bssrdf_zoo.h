@@ -4,9 +4,9 @@
  * Open a library file made by `bssrdf bake`, make one lookup handle per medium and colour
  * channel, then evaluate and sample S_p(r, phi; theta) at render time.
  *
- * Build and link: `cargo build --release` makes target/release/libbssrdf_zoo.a (static;
- * link also -lpthread -ldl -lm on Linux) and libbssrdf_zoo.so (shared). Declarations here are
- * checked against the Rust exports by tests/capi/header.rs.
+ * Build and link: `cargo build --release -p bssrdf-capi` makes target/release/libbssrdf.a (static;
+ * link also -lpthread -ldl -lm on Linux) and libbssrdf.so (shared). Declarations here are
+ * checked against the Rust exports by crates/capi/tests/capi/header.rs.
  *
  * Units: coefficients in mm^-1, distances in mm, S and densities per mm^2, angles in radians.
  * theta is the incidence angle from the normal BEFORE refraction, in [0, pi/2]. The exit point

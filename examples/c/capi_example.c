@@ -3,12 +3,12 @@
  * `bssrdf bake`, lists its materials, makes the lookup handles of one material's three
  * colour channels, and evaluates, samples and integrates them as a renderer would.
  *
- *   cargo build --release
- *   cc -std=c99 -O2 -I include examples/c/capi_example.c target/release/libbssrdf_zoo.a \
+ *   cargo build --release -p bssrdf-capi
+ *   cc -std=c99 -O2 -I include examples/c/capi_example.c target/release/libbssrdf.a \
  *      -lpthread -ldl -lm -o capi_example          # Linux; macOS needs no extra -l flags
  *   ./capi_example scene.bssrdf [MATERIAL]
  *
- * Or link the shared library: ... -Ltarget/release -lbssrdf_zoo, run with
+ * Or link the shared library: ... -Ltarget/release -lbssrdf, run with
  * LD_LIBRARY_PATH=target/release.
  */
 #include <math.h>

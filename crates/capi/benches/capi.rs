@@ -3,7 +3,7 @@
 //! direct baseline), (2) the Rust handle `embed::ChannelLookup`, (3) the C interface's
 //! `extern "C"` functions called from Rust. Same mapped file (default grid, η = 1.33), same
 //! random points over 64 media of random ρ′ and σ′t, so the three differ only by their layers.
-//! Run: `cargo bench --bench capi`.
+//! Run: `cargo bench -p bssrdf-capi --bench capi`.
 //!
 //! After criterion, a paired run prints the times and the ratios C / Rust handle and Rust
 //! handle / direct: the 4096 points in blocks of 512, each block timed 31 times per variant

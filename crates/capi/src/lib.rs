@@ -1,5 +1,5 @@
 //! The C interface: [`bssrdf_runtime::embed`] behind `extern "C"` functions, declared for C in
-//! `include/bssrdf_zoo.h` (written by hand; `tests/capi/header.rs` checks that it declares
+//! `include/bssrdf_zoo.h` (written by hand; `crates/capi/tests/capi/header.rs` checks that it declares
 //! exactly these functions, structs and constants with the same types).
 //!
 //! Rules every entry point follows:
@@ -684,7 +684,7 @@ pub extern "C" fn bssrdf_status_name(status: c_int) -> *const c_char {
 #[cfg(test)]
 mod tests {
     //! What only the module itself can check; the rest of the boundary's rules are tested
-    //! through the exported functions in `tests/capi/rust.rs` (from Rust) and `tests/capi/c_program.rs`
+    //! through the exported functions in `crates/capi/tests/capi/rust.rs` (from Rust) and `crates/capi/tests/capi/c_program.rs`
     //! (from C).
 
     use super::*;

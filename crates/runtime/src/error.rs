@@ -20,7 +20,7 @@ pub enum Error {
     Vacuum,
     /// A table's arrays are inconsistent with its axes or hold non-finite values.
     #[error(transparent)]
-    Table(#[from] crate::table::TableError),
+    Table(#[from] TableError),
     /// A value is outside the range the quantity allows.
     #[error("{name} = {} is outside [{}, {}]", number(*value), number(*min), number(*max))]
     OutOfRange {
@@ -60,6 +60,34 @@ pub enum Error {
         name: &'static str,
         found: String,
         expected: String,
+    },
+}
+
+/// Why a table's arrays were rejected.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TableError {
+    /// An array does not have the length the axes imply.
+    #[error("{name} has {len} values; the axes ({nrho}x{ntheta}x{nr}) need {expected}")]
+    Length {
+        name: &'static str,
+        len: usize,
+        expected: usize,
+        nrho: usize,
+        ntheta: usize,
+        nr: usize,
+    },
+    /// The axes stored in a file are not valid spline nodes.
+    #[error("a table axis is not strictly increasing and finite")]
+    Axes,
+    /// The relative index of refraction is outside the models' domain.
+    #[error("eta = {} is outside [{}, {}]", number(*value), number(*min), number(*max))]
+    Eta { value: f64, min: f64, max: f64 },
+    /// A value is NaN or infinite.
+    #[error("{name}[{index}] = {value} is not finite")]
+    NotFinite {
+        name: &'static str,
+        index: usize,
+        value: f32,
     },
 }
 

@@ -14,7 +14,7 @@
 //!   1e-3 and go slightly negative near η = 1; they exist to reproduce pbrt's numbers.
 //! - [`deon_irving_moment1`], [`deon_irving_moment2`]: the same fits in double precision, with
 //!   the branch choices of the directional dipole authors' sample code (used by
-//!   [`crate::models::dirpole`] to reproduce that code; not a [`Moments`] choice, since tables
+//!   `bssrdf_zoo::models::dirpole` to reproduce that code; not a [`Moments`] choice, since tables
 //!   and their files record only the two conventions above).
 
 use crate::quadrature::adaptive;

@@ -1,5 +1,5 @@
 //! bssrdf-runtime: what a renderer links to use bssrdf-zoo's tables. It reads, maps and writes
-//! the library-file format ([`format`]) and evaluates and importance-samples the angular table
+//! the library-file format ([`mod@format`]) and evaluates and importance-samples the angular table
 //! it holds ([`table`], [`embed`]); the bake, the physics behind it and the command line live
 //! in the crates above it (`bssrdf-zoo`, `bssrdf-cli`; docs/architecture.md).
 //!

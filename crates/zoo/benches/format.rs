@@ -1,6 +1,6 @@
 //! Speed of the library file format: opening a ~1 MiB library (one default 100×10×64 table)
 //! with and without section verification, and table lookups through the map against an
-//! in-memory copy. Run with `cargo bench --bench format`.
+//! in-memory copy. Run with `cargo bench -p bssrdf-zoo --bench format`.
 //!
 //! Targets (issue 4): open with full CRC verification ≤ 1 ms, without section verification
 //! ≤ 50 µs.

@@ -1,6 +1,6 @@
 //! One evaluation of every model of the zoo through the `Model` trait (dynamic dispatch, as the
 //! comparison and a renderer would call it), at ρ′ = 0.9, η = 1.33, θ = 60°, r = 1 mfp,
-//! φ = 0.5 rad; and one draw of each sampler. Run: `cargo bench --bench models`.
+//! φ = 0.5 rad; and one draw of each sampler. Run: `cargo bench -p bssrdf-zoo --bench models`.
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::models::mc::McOptions;

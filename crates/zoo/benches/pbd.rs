@@ -1,6 +1,6 @@
 //! One photon-beam-diffusion evaluation with each quadrature, at representative points (normal
 //! incidence, oblique, grazing, a beam just under the exit point at η ≈ 1, small r), against a
-//! fixed arithmetic baseline in the same run. Run: `cargo bench --bench pbd`; the README gives
+//! fixed arithmetic baseline in the same run. Run: `cargo bench -p bssrdf-zoo --bench pbd`; docs/performance.md gives
 //! each evaluation as a ratio to `baseline/exp_sqrt_64`.
 
 use bssrdf_zoo::fresnel::Moments;

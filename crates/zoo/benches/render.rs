@@ -1,8 +1,8 @@
 //! Render throughput: photons per second on one core.
 //!
-//! `cargo bench --bench render`. Each case traces a fixed number of photons of Ferrier's
+//! `cargo bench -p bssrdf-zoo --bench render`. Each case traces a fixed number of photons of Ferrier's
 //! figure 10 material at θ = 60° into a 256 × 256 picture on a one-thread rayon pool, the table
-//! already baked (the bake is timed by `cargo bench --bench table -- bake`). Criterion's
+//! already baked (the bake is timed by `cargo bench -p bssrdf-zoo --bench table -- bake`). Criterion's
 //! throughput line ("thrpt", elements/s) is photons per second per core; for `mc` a photon is
 //! traced once in each of the three channels.
 

@@ -2,7 +2,7 @@
 //! with the perpendicular model (pbrt's assumption: θ = 0 slice, uniform φ) measured in the same
 //! run as the baseline, and the Catmull-Rom weights on each of the table's three axes (an
 //! evaluation computes one set per axis), and the same lookups on a two-lobe table (η = 1.2).
-//! Run: `cargo bench --bench table`, or `cargo bench --bench table -- axes` for the weights
+//! Run: `cargo bench -p bssrdf-zoo --bench table`, or `cargo bench -p bssrdf-zoo --bench table -- axes` for the weights
 //! alone.
 
 use bssrdf_zoo::fresnel::Moments;

@@ -1,6 +1,6 @@
 //! Random-walk throughput: scattering events per second on one core.
 //!
-//! `cargo bench --bench walk`. Each case runs on a one-thread rayon pool; criterion's
+//! `cargo bench -p bssrdf-zoo --bench walk`. Each case runs on a one-thread rayon pool; criterion's
 //! throughput line ("thrpt", elements/s) is scattering events per second per core. The event
 //! count of a case is fixed by its seed, so it is measured once and set as the throughput.
 

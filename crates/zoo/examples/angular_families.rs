@@ -2,7 +2,7 @@
 //! of each family, one wrapped Cauchy lobe over a floor (what tables store) and two lobes over
 //! a floor, at eight radii.
 //!
-//! Run: `cargo run --release --example angular_families -- ETA RHO THETA_DEG`
+//! Run: `cargo run --release -p bssrdf-zoo --example angular_families -- ETA RHO THETA_DEG`
 //!
 //! At each r, PBD (reference rule) at 721 azimuths in [0, π]; for every concentration c (two
 //! for two lobes) on a grid uniform in ln(1 − c) from 0 to 0.9999, the floor and lobe masses by

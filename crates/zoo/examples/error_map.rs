@@ -1,7 +1,7 @@
 //! Where in r the default table departs from photon beam diffusion, and how often the table's
 //! own sampler lands there: the deterministic form of Ferrier's figure 9.
 //!
-//! Run: `cargo run --release --example error_map [THETAS [RHOS]]`, THETAS and RHOS comma lists
+//! Run: `cargo run --release -p bssrdf-zoo --example error_map [THETAS [RHOS]]`, THETAS and RHOS comma lists
 //! (degrees; default 0,60,89 and 0.5,0.9,0.99, the cases of the report's table 2).
 //!
 //! Bakes the default table at η = 1.33 and, for each (ρ′, θ) and each radius interval (the

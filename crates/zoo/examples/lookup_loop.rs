@@ -1,8 +1,8 @@
-//! A tight loop of table lookups, for A/B timing of lookup code (criterion in `benches/table.rs`
-//! gives the figures the README reports; this loop is quicker to run many times in alternation,
+//! A tight loop of table lookups, for A/B timing of lookup code (criterion in `crates/zoo/benches/table.rs`
+//! gives the figures docs/performance.md reports; this loop is quicker to run many times in alternation,
 //! and its binary can be copied aside and run against another build's).
 //!
-//! Run: `N=4000000 cargo run --release --example lookup_loop -- eval|sample`. Bakes the default
+//! Run: `N=4000000 cargo run --release -p bssrdf-zoo --example lookup_loop -- eval|sample`. Bakes the default
 //! table at η = 1.33, draws 4,096 points (ρ′ ∈ [0.05, 1), θ ∈ [0, 1.5) rad, (r, φ) from the
 //! table's own sampler) and times N calls of `eval` or `sample` over them; prints ns per call
 //! and a checksum. To compare two builds, copy `target/release/examples/lookup_loop` aside

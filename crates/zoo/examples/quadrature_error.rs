@@ -1,7 +1,7 @@
 //! Error against run time of the two PBD quadratures: the fast rule against the reference, on
 //! the points every bake evaluates and over the whole documented domain.
 //!
-//! Run: `cargo run --release --example quadrature_error [STRIDE]`
+//! Run: `cargo run --release -p bssrdf-zoo --example quadrature_error [STRIDE]`
 //!
 //! - **Bake grid**: every STRIDE-th point (default 7) of what a bake evaluates, for each grid
 //!   preset (coarse, default, fine) at η ∈ {0.75, 0.9, 1, 1.0001, 1.05, 1.1, 1.2, 1.33, 1.5, 2,
@@ -9,7 +9,7 @@
 //!   its refinement, and the θ = 10⁻³ rad limit of the θ = 0 nodes. STRIDE = 1 is every point
 //!   (several minutes).
 //! - **Domain**: 20,000 random points of the documented domain with the stiff corners weighted
-//!   up (the distribution of the reference rule's oracle test, `tests/pbd/domain.rs`).
+//!   up (the distribution of the reference rule's oracle test, `crates/zoo/tests/pbd/domain.rs`).
 //!
 //! For each it prints the number of points, the fast rule's mean, 99th-percentile and largest
 //! relative error (and where the largest is), and the mean time of one evaluation with each rule.

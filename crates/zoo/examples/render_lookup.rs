@@ -4,7 +4,7 @@
 //!
 //! ```sh
 //! bssrdf bake skin1 white-grapefruit-juice -o scene.bssrdf
-//! cargo run --release --example render_lookup -- scene.bssrdf
+//! cargo run --release -p bssrdf-zoo --example render_lookup -- scene.bssrdf
 //! ```
 
 use std::f64::consts::PI;

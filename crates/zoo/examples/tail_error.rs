@@ -2,7 +2,7 @@
 //! profile's peak: the figures behind the "no silent zeros" bound of the bake's check
 //! (`table::check`, docs/accuracy.md).
 //!
-//! Run: `cargo run --release --example tail_error -- [ETA [GRID [POINTS [SEED]]]]` (defaults
+//! Run: `cargo run --release -p bssrdf-zoo --example tail_error -- [ETA [GRID [POINTS [SEED]]]]` (defaults
 //! 1.33, default, 20000, 1; GRID coarse, default or fine).
 //!
 //! Bakes the table and draws POINTS points weighted towards the ends of the albedo axis and

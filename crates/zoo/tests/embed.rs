@@ -2,7 +2,7 @@
 //! clone; every lookup through a handle equals, bit for bit, the same lookup through a
 //! `TableRef` made directly from the file (`FileTable`) and the crate's `World` conversion;
 //! handles outlive their library; every failure to open or to make a handle is its own error.
-//! Allocation counts are in `tests/embed_alloc.rs` (a binary of its own: it replaces the
+//! Allocation counts are in `crates/capi/tests/embed_alloc.rs` (a binary of its own: it replaces the
 //! global allocator).
 
 use std::f64::consts::{FRAC_PI_2, PI};

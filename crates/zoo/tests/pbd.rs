@@ -204,7 +204,7 @@ fn fast_rule_is_within_1e_6_of_the_reference_on_the_bake_grid() {
 }
 
 /// Over the whole documented domain the fast rule stays within 1e-6 too (measured over
-/// 20,000 points: 5.9e-8 at most, README).
+/// 20,000 points: 5.9e-8 at most, docs/physics.md).
 #[test]
 fn fast_rule_is_within_1e_6_of_the_reference_over_the_domain() {
     let mut rng = SplitMix64::new(4);
@@ -415,7 +415,7 @@ fn reference_rule_agrees_with_an_independent_quadrature_over_the_domain() {
     eprintln!("worst relative error over 600 points: {worst:e}");
 }
 
-/// The long version: `cargo test --test pbd -- --ignored --nocapture reference_rule_over`.
+/// The long version: `cargo test -p bssrdf-zoo --test pbd -- --ignored --nocapture reference_rule_over`.
 #[test]
 #[ignore = "long: 50,000 oracle evaluations (about 25 s)"]
 fn reference_rule_over_fifty_thousand_points() {

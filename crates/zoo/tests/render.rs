@@ -3,7 +3,7 @@
 //!
 //! Statistical checks use fixed seeds and bounds of 4 standard errors (a false failure rate
 //! of 6e-5 per comparison for normal errors); the model-error allowance is stated where used.
-//! The default tests trace few photons; the `#[ignore]`d ones are the README's figures.
+//! The default tests trace few photons; the `#[ignore]`d ones are docs/render.md's figures.
 
 use bssrdf_zoo::fresnel;
 use bssrdf_zoo::materials::{Material, Rgb};
@@ -17,7 +17,7 @@ use bssrdf_zoo::walk::{self, Estimate};
 /// Standard errors allowed for a purely statistical comparison.
 const SIGMAS: f64 = 4.0;
 /// Relative difference allowed between the diffusion models' centroid shifts and the walk's
-/// multiple scattering, besides statistics: PBD's own error (measured 2–3 % at 60°, README).
+/// multiple scattering, besides statistics: PBD's own error (measured 2–3 % at 60°, docs/render.md).
 const DIFFUSION_CENTROID_TOLERANCE: f64 = 0.05;
 const CHANNELS: [Band; 3] = [Band::Red, Band::Green, Band::Blue];
 
@@ -100,7 +100,7 @@ fn centroid_shift_agrees_with_the_walk() {
 }
 
 #[test]
-#[ignore = "a minute: 10^6 walk photons at 60 degrees (the README's figures)"]
+#[ignore = "a minute: 10^6 walk photons at 60 degrees (the figures of docs/render.md)"]
 fn centroid_shift_agrees_with_the_walk_long() {
     for line in centroids_agree(1_000_000, 1_000_000) {
         println!("{line}");

@@ -1,7 +1,7 @@
 /*
- * capi_test: the C interface of bssrdf-zoo, driven from C. Run by tests/capi/c_program.rs, which
- * builds libbssrdf_zoo.a, bakes a library file and writes the values the Rust API computes
- * for it into an expectations file; this program recomputes each one through the C
+ * capi_test: the C interface of bssrdf-zoo, driven from C. Run by
+ * crates/capi/tests/capi/c_program.rs, which builds libbssrdf.a, bakes a library file and
+ * writes the values the Rust API computes for it into an expectations file; this program recomputes each one through the C
  * interface and requires the same status and the same bits (the C interface returns the
  * doubles of the same Rust code, so equality is exact).
  *

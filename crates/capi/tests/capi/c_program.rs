@@ -1,6 +1,6 @@
-//! The C interface from a C program: `tests/c/capi_test.c` and `examples/c/capi_example.c`
+//! The C interface from a C program: `crates/capi/tests/c/capi_test.c` and `examples/c/capi_example.c`
 //! are compiled with the system C compiler (`$CC`, else `cc`) against `include/bssrdf_zoo.h`
-//! with `-Wall -Wextra -Werror -pedantic`, linked with `libbssrdf_zoo.a`, and run on a
+//! with `-Wall -Wextra -Werror -pedantic`, linked with `libbssrdf.a`, and run on a
 //! library baked here. The test writes the values the Rust API computes into a file; the C
 //! program must find the same statuses and the same bits.
 //!
@@ -11,7 +11,7 @@
 //! under `target/debug`, `release` under `target/release`), and takes the `.a` path from
 //! Cargo's report. Naming this test target makes the build resolve features exactly as
 //! `cargo test` did, so the library unit is the one just built and Cargo finds it fresh: no
-//! second compile. Cargo also copies the library to `target/<profile>/libbssrdf_zoo.a`.
+//! second compile. Cargo also copies the library to `target/<profile>/libbssrdf.a`.
 //! Without a C compiler the tests pass after saying they skipped.
 
 use std::fmt::Write as _;
@@ -202,7 +202,7 @@ fn line_values(status_if_none: i32, values: Option<Vec<f64>>, width: usize) -> S
     }
 }
 
-/// The expectations file (format in `tests/c/capi_test.c`): what the Rust API computes.
+/// The expectations file (format in `crates/capi/tests/c/capi_test.c`): what the Rust API computes.
 fn expectations(library: &Library) -> String {
     let mut text = String::new();
     let mut rng = SplitMix64::new(2024);
@@ -265,7 +265,7 @@ fn expectations(library: &Library) -> String {
     text
 }
 
-/// Compiles `tests/c/capi_test.c` (with [`SANITIZERS`] if `sanitize`) and runs it on a
+/// Compiles `crates/capi/tests/c/capi_test.c` (with [`SANITIZERS`] if `sanitize`) and runs it on a
 /// library baked here against the Rust API's values.
 fn run_capi_test(cc: &str, sanitize: bool) {
     let dir = tempfile::tempdir().unwrap();

@@ -2,7 +2,7 @@
 //! functions with the same parameter and return types (Rust types mapped to C ones), the same
 //! structs with the same fields in the same order, the same opaque types, and the same
 //! constants with the same values. Every exported function must be `#[no_mangle]`. The C test
-//! (`tests/capi/c_program.rs`) then compiles against the header with `-Wall -Werror` and links.
+//! (`crates/capi/tests/capi/c_program.rs`) then compiles against the header with `-Wall -Werror` and links.
 
 use std::collections::BTreeMap;
 

@@ -1,7 +1,7 @@
 //! The C interface, called from Rust: every NULL pointer is an error naming the argument,
 //! every failure has its documented code and a message, outputs are untouched on failure,
 //! channels outlive their library, and every value equals the Rust API's bit for bit.
-//! `tests/capi/c_program.rs` runs the same interface from a C program.
+//! `crates/capi/tests/capi/c_program.rs` runs the same interface from a C program.
 #![allow(unsafe_code)]
 
 use std::ffi::{c_int, CStr, CString};

@@ -471,7 +471,7 @@ fn reflectance_materials_invert_and_warn_when_clamped() {
     let rho: Vec<f64> = rho.iter().map(|v| v.as_f64().unwrap()).collect();
     assert!(rho[0] < rho[1] && rho[1] < 1.0 && rho[2] == 1.0, "{rho:?}");
     assert!(text(&o.stderr).contains("warning:"), "{}", text(&o.stderr));
-    // σt = 1/mfp (the inversion itself is tested against the table in tests/table/subset.rs).
+    // σt = 1/mfp (the inversion itself is tested against the table in crates/zoo/tests/table/subset.rs).
     let e = json(&bssrdf(d, &["inspect", "jade.bssrdf", "--json"]));
     let sigma_s = e["materials"][0]["sigma_s"][0].as_f64().unwrap();
     let sigma_a = e["materials"][0]["sigma_a"][0].as_f64().unwrap();

@@ -56,7 +56,7 @@
 //! slope 0 at a applies. The table's θ axis uses the even end when it ends at π/2
 //! ([`crate::table::Axes::new`]), where the model depends on θ through sin θ only; there the
 //! slope at x_{n−2} closed the last 0.0002 percentage points between the table and Ferrier's
-//! "under 1 %" at (ρ′, θ) = (0.99, 89°) (README, "Accuracy").
+//! "under 1 %" at (ρ′, θ) = (0.99, 89°) (docs/accuracy.md).
 //!
 //! # Sampling
 //! [`Nodes::sample`], [`Nodes::pdf`] and [`Nodes::cdf`] form a triad for a density shaped like

@@ -11,12 +11,12 @@
 //! so it can outlive the [`Library`] it came from. Opening validates the whole file (structure,
 //! checksums, every value finite) and converts each table's axes once; afterwards a lookup
 //! borrows the mapped arrays, checks nothing it already checked, and never allocates (tested
-//! with a counting allocator in `tests/embed_alloc.rs`).
+//! with a counting allocator in `crates/capi/tests/embed_alloc.rs`).
 //!
 //! Units: coefficients in mm⁻¹, distances in mm, S and densities per mm², angles in radians;
 //! θ is the incidence angle before refraction, φ = 0 is forward (in the plane of incidence, on
 //! the side the refracted beam travels to). The C interface over this module is
-//! [`crate::capi`] (header `include/bssrdf_zoo.h`).
+//! the `bssrdf-capi` crate (header `include/bssrdf_zoo.h`).
 //!
 //! ```
 //! use bssrdf_zoo::embed::Library;

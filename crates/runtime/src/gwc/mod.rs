@@ -240,7 +240,7 @@ pub struct Gwc {
 impl Gwc {
     /// Builds a profile from α (unit of f), β (unit of f × rad) and c (dimensionless).
     ///
-    /// Errors ([`Error::NotFinite`], [`Error::Negative`], [`Error::OutOfRange`]) if α or β is
+    /// Errors ([`crate::Error::NotFinite`], [`crate::Error::Negative`], [`crate::Error::OutOfRange`]) if α or β is
     /// not finite, if β is negative, if c is NaN or outside [−[`C_LIMIT`], `C_LIMIT`] (the
     /// floats in (−1, 1)), if α is below [`floor_bound`]`(β, c)` (the profile would dip below 0
     /// opposite the lobe), or if 2πα + β overflows. α = β = 0 is allowed (the zero profile).

@@ -4,7 +4,7 @@
 //! the surface, and PBD's azimuthal profile becomes a sharp forward peak over a broad forward
 //! body. One lobe over a floor cannot follow both: at (η, ρ′, θ) = (1.2, 0.9, 89°) the best one
 //! is 0.48–1.1 % off (mean over φ, weighted by the profile) at r from 0.01 to 10, the best two
-//! 0.016–0.045 % (`cargo run --release --example angular_families -- 1.2 0.9 89`). Tables store
+//! 0.016–0.045 % (`cargo run --release -p bssrdf-zoo --example angular_families -- 1.2 0.9 89`). Tables store
 //! the profile's harmonics, from which lookups rebuild the lobes ([`TwoLobe::from_moments`];
 //! format-spec.md §10, `gwc-harmonics`).
 //!
@@ -36,7 +36,7 @@ use std::f64::consts::{PI, TAU};
 
 use super::{cdf_wc, clamp_c, inv_cdf_wc, pdf_wc};
 
-/// Largest concentration [`fit`] uses: at (η, ρ′, θ) = (1, 0.9, 89°) PBD's sharp lobe has
+/// Largest concentration the two-lobe fit uses (`bssrdf_zoo::gwc::fit_two_lobes`): at (η, ρ′, θ) = (1, 0.9, 89°) PBD's sharp lobe has
 /// c ≈ 0.982 at small r.
 pub const C_MAX_TWO_LOBES: f64 = 0.999;
 

@@ -1,6 +1,6 @@
 //! The spline along the reduced albedo ρ′, with PBD's factor ρ′² taken out.
 //!
-//! PBD carries ρ′² explicitly (S = ρ′² ∫ …, [`crate::pbd`]): every energy a table stores, E and
+//! PBD carries ρ′² explicitly (S = ρ′² ∫ …, `bssrdf_zoo::pbd`): every energy a table stores, E and
 //! E_β, the radial CDF, ρ_eff and the θ CDF, is ρ′² g(ρ′) with g smooth in ρ′ and nonzero at
 //! ρ′ = 0 (through σtr = √(3(1 − ρ′)) and D). A Catmull-Rom spline of E itself is badly wrong
 //! at low albedo: between ρ′₀ = 0 and ρ′₁ it is nearly linear, ρ′·ρ′₁ g instead of ρ′² g, 3.2

@@ -17,7 +17,7 @@
 //! - the radial CDF ∫₀^r E dr′ of the Catmull-Rom spline through the stored E (for sampling r),
 //!   whose last node is the effective albedo ρ_eff(ρ′, θ);
 //! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ);
-//! - for a two-lobe table ([`Lobes::Two`], by default for η in [1, 1.33)), the profile's third and
+//! - for a two-lobe table (`bssrdf_zoo::table::Lobes::Two`, by default for η in [1, 1.33)), the profile's third and
 //!   fourth harmonics times r, r·μ₃ and r·μ₄, beside (E, E_β, c) of the one lobe with its first
 //!   two: lookups interpolate the four harmonics and rebuild two lobes from them
 //!   ([`crate::gwc::TwoLobe::from_moments`], `lookup.rs`; docs/accuracy.md).
@@ -27,7 +27,7 @@
 //! default grid) the slope of the quartic even about 90° through the last three nodes (see
 //! [`Axes::new`]), forms
 //! α = (E − E_β)/(2πr), β = E_β/r and returns α + β pdf_WC(φ; c). The crate's evaluation refines
-//! the spline along ρ′ as it does along r, each refinement measured against PBD (README):
+//! the spline along ρ′ as it does along r, each refinement measured against PBD (docs/table.md):
 //! - along ρ′, PBD's explicit factor ρ′² is taken out: the energies (E, E_β, the radial CDF, ρ_eff,
 //!   the θ CDF) are ρ′² times the spline of their values over ρ′ᵢ², that is the rows weigh
 //!   ωᵢ = wᵢ (ρ′/ρ′ᵢ)², and c is the ωᵢ-weighted mean Σ ωᵢcᵢ / Σ ωᵢ. A node at ρ′ = 0, whose
@@ -62,6 +62,7 @@ mod io;
 mod lookup;
 mod subset;
 
+pub use crate::error::TableError;
 use albedo::FarField;
 pub use albedo::{AlbedoAxis, AlbedoWeights};
 pub use io::FileTable;
@@ -164,34 +165,6 @@ pub struct TableRef<'a> {
 /// Number of f32 values per node of the second lobe: E_β₂, c₂.
 pub const HARMONICS_PER_NODE: usize = 2;
 
-/// Why a table's arrays were rejected.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum TableError {
-    /// An array does not have the length the axes imply.
-    #[error("{name} has {len} values; the axes ({nrho}x{ntheta}x{nr}) need {expected}")]
-    Length {
-        name: &'static str,
-        len: usize,
-        expected: usize,
-        nrho: usize,
-        ntheta: usize,
-        nr: usize,
-    },
-    /// The axes stored in a file are not valid spline nodes.
-    #[error("a table axis is not strictly increasing and finite")]
-    Axes,
-    /// The relative index of refraction is outside the models' domain.
-    #[error("eta = {} is outside [{}, {}]", crate::error::number(*.0), crate::medium::ETA_MIN, crate::medium::ETA_MAX)]
-    Eta(f64),
-    /// A value is NaN or infinite.
-    #[error("{name}[{index}] = {value} is not finite")]
-    NotFinite {
-        name: &'static str,
-        index: usize,
-        value: f32,
-    },
-}
-
 impl<'a> TableRef<'a> {
     /// Checks the array lengths against the axes and that every value is finite.
     pub fn new(
@@ -230,7 +203,11 @@ impl<'a> TableRef<'a> {
             check("theta_cdf", t, nrho * ntheta)?;
         }
         let c_e = crate::medium::Boundary::new(eta, moments)
-            .map_err(|_| TableError::Eta(eta))?
+            .map_err(|_| TableError::Eta {
+                value: eta,
+                min: crate::medium::ETA_MIN,
+                max: crate::medium::ETA_MAX,
+            })?
             .c_e();
         Ok(Self {
             eta,

@@ -1,4 +1,4 @@
-//! The lookup points of the table benchmark (`benches/table.rs`) and of the A/B timing loop
+//! The lookup points of the table benchmark (`crates/zoo/benches/table.rs`) and of the A/B timing loop
 //! (`examples/lookup_loop.rs`), so that both time the same traffic.
 
 use bssrdf_zoo::rng::SplitMix64;

@@ -151,8 +151,8 @@ pub fn fit_three_anchors(f1: f64, f2: f64, f3: f64) -> Result<GwcFit> {
 /// Fits a GWC profile to samples `f` = [f(φ1), f(φ2), f(φ3)] at anchors with cosines
 /// `cos_phi` = [cos φ1, cos φ2, cos φ3], 1 ≥ cos φ1 > cos φ2 > cos φ3 ≥ −1, cos φ1 > 0 > cos φ3.
 ///
-/// Closed form and fallbacks are derived in the module docs. Errors ([`Error::OutOfRange`],
-/// [`Error::NotFinite`], [`Error::Negative`]) if an anchor cosine is invalid, a sample is NaN,
+/// Closed form and fallbacks are derived in the module docs. Errors ([`crate::Error::OutOfRange`],
+/// [`crate::Error::NotFinite`], [`crate::Error::Negative`]) if an anchor cosine is invalid, a sample is NaN,
 /// infinite or negative, or the fitted α or β overflows (samples within a factor of about 10³
 /// of `f64::MAX`). Never returns NaN.
 pub fn fit_anchors(cos_phi: [f64; 3], f: [f64; 3]) -> Result<GwcFit> {

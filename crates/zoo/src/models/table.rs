@@ -17,7 +17,7 @@
 //!   uniform.
 //!
 //! Where they break down: everything PBD does (multiple scattering only), plus interpolation
-//! error (README: the angular table against PBD); the perpendicular model ignores the
+//! error (docs/accuracy.md: the angular table against PBD); the perpendicular model ignores the
 //! forward/backward asymmetry of oblique incidence entirely. At r = 0 the table returns its
 //! finite continuous limit from the first radius interval (PBD is +∞ there).
 

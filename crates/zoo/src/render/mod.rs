@@ -59,7 +59,7 @@
 //! bit-identical for a seed on any thread count.
 //!
 //! # Where it breaks down
-//! The models are only as good as their tables: within the table's accuracy (README) for
+//! The models are only as good as their tables: within the table's accuracy (docs/accuracy.md) for
 //! `table`, and PBD's diffusion approximation for `table` and `pbd`, which misses single
 //! scattering and is least accurate at low albedo and near the entry point. The walk is exact
 //! up to statistics. A smooth, flat, homogeneous surface only.

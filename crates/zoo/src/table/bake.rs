@@ -37,7 +37,7 @@
 //! slope that a plain Catmull-Rom end takes at 90° moved the lookups between 80° and 90° by up
 //! to 0.6 % (at 87°, ρ′ = 0.5; 0.3 % at 89°) and put 2.4–2.6 % of the points at (0.9, 89°) and
 //! (0.99, 89°) above 1 %, and the central difference at 80° left 1–2 points in 10⁵ at
-//! (0.99, 89°) at 1.0000–1.0002 % (README, "Accuracy"). The θ CDF integrates that same spline.
+//! (0.99, 89°) at 1.0000–1.0002 % (docs/accuracy.md). The θ CDF integrates that same spline.
 
 use super::{check_rows, AngularTable, Axes, SubsetError, PARAMS_PER_NODE};
 use crate::catmull_rom::Nodes;
@@ -55,7 +55,7 @@ use std::f64::consts::{PI, TAU};
 use std::ops::Range;
 use std::time::Instant;
 
-/// Named grid sizes (accuracy and bake time of each are in the README).
+/// Named grid sizes (accuracy and bake time of each are in docs/accuracy.md and docs/performance.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum GridPreset {

@@ -4,7 +4,7 @@
 //!
 //! The files are generated here from the tiny library of `common`. After a deliberate format
 //! change, regenerate and review them with
-//! `BSSRDF_REGEN_VECTORS=1 cargo test --test format conformance`.
+//! `BSSRDF_REGEN_VECTORS=1 cargo test -p bssrdf-zoo --test format conformance`.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

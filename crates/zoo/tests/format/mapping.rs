@@ -1,9 +1,9 @@
-//! The mapping (`src/format/map.rs`, with the C interface the crate's only `unsafe` code) and
+//! The mapping (`crates/runtime/src/format/map.rs`, with the C interface the crate's only `unsafe` code) and
 //! the zero-copy views over it, on the committed conformance vectors: each valid file opens
 //! alike mapped and read, with the same bytes behind every view and every `&[f32]` view
 //! aligned; each invalid file fails alike with the error its name gives; views into a mapped
 //! file stay valid for as long as the library lives. No bake and no file written, so that it
-//! runs under Miri: `MIRIFLAGS=-Zmiri-disable-isolation cargo +nightly miri test --test format
+//! runs under Miri: `MIRIFLAGS=-Zmiri-disable-isolation cargo +nightly miri test -p bssrdf-zoo --test format
 //! mapping` (docs/reliability.md). Miri cannot run the mmap system call, so there
 //! `open_mmap` reads the file into an owned aligned buffer (`Backing::map` under `cfg(miri)`)
 //! and Miri checks the code after the map: the casts to `&[f32]`, the bounds of every view,

@@ -2,7 +2,7 @@
 //! also committed as `tests/data/valid/spec-example.bssrdf`.
 //!
 //! To regenerate the hexdump in the spec after a deliberate format change, run
-//! `BSSRDF_REGEN_SPEC=1 cargo test --test format spec_example` and review the diff.
+//! `BSSRDF_REGEN_SPEC=1 cargo test -p bssrdf-zoo --test format spec_example` and review the diff.
 
 use std::path::Path;
 

@@ -1,5 +1,5 @@
-//! Lookups at arbitrary inputs, shared by the property tests (`tests/table/arbitrary_inputs.rs`,
-//! `tests/capi/arbitrary_inputs.rs`, `tests/models/arbitrary_inputs.rs`) and the fuzz target
+//! Lookups at arbitrary inputs, shared by the property tests (`crates/zoo/tests/table/arbitrary_inputs.rs`,
+//! `crates/capi/tests/capi/arbitrary_inputs.rs`, `crates/zoo/tests/models/arbitrary_inputs.rs`) and the fuzz target
 //! `fuzz/fuzz_targets/lookups.rs`, so that both hold the lookups to the same rules:
 //! - never a panic, never a NaN or negative value or density (`eval` may be +∞ only where a
 //!   model documents it; table lookups are finite);

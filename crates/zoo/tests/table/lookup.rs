@@ -246,7 +246,7 @@ fn node_profile_max_error(rho: f64, theta_deg: f64, n: usize, seed: u64) -> f64 
 // spline took 0.0004 % of it and one or two points in 10⁵ reached 1.0000–1.0002 % (seeds 7, 1,
 // 2024); the even quartic's slope there (`catmull_rom` module docs) leaves 0.9998 % on a dense
 // scan and none. (Before the first two radius intervals took their own model and the
-// refinement its signed floors, up to 4 points in 10⁵ exceeded 1 %, up to 1.44 %, README
+// refinement its signed floors, up to 4 points in 10⁵ exceeded 1 %, up to 1.44 %, docs/accuracy.md
 // "Accuracy".)
 
 /// Figure 9's bound on every point's relative error.

@@ -39,7 +39,7 @@
 //! multiplied back, c the energy-weighted mean, `table::albedo`; branch rho2-weights, merged
 //! after the signed floors) and all values were recomputed. Every pinned albedo lies between
 //! nodes of the coarse axis at ρ′ ≥ 0.15, where the change is a detail of the interpolation (at
-//! ρ′ = 0.02 it removed a factor 3.2: `tests/table/lookup.rs`). Evaluations, pdfs and perpendicular
+//! ρ′ = 0.02 it removed a factor 3.2: `crates/zoo/tests/table/lookup.rs`). Evaluations, pdfs and perpendicular
 //! values moved by at most 0.13 % (the underflowed tail at r = 150, 1.4e-37, by 19 %); sampled r
 //! and φ by at most 0.3 %, sample densities by at most 0.24 %; the path draws by up to 1.3 %
 //! (φ′ and pdf at ρ′ = 0.25). Against the reference quadrature the evaluations moved both ways:

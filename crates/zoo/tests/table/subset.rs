@@ -109,7 +109,7 @@ fn assert_identical_inside(full: &AngularTable, sub: &AngularTable, interval: Rh
     assert!(checked > 1000, "only {checked} points");
 }
 
-/// The ranges of the README's example scene plus the awkward places: the axis ends, an
+/// The ranges of the example scene of docs/scenes.md plus the awkward places: the axis ends, an
 /// interior node, a tiny interval, the whole axis.
 fn intervals() -> Vec<RhoInterval> {
     let node = full().axes().rho().as_slice()[17];

@@ -22,7 +22,7 @@
 //! 1/f(ρ′ᵢ, r_j) comes with the axes (`Axes::far`), so a lookup takes four exponentials, f at
 //! its own ρ′ and the window's radius nodes. An evaluation here costs 1.5–1.9 times one
 //! elsewhere: 180–215 ns against 120–130 ns before at ρ′ ∈ [0.05, 0.078), 175–200 against
-//! 100–110 at ρ′ ∈ [0.99995, 1] (`RHO=0.05,0.0776 N=4000000 cargo run --release --example
+//! 100–110 at ρ′ ∈ [0.99995, 1] (`RHO=0.05,0.0776 N=4000000 cargo run --release -p bssrdf-zoo --example
 //! lookup_loop -- eval`, the machine's other core busy). The ends are 3 % of the table
 //! benchmark's points, whose evaluations did not measurably slow down.
 

@@ -284,7 +284,7 @@ impl<'a> TableRef<'a> {
         // Accumulated in f32, like the stored values, so the 12-wide window vectorises. The
         // rounding is ~1e-7 of the largest term; where the Catmull-Rom terms nearly cancel (steep
         // tails) that is up to ~5e-5 of the result, still below the table's interpolation error.
-        // The summation order is part of the results (pinned by tests/table/pinned.rs).
+        // The summation order is part of the results (pinned by crates/zoo/tests/table/pinned.rs).
         let mut acc = [0.0f32; WINDOW];
         let n = s.len.min(16);
         // Rows in groups of 4 (the slice pads to a multiple of 4): unrolled, less loop overhead
@@ -529,7 +529,7 @@ impl<'a> TableRef<'a> {
     /// Along r, E is interpolated as exp(Catmull-Rom of ln E) wherever the four nodes of the
     /// segment hold positive energy (`LOG_ENERGY`): E(r) is close to the exponential of a
     /// smooth function, and on the 1.2-ratio grid this removes most of the spline's error in the
-    /// exponential tail (see the README for the measured effect). Elsewhere (the first interval,
+    /// exponential tail (docs/table.md gives the measured effect). Elsewhere (the first interval,
     /// where E(0) = 0, and underflowed tails) E is the plain spline. With `LOG_ENERGY` the
     /// lobe's share is the spline of the nodes' shares E_β/E (where all four hold energy);
     /// without, the ratio of the plain splines of E_β and E, which agrees with it except in
@@ -644,7 +644,7 @@ impl<'a> TableRef<'a> {
         // through the profiles P of nodes 1 and 2: (E/r − 2π·slope·ln(r₁/r), β, c) linear
         // in r, extended down to r = 0. The spline through node 0 (E = 0, where PBD is
         // infinite) bends them instead: 0.5 % off at θ = 0 mid-interval, where the nodes
-        // are exact, and its constant P(r₁) beyond r₁ left 1.9 % of drift at φ = π (README,
+        // are exact, and its constant P(r₁) beyond r₁ left 1.9 % of drift at φ = π (docs/table.md,
         // "Accuracy").
         // (An axis of two nodes has no node 2: P is then constant, P(r₁).)
         let two_pi_slope = TAU * self.log_slope(rho, theta);
