@@ -132,7 +132,7 @@ impl Medium {
 /// The relative index of refraction every model, table and walk accepts: [`ETA_MIN`, `ETA_MAX`].
 /// Below 0.75 light enters only near normal incidence; above 2.5 no common medium lies (diamond
 /// is 2.42). Every model is verified over this range (PBD by the independent quadrature of
-/// `crates/zoo/tests/pbd.rs`).
+/// `crates/zoo/tests/physics/pbd/mod.rs`).
 pub const ETA_MIN: f64 = 0.75;
 /// Upper end of the η domain, see [`ETA_MIN`].
 pub const ETA_MAX: f64 = 2.5;

@@ -9,12 +9,12 @@
 //!   its refinement, and the θ = 10⁻³ rad limit of the θ = 0 nodes. STRIDE = 1 is every point
 //!   (several minutes).
 //! - **Domain**: 20,000 random points of the documented domain with the stiff corners weighted
-//!   up (the distribution of the reference rule's oracle test, `crates/zoo/tests/pbd/domain.rs`).
+//!   up (the distribution of the reference rule's oracle test, `crates/zoo/tests/physics/pbd/domain.rs`).
 //!
 //! For each it prints the number of points, the fast rule's mean, 99th-percentile and largest
 //! relative error (and where the largest is), and the mean time of one evaluation with each rule.
 
-#[path = "../tests/pbd/domain.rs"]
+#[path = "../tests/physics/pbd/domain.rs"]
 mod domain;
 
 use bssrdf_zoo::fresnel::Moments;

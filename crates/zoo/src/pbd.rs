@@ -42,7 +42,7 @@
 //! starts above) to where it rises to m + 46 again (a neglected tail below e⁻⁴⁶ ≈ 10⁻²⁰).
 //! - [`Rule::Reference`]: adaptive Gauss–Kronrod in u to 10⁻¹⁰ relative (error estimate
 //!   returned). Held to 10⁻⁸ (measured: 9e-12 at most) by an independent quadrature over
-//!   50,000 random points of the domain (`crates/zoo/tests/pbd.rs`).
+//!   50,000 random points of the domain (`crates/zoo/tests/physics/pbd/mod.rs`).
 //! - [`Rule::Fast`]: a fixed composite 8-point Gauss–Legendre rule in u for baking: within 1.6e-7
 //!   of the reference on every bake grid and 5.9e-8 over the domain (`examples/quadrature_error.rs`).
 //!

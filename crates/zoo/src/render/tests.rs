@@ -1,4 +1,4 @@
-//! Unit tests of the renderer's parts (the physics checks are in `crates/zoo/tests/render.rs`).
+//! Unit tests of the renderer's parts (the physics checks are in `crates/zoo/tests/models/render.rs`).
 
 use super::*;
 use crate::table::bake;

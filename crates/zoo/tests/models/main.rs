@@ -9,4 +9,5 @@ mod arbitrary_inputs;
 mod compare;
 mod dirpole;
 mod properties;
+mod render;
 mod sampling;

@@ -1,7 +1,10 @@
-//! The table tests: one test binary, a module per area.
+//! The tests of the angular table: its profile (`gwc`), splines, lookups, bake, check and
+//! subsets, and the renderer handles over a file (`embed`). One test binary, a module per area.
 
 #[path = "../catmull_rom_common/mod.rs"]
 mod catmull_rom_common;
+#[path = "../gwc_common/mod.rs"]
+mod gwc_common;
 #[path = "../lookup_common/mod.rs"]
 mod lookup_common;
 
@@ -9,7 +12,9 @@ mod arbitrary_inputs;
 mod catmull_rom;
 mod catmull_rom_even;
 mod check;
+mod embed;
 mod far_tail;
+mod gwc;
 mod lookup;
 mod pinned;
 mod subset;

@@ -4,7 +4,7 @@
 use bssrdf_zoo::materials::{Coefficients, Library, Material, MaterialError, Origin, Rgb};
 use std::path::{Path, PathBuf};
 
-const REFERENCE: &str = include_str!("../../../../tests/data/measured-media.csv");
+const REFERENCE: &str = include_str!("../../../../../tests/data/measured-media.csv");
 
 /// One row of the reference table, by column name.
 struct Row {

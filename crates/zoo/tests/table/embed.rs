@@ -346,7 +346,12 @@ fn a_file_truncated_under_a_map_kills_the_reader_with_sigbus() {
     for read in [false, true] {
         let path = baked(dir.path());
         let mut child = Command::new(std::env::current_exe().unwrap())
-            .args(["--ignored", "--exact", "truncation_child", "--nocapture"])
+            .args([
+                "--ignored",
+                "--exact",
+                "embed::truncation_child",
+                "--nocapture",
+            ])
             .env("BSSRDF_TRUNCATION_CHILD", &path)
             .envs(read.then_some(("BSSRDF_TRUNCATION_READ", "1")))
             .stdin(Stdio::piped())

@@ -10,9 +10,7 @@ use bssrdf_zoo::rng::SplitMix64;
 use bssrdf_zoo::table::{Grid, GridPreset, REFINE_PHI_DEG};
 use std::f64::consts::PI;
 
-#[path = "pbd/domain.rs"]
 mod domain;
-#[path = "pbd/oracle.rs"]
 mod oracle;
 use domain::domain_point;
 
@@ -21,7 +19,7 @@ fn pbd(rho: f64, eta: f64) -> Pbd {
 }
 
 fn pbrt_rows() -> Vec<[f64; 3]> {
-    let text = include_str!("../../../tests/data/pbrt-v3-pbd-profile-eta1.33-g0.csv");
+    let text = include_str!("../../../../../tests/data/pbrt-v3-pbd-profile-eta1.33-g0.csv");
     text.lines()
         .skip(1)
         .map(|line| {
@@ -415,7 +413,7 @@ fn reference_rule_agrees_with_an_independent_quadrature_over_the_domain() {
     eprintln!("worst relative error over 600 points: {worst:e}");
 }
 
-/// The long version: `cargo test -p bssrdf-zoo --test pbd -- --ignored --nocapture reference_rule_over`.
+/// The long version: `cargo test -p bssrdf-zoo --test physics -- --ignored --nocapture reference_rule_over`.
 #[test]
 #[ignore = "long: 50,000 oracle evaluations (about 25 s)"]
 fn reference_rule_over_fifty_thousand_points() {

@@ -1,0 +1,149 @@
+//! Sampling (algorithm 2 of the report): r from the slice's radial distribution, φ from the
+//! profile at r; the density of each draw, the path-tracing draw over θ, and the inverse map.
+
+use super::*;
+
+impl TableRef<'_> {
+    /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
+    /// energy there (ρ′ = 0, light beyond the critical angle) or (ρ′, θ) is outside the axes.
+    pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
+        if !self.light_enters(theta) {
+            return None;
+        }
+        self.with_slice(rho, theta, |s| self.sample_slice(s, u_r, u_phi))?
+    }
+
+    pub(super) fn sample_slice(&self, s: &Slice, u_r: f64, u_phi: f64) -> Option<Sample> {
+        let radial = self.sample_radius(s, u_r)?;
+        let g = self.profile_at(s, radial.x)?;
+        let (phi, pdf_phi) = g.sample_with_pdf(u_phi);
+        let pdf_area = radial.pdf * pdf_phi / radial.x;
+        (pdf_area.is_finite() && pdf_area > 0.0).then_some(Sample {
+            r: radial.x,
+            phi,
+            pdf_area,
+        })
+    }
+
+    /// Draws r from the spline of E interpolated over the slice, by inverting its radial CDF
+    /// (the rows' CDFs blended with the same weights).
+    ///
+    /// The segment search starts from the segment of the row with the largest weight, found in
+    /// that row's own CDF (one contiguous f32 row instead of 16 scattered ones): the blended
+    /// CDF is a mixture of rows of nearby (ρ′, θ), so the guess is usually exact or one segment
+    /// off, and the search reads the blended CDF at two or three nodes instead of bisecting 64.
+    pub(super) fn sample_radius(&self, s: &Slice, u: f64) -> Option<crate::catmull_rom::Sample> {
+        let (_, _, n_r) = self.axes.dims();
+        let n = s.len.min(16);
+        let mut heaviest = 0;
+        for k in 1..n {
+            if s.weights[k] > s.weights[heaviest] {
+                heaviest = k;
+            }
+        }
+        let hint = s.offsets.get(heaviest).and_then(|&offset| {
+            let row = self
+                .radial_cdf
+                .get(offset as usize..offset as usize + n_r)?;
+            let (&total, inner) = row.split_last()?;
+            let goal = (u * f64::from(total)) as f32;
+            // Nodes 1 … n − 2 at most goal: segment of the first node above it, minus one (the
+            // row's CDF never decreases). Counted, not bisected: the loads are independent and
+            // the comparisons vectorise, where a bisection waits for each load in turn.
+            Some(inner.get(1..)?.iter().filter(|&&c| c <= goal).count())
+        });
+        let e = |k: usize| self.blend_e_around(s, k);
+        let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+        self.axes.r().sample_with(e, cdf, u, hint)
+    }
+
+    /// Density per unit area of [`TableRef::sample`] at (r, φ), reduced mfp⁻².
+    pub fn pdf(&self, rho: f64, theta: f64, r: f64, phi: f64) -> f64 {
+        if !self.light_enters(theta) {
+            return 0.0;
+        }
+        self.with_slice(rho, theta, |s| self.pdf_slice(s, r, phi))
+            .unwrap_or(0.0)
+    }
+
+    pub(super) fn pdf_slice(&self, s: &Slice, r: f64, phi: f64) -> f64 {
+        if r <= 0.0 || !r.is_finite() {
+            return 0.0;
+        }
+        let e = |k: usize| self.blend_e_around(s, k);
+        let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+        let pdf_r = self.axes.r().pdf_with(e, cdf, r);
+        match self.profile_at(s, r) {
+            Some(g) if pdf_r > 0.0 => pdf_r * g.pdf(wrap_phi(phi)) / r,
+            _ => 0.0,
+        }
+    }
+
+    /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
+    pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
+        let radial = self.with_slice(rho, 0.0, |s| self.sample_radius(s, u_r))??;
+        let phi = uniform_azimuth(u_phi);
+        Some(Sample {
+            r: radial.x,
+            phi,
+            pdf_area: radial.pdf / (TAU * radial.x),
+        })
+    }
+
+    /// Path-tracing draw (algorithm 3): θ from ρ_eff(ρ′, ·), then (r, φ), then φ′ uniform.
+    /// `None` without the θ-sampling table or where no energy is stored.
+    pub fn sample_path(&self, rho: f64, u: [f64; 4]) -> Option<PathSample> {
+        let theta_cdf = self.theta_cdf?;
+        let w_rho = self.axes.rho.weights(rho)?;
+        let (_, n_theta, n_r) = self.axes.dims();
+        let rho_eff = |j: usize| {
+            w_rho.apply_rows(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
+        };
+        let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
+        let t = self.axes.theta().sample(rho_eff, cdf, u[0])?;
+        if !self.light_enters(t.x) {
+            return None;
+        }
+        let w_theta = self.axes.theta().weights(t.x)?;
+        let s = self.slice_of(&w_rho, &w_theta, rho, t.x);
+        let rphi = self.sample_slice(&s, u[1], u[2])?;
+        let phi_prime = uniform_azimuth(u[3]);
+        Some(PathSample {
+            theta: t.x,
+            r: rphi.r,
+            phi: rphi.phi,
+            phi_prime,
+            pdf_theta: t.pdf,
+            pdf: t.pdf * rphi.pdf_area / TAU,
+        })
+    }
+
+    /// Density of θ in [`TableRef::sample_path`], per radian.
+    pub fn pdf_theta(&self, rho: f64, theta: f64) -> f64 {
+        let (Some(theta_cdf), Some(w_rho)) = (self.theta_cdf, self.axes.rho.weights(rho)) else {
+            return 0.0;
+        };
+        let (_, n_theta, n_r) = self.axes.dims();
+        let rho_eff = |j: usize| {
+            w_rho.apply_rows(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
+        };
+        let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
+        self.axes.theta().pdf(rho_eff, cdf, theta)
+    }
+
+    /// The inverse of [`TableRef::sample`]: the uniforms (u_r, u_φ) that `sample` maps to
+    /// (r, φ), from the radial CDF of the interpolated spline and the GWC profile's analytic CDF.
+    /// `None` outside the axes or where the table holds no energy.
+    pub fn invert(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<(f64, f64)> {
+        if !self.light_enters(theta) {
+            return None;
+        }
+        self.with_slice(rho, theta, |s| {
+            let e = |k: usize| Self::blend(s, self.params, k, PARAMS_PER_NODE);
+            let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+            let u_r = self.axes.r().cdf(e, cdf, r)?;
+            let g = self.profile_at(s, r)?;
+            Some((u_r, g.cdf(wrap_phi(phi))))
+        })?
+    }
+}

@@ -1,0 +1,157 @@
+//! Evaluation of a two-lobe table: the harmonics' shares of E blended over the slice's rows,
+//! and the two lobes rebuilt from them at the point (format-spec.md §10).
+
+use super::*;
+
+impl TableRef<'_> {
+    /// The shares of E that the harmonics μ₁ … μ₄ of a two-lobe table carry, rμₙ/E, at the four
+    /// radius nodes `first..first + 4`: per node, the mean over the slice's rows that hold
+    /// energy there of each row's own shares, weighted by the slice's weights ω (as the
+    /// concentration c is, [`AlbedoWeights::c_scale`]). Row by row the harmonics are E_βc and
+    /// E_βc² (the first array's one lobe carries the first two, `table::bake`), rμ₃ and rμ₄ (the
+    /// second array). Harmonics are linear in the profile, so blending them blends profiles
+    /// however each node's fit split its profile into lobes; blending their shares of E keeps
+    /// that at the ends of the albedo axis too, where E takes its own spline (`albedo_ends`)
+    /// that a blend of rμₙ would not follow. 0 at a node where no row holds energy.
+    pub(super) fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> [[f64; 4]; 4] {
+        // sum[n][k]: Σ ω × share n at node k; weight[k]: Σ ω over the rows with energy there.
+        // In f32, like the stored values and `window_params`, and laid out per harmonic so the
+        // four nodes of a row update together.
+        let (mut sum, mut weight) = ([[0.0f32; 4]; 4], [0.0f32; 4]);
+        let n = s.len.min(16);
+        let (_, _, n_r) = self.axes.dims();
+        let mut add = |w: f32, p: &[f32; 12], h: &[f32; 8]| {
+            let e: [f32; 4] = std::array::from_fn(|k| p[3 * k]);
+            // 1/E where the node holds energy, else 0 (the row adds nothing there)
+            let inv = e.map(|e| if e > 0.0 { 1.0 / e } else { 0.0 });
+            let share1: [f32; 4] = std::array::from_fn(|k| p[3 * k + 1] * p[3 * k + 2] * inv[k]);
+            let shares = [
+                share1,
+                std::array::from_fn(|k| share1[k] * p[3 * k + 2]),
+                std::array::from_fn(|k| h[2 * k] * inv[k]),
+                std::array::from_fn(|k| h[2 * k + 1] * inv[k]),
+            ];
+            for (sum, x) in sum.iter_mut().zip(shares) {
+                for k in 0..4 {
+                    sum[k] += w * x[k];
+                }
+            }
+            for k in 0..4 {
+                weight[k] += if e[k] > 0.0 { w } else { 0.0 };
+            }
+        };
+        for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights[..n]) {
+            let node = offset as usize + first;
+            // The four nodes' values are contiguous in each array: one bounds check per array
+            let windows = (n_r >= 4)
+                .then(|| {
+                    let p = self.params.get(node * PARAMS_PER_NODE..)?;
+                    let h = second.get(node * HARMONICS_PER_NODE..)?;
+                    Some((p.first_chunk::<12>()?, h.first_chunk::<8>()?))
+                })
+                .flatten();
+            match windows {
+                Some((p, h)) => add(w, p, h),
+                // Fewer than four radii (or the array's end): node by node, zeros past it
+                // (nodes past the axis weigh 0 later)
+                None => {
+                    let (mut p, mut h) = ([0.0f32; 12], [0.0f32; 8]);
+                    for k in 0..4 {
+                        let at = node + k;
+                        if let (Some(pk), Some(hk)) = (
+                            self.params
+                                .get(at * PARAMS_PER_NODE..(at + 1) * PARAMS_PER_NODE),
+                            second.get(at * HARMONICS_PER_NODE..(at + 1) * HARMONICS_PER_NODE),
+                        ) {
+                            p[3 * k..3 * k + 3].copy_from_slice(pk);
+                            h[2 * k..2 * k + 2].copy_from_slice(hk);
+                        }
+                    }
+                    add(w, &p, &h);
+                }
+            }
+        }
+        std::array::from_fn(|k| {
+            if weight[k] != 0.0 {
+                std::array::from_fn(|n| f64::from(sum[n][k]) / f64::from(weight[k]))
+            } else {
+                [0.0; 4]
+            }
+        })
+    }
+
+    /// The two-lobe profile of energy `e_per_r` = E/r at `r_eval`, from the first array's window
+    /// `acc` (E, E_β, c blended with the slice's weights) and [`TableRef::harmonic_shares`]: the
+    /// harmonics' shares of E interpolated along r, times E/r (in the first two intervals the
+    /// harmonics μₙ themselves, share × E/r at nodes 1 and 2, on the straight line between them,
+    /// as the one-lobe β is there: the ln(1/r) growth of E is isotropic), and the profile of
+    /// [`TwoLobe::from_moments`].
+    pub(super) fn two_lobe_cell(
+        &self,
+        window: impl FnOnce() -> [f32; 12],
+        shares: &[[f64; 4]; 4],
+        first: usize,
+        r_eval: f64,
+        w: &Weights,
+        e_per_r: f64,
+    ) -> TwoLobe {
+        let r_nodes = self.axes.r().as_slice();
+        if w.segment() <= 1 && r_nodes[0] == 0.0 {
+            let acc = window();
+            let node = |k: usize| {
+                let e = f64::from(acc[PARAMS_PER_NODE * (k - first)]).max(0.0);
+                shares[k - first].map(|x| x * e / r_nodes[k])
+            };
+            let a = node(1);
+            let (b, t) = match r_nodes.get(2) {
+                Some(&r2) => (node(2), (r_eval - r_nodes[1]) / (r2 - r_nodes[1])),
+                None => (a, 0.0),
+            };
+            let m = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
+            return TwoLobe::from_moments(e_per_r, m);
+        }
+        let weights = node_weights(first, w);
+        let mut share = [0.0; 4];
+        for (k, &wk) in weights.iter().enumerate() {
+            if wk != 0.0 {
+                for (acc, x) in share.iter_mut().zip(shares[k]) {
+                    *acc += wk * x;
+                }
+            }
+        }
+        TwoLobe::from_moments(e_per_r, share.map(|x| x * e_per_r))
+    }
+
+    /// [`TableRef::eval`] of a table with a second lobe: the cell of [`TableRef::cell_from`]
+    /// and [`TableRef::harmonics_cell`] (logarithmic energies), as a [`TwoLobe`].
+    #[inline(never)]
+    pub(super) fn eval_two_lobes(
+        &self,
+        second: &[f32],
+        rho: f64,
+        theta: f64,
+        r: f64,
+        phi: f64,
+    ) -> Option<f64> {
+        // E as a one-lobe table evaluates it (refinements along ρ′ and r included), the shape
+        // from the harmonics
+        let Some([e_per_r, ..]) = self.cell_at_point(rho, theta, r)? else {
+            return Some(0.0);
+        };
+        let value = self.with_slice(rho, theta, |s| {
+            let Some((r_eval, w)) = self.radius(r) else {
+                return 0.0;
+            };
+            let first = self.radial_window(&w);
+            let shares = self.harmonic_shares(s, second, first);
+            // The first array's window only in the first two intervals, which read it
+            let window = || self.window_params(s, first);
+            self.two_lobe_cell(window, &shares, first, r_eval, &w, e_per_r)
+                .eval(wrap_phi(phi))
+        })?;
+        if !phi.is_finite() || !self.light_enters(theta) {
+            return Some(0.0);
+        }
+        Some(value)
+    }
+}
