@@ -50,10 +50,7 @@ pub enum Error {
     },
     /// A model name that is not in the registry.
     #[error("unknown model {name:?}; expected one of {expected}")]
-    UnknownModel {
-        name: String,
-        expected: &'static str,
-    },
+    UnknownModel { name: String, expected: String },
     /// Two values that must agree do not (e.g. a shared table baked for another η).
     #[error("{name} = {found} does not match the required {expected}")]
     Mismatch {

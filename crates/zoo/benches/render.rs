@@ -6,7 +6,8 @@
 //! throughput line ("thrpt", elements/s) is photons per second per core; for `mc` a photon is
 //! traced once in each of the three channels.
 
-use bssrdf_zoo::render::{figure_10_material, Config, Model, Renderer};
+use bssrdf_zoo::models::ModelKind;
+use bssrdf_zoo::render::{figure_10_material, Config, Renderer};
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 
 fn bench_render(c: &mut Criterion) {
@@ -22,10 +23,10 @@ fn bench_render(c: &mut Criterion) {
     group.sample_size(10);
     group.measurement_time(std::time::Duration::from_secs(10));
     for (model, photons) in [
-        (Model::Table, 32_768),
-        (Model::Perpendicular, 32_768),
-        (Model::Pbd, 4_096),
-        (Model::Mc, 1_024),
+        (ModelKind::Table, 32_768),
+        (ModelKind::Perpendicular, 32_768),
+        (ModelKind::Pbd, 4_096),
+        (ModelKind::MonteCarlo, 1_024),
     ] {
         let config = Config {
             photons,

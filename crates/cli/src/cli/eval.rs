@@ -9,46 +9,12 @@ use super::values::check_kept;
 use super::{check_range, CliError};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
+use bssrdf_zoo::models::ModelKind;
 use bssrdf_zoo::pbd::{Pbd, Rule};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ModelName {
-    /// Photon beam diffusion, multiple scattering, evaluated by quadrature.
-    Pbd,
-    /// The angular table of FILE (Ferrier's model).
-    Table,
-    /// The θ = 0 slice of FILE's table at every θ, uniform in φ (pbrt's assumption).
-    Perpendicular,
-    /// PBD with the fast quadrature used for baking.
-    PbdFast,
-    /// Standard dipole (Jensen et al. 2001).
-    Dipole,
-    /// Directional dipole (Frisvad, Hachisuka, Kjeldsen 2014).
-    Dirpole,
-    /// Christensen–Burley (2015), searchlight fit.
-    Burley,
-    /// The Monte Carlo walk, binned (runs a walk of 10⁵ photons per (ρ′, θ)).
-    Mc,
-}
-
-impl ModelName {
-    /// The zoo's model of the same name, for the models built from (ρ′, η) alone.
-    fn zoo_kind(self) -> Option<bssrdf_zoo::models::ModelKind> {
-        use bssrdf_zoo::models::ModelKind as K;
-        match self {
-            ModelName::PbdFast => Some(K::PbdFast),
-            ModelName::Dipole => Some(K::Dipole),
-            ModelName::Dirpole => Some(K::Dirpole),
-            ModelName::Burley => Some(K::Burley),
-            ModelName::Mc => Some(K::MonteCarlo),
-            ModelName::Pbd | ModelName::Table | ModelName::Perpendicular => None,
-        }
-    }
-}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum MomentsArg {
@@ -94,7 +60,7 @@ pub struct EvalArgs {
     file: Option<PathBuf>,
     /// Model to evaluate (default: table with FILE, pbd without).
     #[arg(long, value_enum)]
-    model: Option<ModelName>,
+    model: Option<ModelKind>,
     /// Reduced albedo ρ′ = σ′s/σ′t, in [0, 1] (not with --material, which gives it).
     #[arg(long, allow_hyphen_values = true, conflicts_with = "material",
           required_unless_present_any = ["points", "material"])]
@@ -130,7 +96,7 @@ pub struct EvalArgs {
 struct Evaluator<'a> {
     /// The dirpole with its authors' Fresnel fits (`--fresnel-moments authors`).
     authors: bool,
-    model: ModelName,
+    model: ModelKind,
     boundary: Boundary,
     rule: Rule,
     table: Option<bssrdf_zoo::table::TableRef<'a>>,
@@ -149,7 +115,7 @@ impl Evaluator<'_> {
         check_r(names[2], p.r)?;
         check_range(names[3], p.phi_deg, ..)?;
         match (self.model, &self.table) {
-            (ModelName::Table | ModelName::Perpendicular, Some(t)) => match self.material {
+            (ModelKind::Table | ModelKind::Perpendicular, Some(t)) => match self.material {
                 Some((rho, _)) => check_kept("the material's rho'", rho, t),
                 None => check_kept(names[0], p.rho, t),
             },
@@ -172,7 +138,14 @@ impl Evaluator<'_> {
         if bssrdf_zoo::fresnel::refracted_cos(theta, self.boundary.eta()).is_none() {
             return Ok(0.0);
         }
-        if let Some(kind) = self.model.zoo_kind() {
+        // The models built from (ρ′, η) alone; PBD and the tables are evaluated below, with the
+        // quadrature chosen and the table of FILE.
+        let own = matches!(
+            self.model,
+            ModelKind::Pbd | ModelKind::Table | ModelKind::Perpendicular
+        );
+        if !own {
+            let kind = self.model;
             let params =
                 bssrdf_zoo::models::Params::new(rho, self.boundary.eta(), self.boundary.moments())?;
             let mut options = bssrdf_zoo::models::Options::default();
@@ -184,11 +157,11 @@ impl Evaluator<'_> {
             return Ok(model.eval(theta, r_opt, phi) * scale * scale);
         }
         let reduced = match (self.model, &self.table) {
-            (ModelName::Pbd, _) => Pbd::new(rho, self.boundary)?.eval(theta, r_opt, phi, self.rule),
-            (ModelName::Table, Some(t)) => t
+            (ModelKind::Pbd, _) => Pbd::new(rho, self.boundary)?.eval(theta, r_opt, phi, self.rule),
+            (ModelKind::Table, Some(t)) => t
                 .eval(rho, theta, r_opt, phi)
                 .ok_or_else(|| kept_error(rho, t))?,
-            (ModelName::Perpendicular, Some(t)) => t
+            (ModelKind::Perpendicular, Some(t)) => t
                 .eval_perpendicular(rho, r_opt)
                 .ok_or_else(|| kept_error(rho, t))?,
             (_, None) => return Err(CliError::input("the table models need a library FILE")),
@@ -206,18 +179,10 @@ fn kept_error(rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
 }
 
 /// Every model is handled above; kept as an error rather than a panic.
-fn unreachable_model(model: ModelName) -> Result<f64, CliError> {
+fn unreachable_model(model: ModelKind) -> Result<f64, CliError> {
     Err(CliError::input(format!(
-        "model {} cannot be evaluated here",
-        model_name(model)
+        "model {model} cannot be evaluated here"
     )))
-}
-
-/// The model's name as on the command line (`pbd-fast`).
-fn model_name(model: ModelName) -> String {
-    model
-        .to_possible_value()
-        .map_or_else(|| format!("{model:?}"), |v| v.get_name().to_string())
 }
 
 /// r is a finite number ≥ 0; every positive r, subnormals included, has a finite value. At
@@ -230,14 +195,14 @@ fn check_r(name: &str, r: f64) -> Result<(), CliError> {
 
 pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
     let model = args.model.unwrap_or(if args.file.is_some() {
-        ModelName::Table
+        ModelKind::Table
     } else {
-        ModelName::Pbd
+        ModelKind::Pbd
     });
-    if args.quadrature.is_some() && model != ModelName::Pbd {
+    if args.quadrature.is_some() && model != ModelKind::Pbd {
         return Err(CliError::input(format!(
             "--quadrature applies to the pbd model only, not to {}",
-            model_name(model)
+            model.name()
         )));
     }
     let rule = match args.quadrature {
@@ -283,10 +248,10 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         _ => (args.choice.eta.unwrap_or(1.33), None),
     };
     let authors = args.fresnel_moments == Some(EvalMomentsArg::Authors);
-    if authors && model != ModelName::Dirpole {
+    if authors && model != ModelKind::Dirpole {
         return Err(CliError::input(format!(
             "--fresnel-moments authors is the dirpole model's only, not {}'s",
-            model_name(model)
+            model.name()
         )));
     }
     let given = match args.fresnel_moments {
@@ -315,10 +280,10 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
     };
     let describe = |p: &Point, value: f64| {
         serde_json::json!({
-            "model": model_name(model),
+            "model": model.name(),
             "eta": eta,
             "fresnel_moments": if authors { "authors" } else { moments.name() },
-            "quadrature": (model == ModelName::Pbd).then_some(rule_name(rule)),
+            "quadrature": (model == ModelKind::Pbd).then_some(rule_name(rule)),
             "rho": p.rho,
             "theta_deg": p.theta_deg,
             "r": p.r,
@@ -420,6 +385,17 @@ mod tests {
         ] {
             let flag = arg.to_possible_value().map(|v| v.get_name().to_string());
             assert_eq!(flag.as_deref(), Some(rule_name(rule)));
+        }
+    }
+
+    /// The command line's names of the models are the registry's, for every model.
+    #[test]
+    fn the_flags_spell_every_model_as_the_registry_names_it() {
+        assert_eq!(ModelKind::value_variants(), ModelKind::ALL);
+        for model in ModelKind::ALL {
+            let flag = model.to_possible_value().map(|v| v.get_name().to_string());
+            assert_eq!(flag.as_deref(), Some(model.name()));
+            assert_eq!(model.name().parse::<ModelKind>().ok(), Some(model));
         }
     }
 }

@@ -4,10 +4,12 @@
 
 use super::CliError;
 use bssrdf_zoo::materials::Material;
+use bssrdf_zoo::models::ModelKind;
 use bssrdf_zoo::render::{
-    self, difference, Band, Config, Difference, Model, Orders, Part, Render, Renderer,
+    self, difference, Band, Config, Difference, Orders, Part, Render, Renderer,
 };
 use bssrdf_zoo::table::GridPreset;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::ops::Bound;
@@ -15,27 +17,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum ModelArg {
-    /// Ferrier's angular table, algorithm 2.
-    Table,
-    /// The θ = 0 slice of the table, uniform in φ (pbrt's assumption).
-    Perpendicular,
-    /// Photon beam diffusion (table samples weighted by PBD / table density).
-    Pbd,
-    /// The Monte Carlo random walk: the reference, with single scattering.
-    Mc,
-}
-
-impl From<ModelArg> for Model {
-    fn from(m: ModelArg) -> Self {
-        match m {
-            ModelArg::Table => Model::Table,
-            ModelArg::Perpendicular => Model::Perpendicular,
-            ModelArg::Pbd => Model::Pbd,
-            ModelArg::Mc => Model::Mc,
-        }
-    }
+/// The registry's models a render can draw ([`render::MODELS`]) as command-line values, with
+/// the registry's help for each.
+fn render_model() -> impl TypedValueParser<Value = ModelKind> {
+    PossibleValuesParser::new(render::MODELS.iter().filter_map(|m| m.to_possible_value()))
+        .try_map(|name: String| name.parse::<ModelKind>())
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -89,12 +75,12 @@ pub struct RenderArgs {
     #[arg(long, required_unless_present = "diff")]
     theta: Option<f64>,
     /// How exit points are placed.
-    #[arg(long, value_enum, default_value = "table")]
-    model: ModelArg,
+    #[arg(long, value_parser = render_model(), default_value = "table")]
+    model: ModelKind,
     /// Also render this model with the same settings and write the difference (-o's stem
     /// plus `-MODEL.exr` and `-diff.exr`).
-    #[arg(long, value_enum)]
-    compare: Option<ModelArg>,
+    #[arg(long, value_parser = render_model())]
+    compare: Option<ModelKind>,
     /// Photons traced.
     #[arg(long, default_value_t = 1_000_000)]
     photons: u64,
@@ -186,11 +172,10 @@ pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
     }
     if let Some(other) = args.compare {
         let other_config = Config {
-            model: other.into(),
+            model: other,
             ..config.clone()
         };
-        let other_model: Model = other.into();
-        let other_path = sibling(&args.output, other_model.name());
+        let other_path = sibling(&args.output, other.name());
         let (second, second_files) = render_one(&args, &other_config, &material, &other_path)?;
         let diff = difference(&main.0.picture, &second.0.picture).map_err(input)?;
         let diff_files = write_diff(&args, &diff, &sibling(&args.output, "diff"))?;
@@ -231,12 +216,12 @@ fn material(args: &RenderArgs) -> Result<Material, CliError> {
     }
 }
 
-fn config(args: &RenderArgs, model: ModelArg) -> Result<Config, CliError> {
+fn config(args: &RenderArgs, model: ModelKind) -> Result<Config, CliError> {
     let theta = args.theta.unwrap_or(0.0);
     super::check_range("--theta", theta, 0.0..90.0)?;
     super::check_range("--cone", args.cone, 0.0..90.0)?;
     let config = Config {
-        model: model.into(),
+        model,
         theta: theta.to_radians(),
         cone: args.cone.to_radians(),
         photons: args.photons,
@@ -279,14 +264,14 @@ fn check_used(args: &RenderArgs) -> Result<(), CliError> {
             "--materials adds files to look --material up in; give --material NAME, or drop --materials",
         ));
     }
-    let models: Vec<ModelArg> = std::iter::once(args.model).chain(args.compare).collect();
-    let mc = models.contains(&ModelArg::Mc);
+    let models: Vec<ModelKind> = std::iter::once(args.model).chain(args.compare).collect();
+    let mc = models.contains(&ModelKind::MonteCarlo);
     if args.orders.is_some() && !mc {
         return Err(CliError::input(
             "--orders applies to the mc model only (--model mc or --compare mc); the other models picture multiple scattering",
         ));
     }
-    if args.grid.is_some() && models.iter().all(|&m| m == ModelArg::Mc) {
+    if args.grid.is_some() && models.iter().all(|&m| m == ModelKind::MonteCarlo) {
         return Err(CliError::input(
             "--grid applies to the table models; the mc model bakes no table",
         ));
@@ -308,8 +293,7 @@ fn check_outputs(args: &RenderArgs) -> Result<(), CliError> {
     }
     let mut exrs = vec![("-o", args.output.clone())];
     if let Some(other) = args.compare {
-        let model: Model = other.into();
-        exrs.push(("the --compare render", sibling(&args.output, model.name())));
+        exrs.push(("the --compare render", sibling(&args.output, other.name())));
         exrs.push(("the difference picture", sibling(&args.output, "diff")));
     }
     let mut outputs = Vec::new();

@@ -27,7 +27,8 @@
 //! panics and returns 0 outside the support, including where no light enters (θ outside
 //! [0, π/2], or sin θ > η); R is even in φ.
 //!
-//! Adding a model is one file, one [`ModelKind`] arm and one line in [`build`].
+//! Adding a model is one file, one [`ModelKind`] variant (with its name) and one arm in
+//! [`build`] (docs/architecture.md, "How to add a model").
 
 pub mod burley;
 pub mod compare;
@@ -107,29 +108,30 @@ impl<M: Model + ?Sized> Model for Box<M> {
     }
 }
 
-/// The registered models, selected by name on the command line.
+/// The registered models: the one list of names that `bssrdf zoo`, `bssrdf eval --model`,
+/// `bssrdf render --model` ([`crate::render::MODELS`]) and [`build`] share. With the `clap`
+/// feature it is a `clap::ValueEnum`, its doc comments the command line's help.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum ModelKind {
-    /// Standard dipole (Jensen et al. 2001): `dipole`.
+    /// Standard dipole (Jensen et al. 2001).
     Dipole,
-    /// Directional dipole (Frisvad et al. 2014): `dirpole`.
+    /// Directional dipole (Frisvad, Hachisuka, Kjeldsen 2014).
     Dirpole,
-    /// Christensen–Burley empirical profile (2015): `burley`.
+    /// Christensen–Burley (2015), searchlight fit.
     Burley,
-    /// Photon beam diffusion, reference quadrature: `pbd`.
+    /// Photon beam diffusion, multiple scattering (render: table samples weighted by PBD).
     Pbd,
-    /// Photon beam diffusion, fast quadrature: `pbd-fast`.
+    /// PBD with the fast quadrature used for baking.
     PbdFast,
-    /// The angular table: `table`.
+    /// Ferrier's angular table: PBD at any incidence, tabulated (eval: FILE's table).
     Table,
-    /// The perpendicular table (θ = 0 slice at every θ, uniform in φ): `perpendicular`.
+    /// The table's θ = 0 slice at every θ, uniform in φ (pbrt's assumption).
     Perpendicular,
-    /// The Monte Carlo walk, binned: `mc`.
+    /// The Monte Carlo random walk, the reference (eval bins 10⁵ photons per (ρ′, θ)).
+    #[cfg_attr(feature = "clap", value(name = "mc"))]
     MonteCarlo,
 }
-
-/// Every name [`ModelKind::from_str`] accepts, for error messages.
-pub const MODEL_NAMES: &str = "dipole, dirpole, burley, pbd, pbd-fast, table, perpendicular, mc";
 
 impl ModelKind {
     /// All models, in display order.
@@ -143,6 +145,12 @@ impl ModelKind {
         ModelKind::Perpendicular,
         ModelKind::MonteCarlo,
     ];
+
+    /// Every name [`ModelKind::from_str`] accepts, comma-separated, for messages.
+    pub fn names(models: &[ModelKind]) -> String {
+        let names: Vec<&str> = models.iter().map(|m| m.name()).collect();
+        names.join(", ")
+    }
 
     /// The command-line name.
     pub fn name(self) -> &'static str {
@@ -173,7 +181,7 @@ impl FromStr for ModelKind {
             .find(|k| k.name() == s)
             .ok_or_else(|| Error::UnknownModel {
                 name: s.to_owned(),
-                expected: MODEL_NAMES,
+                expected: ModelKind::names(&ModelKind::ALL),
             })
     }
 }

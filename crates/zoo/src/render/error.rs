@@ -9,6 +9,12 @@ pub enum RenderError {
     /// A physical or numerical parameter was rejected (the library's own error names it).
     #[error(transparent)]
     Parameter(#[from] crate::Error),
+    /// The model is one a render cannot draw (it draws [`super::MODELS`]).
+    #[error("render cannot draw the {name} model; it draws {expected}")]
+    Model {
+        name: &'static str,
+        expected: String,
+    },
     /// The image size is outside 1 ..= [`super::MAX_SIDE`] pixels per side.
     #[error("image size {width}x{height} is outside 1..={max} pixels per side")]
     Size {

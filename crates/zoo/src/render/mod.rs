@@ -5,7 +5,7 @@
 //!
 //! | parameter | unit | range | default |
 //! |---|---|---|---|
-//! | `model` | – | [`Model`]: table, perpendicular, pbd, mc | table |
+//! | `model` | – | one of [`MODELS`]: table, perpendicular, pbd, mc | table |
 //! | `theta` | radians | [0, π/2), with `theta + cone` < π/2 | – |
 //! | `cone` | radians, half-angle | [0, π/2) | 1° |
 //! | `photons` | – | 1 ..= 10¹² | 10⁶ |
@@ -54,7 +54,7 @@
 //!
 //! # Determinism
 //! Photon k draws from its own xoshiro256++ stream seeded from (seed, k), and in `mc` channel c
-//! from (seed mixed with c, k). Blocks of photons ([`Model::block`]) are traced in parallel (rayon),
+//! from (seed mixed with c, k). Blocks of photons ([`block`]) are traced in parallel (rayon),
 //! each summed in photon order; blocks are added in block order. The picture and statistics are
 //! bit-identical for a seed on any thread count.
 //!
@@ -81,6 +81,7 @@ pub use tally::{band_name, part_name, Band, BandStats, Frame, Part, Stats};
 
 use crate::fresnel::Moments;
 use crate::materials::{Material, Rgb};
+use crate::models::ModelKind;
 use crate::pbd::Pbd;
 use crate::rng::mix64;
 use crate::table::{bake, AngularTable, GridPreset};
@@ -99,38 +100,22 @@ pub const UNITS: &str = "exitance per mm^2 per unit incident power, linear";
 /// Most photons in one render.
 pub const MAX_PHOTONS: u64 = 1_000_000_000_000;
 
-/// How exit points are placed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Model {
-    /// Ferrier's angular table (algorithm 2).
-    Table,
-    /// The θ = 0 slice of the table, uniform in φ.
-    Perpendicular,
-    /// Photon beam diffusion, by weighting table samples.
-    Pbd,
-    /// The Monte Carlo random walk: the reference.
-    Mc,
-}
+/// The models a render can place exit points with (of the registry, [`ModelKind`]): Ferrier's
+/// angular table (algorithm 2), its θ = 0 slice uniform in φ, photon beam diffusion (table
+/// samples weighted by PBD over the table's density), and the Monte Carlo walk, the reference.
+pub const MODELS: [ModelKind; 4] = [
+    ModelKind::Table,
+    ModelKind::Perpendicular,
+    ModelKind::Pbd,
+    ModelKind::MonteCarlo,
+];
 
-impl Model {
-    /// Photons per block, the unit of parallel work and of the fixed summation order: smaller
-    /// for the walk, whose photons cost ~20 µs and leave ~170 exits each.
-    pub fn block(self) -> u64 {
-        match self {
-            Model::Mc => 512,
-            _ => 8192,
-        }
-    }
-
-    /// The name on the command line and in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Model::Table => "table",
-            Model::Perpendicular => "perpendicular",
-            Model::Pbd => "pbd",
-            Model::Mc => "mc",
-        }
+/// Photons per block, the unit of parallel work and of the fixed summation order: smaller for
+/// the walk, whose photons cost ~20 µs and leave ~170 exits each.
+pub fn block(model: ModelKind) -> u64 {
+    match model {
+        ModelKind::MonteCarlo => 512,
+        _ => 8192,
     }
 }
 
@@ -147,8 +132,8 @@ pub enum Orders {
 /// Parameters of a render; checked by [`Config::validate`] (and by [`Renderer::new`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
-    /// How exit points are placed.
-    pub model: Model,
+    /// How exit points are placed, one of [`MODELS`].
+    pub model: ModelKind,
     /// Incidence of the cone's axis, radians before refraction.
     pub theta: f64,
     /// Half-angle of the cone of incident directions, radians (0: collimated).
@@ -171,7 +156,7 @@ pub struct Config {
 
 impl Config {
     /// A 256 × 256 picture of 10 mm, 10⁶ photons, seed 0, a cone of 1°, the default grid.
-    pub fn new(model: Model, theta: f64) -> Self {
+    pub fn new(model: ModelKind, theta: f64) -> Self {
         Self {
             model,
             theta,
@@ -188,6 +173,12 @@ impl Config {
 
     /// Checks every parameter, naming the first bad one.
     pub fn validate(&self) -> Result<(), RenderError> {
+        if !MODELS.contains(&self.model) {
+            return Err(RenderError::Model {
+                name: self.model.name(),
+                expected: ModelKind::names(&MODELS),
+            });
+        }
         crate::error::in_range("theta", self.theta, 0.0, FRAC_PI_2)?;
         crate::error::in_range("cone", self.cone, 0.0, FRAC_PI_2)?;
         if self.theta + self.cone >= FRAC_PI_2 {
@@ -348,14 +339,14 @@ impl Renderer {
         let eta = material.eta();
         let moments = Moments::Exact;
         let table = match config.model {
-            Model::Mc => None,
+            ModelKind::MonteCarlo => None,
             _ => {
                 let grid = config.grid.grid(crate::table::Lobes::for_eta(eta));
                 Some(bake(eta, moments, &grid, false)?.0)
             }
         };
         let (mut pbd, mut pbd_expected) = (None, None);
-        if config.model == Model::Pbd {
+        if config.model == ModelKind::Pbd {
             let models = Rgb::ALL.map(|c| Pbd::for_medium(&material.medium(c), moments));
             if config.cone == 0.0 {
                 let t = crate::fresnel::transmittance(config.theta.cos(), eta);
@@ -364,7 +355,7 @@ impl Renderer {
             pbd = Some(models);
         }
         let rho_eff_fixed = match config.model {
-            Model::Perpendicular => Some(0.0),
+            ModelKind::Perpendicular => Some(0.0),
             _ if config.cone == 0.0 => Some(config.theta),
             _ => None,
         }
@@ -373,7 +364,7 @@ impl Renderer {
             Some(channels.map(|c| t.effective_albedo(c.rho, theta).unwrap_or(0.0)))
         });
         let walks = match config.model {
-            Model::Mc => {
+            ModelKind::MonteCarlo => {
                 let mut w = Vec::with_capacity(3);
                 for c in Rgb::ALL {
                     let ch = material.channel(c);
@@ -408,7 +399,7 @@ impl Renderer {
     /// Traces every photon of the configuration on the current rayon pool, calling `progress`
     /// with the number of photons finished after each block (from any thread).
     pub fn run(&self, progress: &(dyn Fn(u64) + Sync)) -> Render {
-        let blocks = self.config.photons.div_ceil(self.config.model.block());
+        let blocks = self.config.photons.div_ceil(block(self.config.model));
         let mut total = Sums::new();
         let mut image = vec![0.0; 3 * self.frame.width() * self.frame.height()];
         // Blocks go a chunk at a time to bound memory (a block's deposits take ~16 bytes per
@@ -435,7 +426,7 @@ impl Renderer {
 
     /// Traces photons `first .. first + count` into one block's sums.
     fn trace_block(&self, block: u64) -> Sums {
-        let size = self.config.model.block();
+        let size = self::block(self.config.model);
         let first = block * size;
         let last = self.config.photons.min(first + size);
         let image_single = self.config.orders == Orders::All;
@@ -459,7 +450,10 @@ impl Renderer {
                 in_picture[3] += p[c] / n;
             }
         }
-        let expected = matches!(self.config.model, Model::Table | Model::Perpendicular);
+        let expected = matches!(
+            self.config.model,
+            ModelKind::Table | ModelKind::Perpendicular
+        );
         let mut stats = Stats::new(sums, expected, in_picture);
         if let Some(e) = self.pbd_expected {
             stats.expected = Some(e);
@@ -481,7 +475,7 @@ impl Renderer {
             GridPreset::Fine => "fine",
         };
         let orders = match (c.model, c.orders) {
-            (Model::Mc, Orders::All) => "single+multiple",
+            (ModelKind::MonteCarlo, Orders::All) => "single+multiple",
             _ => "multiple",
         };
         let mut meta: Vec<(String, String)> = [

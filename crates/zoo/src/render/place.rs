@@ -4,7 +4,8 @@
 
 use super::source::Incidence;
 use super::tally::Recorder;
-use super::{Model, Renderer};
+use super::Renderer;
+use crate::models::ModelKind;
 use crate::pbd::Rule;
 use crate::table::{Sample, TableRef};
 use crate::walk::rng::Xoshiro256pp;
@@ -35,7 +36,7 @@ impl Renderer {
         rec: &mut Recorder<'_>,
     ) {
         let t = inc.transmitted();
-        let perpendicular = self.config.model == Model::Perpendicular;
+        let perpendicular = self.config.model == ModelKind::Perpendicular;
         // The incidence the table is looked up at: the θ = 0 slice for the perpendicular model.
         let theta = if perpendicular { 0.0 } else { inc.theta };
         let ch = &self.channels;
@@ -44,7 +45,7 @@ impl Renderer {
             .rho_eff_fixed
             .unwrap_or_else(|| ch.map(|c| table.effective_albedo(c.rho, theta).unwrap_or(0.0)));
         let expected = match self.config.model {
-            Model::Table | Model::Perpendicular => rho_eff.map(|e| t * e),
+            ModelKind::Table | ModelKind::Perpendicular => rho_eff.map(|e| t * e),
             _ => [0.0; 3],
         };
         rec.expect(expected);

@@ -39,7 +39,7 @@ fn the_theta_zero_density_is_the_perpendicular_models() {
 
 #[test]
 fn configurations_are_checked_and_name_the_value() {
-    let ok = Config::new(Model::Table, 1.0);
+    let ok = Config::new(ModelKind::Table, 1.0);
     assert!(ok.validate().is_ok());
     let bad = |f: &dyn Fn(&mut Config), needle: &str| {
         let mut c = ok.clone();
@@ -113,18 +113,36 @@ fn differences_refuse_mismatched_or_empty_pictures() {
 fn every_photon_is_counted_and_blocks_cover_the_run() {
     // A run that is not a whole number of blocks: photons and reflected power add up.
     let config = Config {
-        photons: Model::Perpendicular.block() + 7,
+        photons: block(ModelKind::Perpendicular) + 7,
         width: 8,
         height: 8,
         grid: GridPreset::Coarse,
         cone: 0.0,
-        ..Config::new(Model::Perpendicular, 0.5)
+        ..Config::new(ModelKind::Perpendicular, 0.5)
     };
     let r = render(&config, &figure_10_material(), &|_| ()).unwrap();
-    assert_eq!(r.stats.photons, Model::Perpendicular.block() + 7);
+    assert_eq!(r.stats.photons, block(ModelKind::Perpendicular) + 7);
     assert_eq!(r.stats.lost_samples, 0);
     let expected = crate::fresnel::reflectance(0.5f64.cos(), 1.33);
     assert!((r.stats.reflected.value - expected).abs() < 1e-12);
     assert!(r.stats.reflected.stderr < 1e-12);
     assert_eq!(r.picture.get("bssrdf:theta_deg"), Some("28.647889757"));
+}
+
+/// The registry's models outside [`MODELS`] are refused by name, with the ones a render draws.
+#[test]
+fn a_model_a_render_cannot_draw_is_refused_by_name() {
+    for model in ModelKind::ALL {
+        let result = Config::new(model, 1.0).validate();
+        if MODELS.contains(&model) {
+            assert!(result.is_ok(), "{model}: {result:?}");
+        } else {
+            let message = result.unwrap_err().to_string();
+            assert!(message.contains(model.name()), "{message}");
+            assert!(
+                message.contains("table, perpendicular, pbd, mc"),
+                "{message}"
+            );
+        }
+    }
 }

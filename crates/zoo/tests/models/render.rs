@@ -7,9 +7,10 @@
 
 use bssrdf_zoo::fresnel;
 use bssrdf_zoo::materials::{Material, Rgb};
+use bssrdf_zoo::models::ModelKind;
 use bssrdf_zoo::pbd::Pbd;
 use bssrdf_zoo::render::{
-    self, figure_10_material, Band, Config, Model, Orders, Part, Render, Renderer, Stats,
+    self, figure_10_material, Band, Config, Orders, Part, Render, Renderer, Stats,
 };
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
 use bssrdf_zoo::walk::{self, Estimate};
@@ -21,7 +22,7 @@ const SIGMAS: f64 = 4.0;
 const DIFFUSION_CENTROID_TOLERANCE: f64 = 0.05;
 const CHANNELS: [Band; 3] = [Band::Red, Band::Green, Band::Blue];
 
-fn config(model: Model, theta_deg: f64, photons: u64) -> Config {
+fn config(model: ModelKind, theta_deg: f64, photons: u64) -> Config {
     Config {
         photons,
         seed: 7,
@@ -44,8 +45,8 @@ fn within(a: Estimate, b: Estimate, relative: f64) -> bool {
 
 #[test]
 fn table_at_60_degrees_shifts_forward_and_perpendicular_does_not() {
-    let table = run(&config(Model::Table, 60.0, 60_000));
-    let perpendicular = run(&config(Model::Perpendicular, 60.0, 60_000));
+    let table = run(&config(ModelKind::Table, 60.0, 60_000));
+    let perpendicular = run(&config(ModelKind::Perpendicular, 60.0, 60_000));
     for band in Band::ALL {
         let t = table.stats.get(Part::Multiple, band);
         let p = perpendicular.stats.get(Part::Multiple, band);
@@ -73,9 +74,9 @@ fn table_at_60_degrees_shifts_forward_and_perpendicular_does_not() {
 
 /// Table (and PBD) against the walk's multiple scattering, like with like.
 fn centroids_agree(photons_table: u64, photons_walk: u64) -> Vec<String> {
-    let table = run(&config(Model::Table, 60.0, photons_table));
-    let pbd = run(&config(Model::Pbd, 60.0, photons_table));
-    let mc = run(&config(Model::Mc, 60.0, photons_walk));
+    let table = run(&config(ModelKind::Table, 60.0, photons_table));
+    let pbd = run(&config(ModelKind::Pbd, 60.0, photons_table));
+    let mc = run(&config(ModelKind::MonteCarlo, 60.0, photons_walk));
     let mut lines = Vec::new();
     for band in Band::ALL {
         let t = table.stats.get(Part::Multiple, band).centroid_x_mm;
@@ -126,8 +127,8 @@ fn energy_is_the_effective_albedo_times_the_transmitted_power() {
     .unwrap();
     let table = table.view();
     for (model, slice, photons) in [
-        (Model::Table, theta, 40_000),
-        (Model::Perpendicular, 0.0, 40_000),
+        (ModelKind::Table, theta, 40_000),
+        (ModelKind::Perpendicular, 0.0, 40_000),
     ] {
         let r = run(&Config {
             cone: 0.0,
@@ -150,7 +151,7 @@ fn energy_is_the_effective_albedo_times_the_transmitted_power() {
     // PBD: the table's samples reweighted to PBD carry PBD's own effective albedo.
     let r = run(&Config {
         cone: 0.0,
-        ..config(Model::Pbd, 60.0, 20_000)
+        ..config(ModelKind::Pbd, 60.0, 20_000)
     });
     for (c, band) in CHANNELS.into_iter().enumerate() {
         let pbd = Pbd::for_medium(&material.medium(Rgb::ALL[c]), Default::default());
@@ -172,7 +173,7 @@ fn the_walks_picture_carries_the_walks_reflectance() {
     let material = figure_10_material();
     let r = run(&Config {
         cone: 0.0,
-        ..config(Model::Mc, 60.0, 3_000)
+        ..config(ModelKind::MonteCarlo, 60.0, 3_000)
     });
     assert!(r.stats.expected.is_none());
     for (c, band) in CHANNELS.into_iter().enumerate() {
@@ -204,7 +205,7 @@ fn the_walks_picture_carries_the_walks_reflectance() {
 #[test]
 fn pictures_are_identical_on_any_thread_count() {
     let material = figure_10_material();
-    for (model, photons) in [(Model::Table, 20_000), (Model::Mc, 1_200)] {
+    for (model, photons) in [(ModelKind::Table, 20_000), (ModelKind::MonteCarlo, 1_200)] {
         let config = config(model, 45.0, photons);
         let renderer = Renderer::new(&config, &material).unwrap();
         let runs: Vec<Render> = [1, 2, 3]
@@ -237,7 +238,7 @@ fn the_exr_file_opens_in_a_standard_reader() {
     let r = run(&Config {
         width: 40,
         height: 24,
-        ..config(Model::Table, 60.0, 5_000)
+        ..config(ModelKind::Table, 60.0, 5_000)
     });
     render::exr::write_rgb(&path, &r.picture).unwrap();
     let image = read_all_data_from_file(&path).unwrap();
@@ -279,8 +280,8 @@ fn the_exr_file_opens_in_a_standard_reader() {
 #[test]
 fn previews_are_pngs_of_the_pictures_size() {
     let dir = tempfile::tempdir().unwrap();
-    let r = run(&config(Model::Table, 60.0, 5_000));
-    let other = run(&config(Model::Perpendicular, 60.0, 5_000));
+    let r = run(&config(ModelKind::Table, 60.0, 5_000));
+    let other = run(&config(ModelKind::Perpendicular, 60.0, 5_000));
     let d = render::difference(&r.picture, &other.picture).unwrap();
     let (a, b) = (dir.path().join("a.png"), dir.path().join("d.png"));
     render::png::write_preview(&a, &r.picture, 3.0).unwrap();
@@ -296,10 +297,10 @@ fn previews_are_pngs_of_the_pictures_size() {
 
 #[test]
 fn the_walk_can_image_multiple_scattering_alone() {
-    let all = run(&config(Model::Mc, 30.0, 600));
+    let all = run(&config(ModelKind::MonteCarlo, 30.0, 600));
     let multiple = run(&Config {
         orders: Orders::Multiple,
-        ..config(Model::Mc, 30.0, 600)
+        ..config(ModelKind::MonteCarlo, 30.0, 600)
     });
     // The same photons: equal statistics, a dimmer picture.
     for part in Part::ALL {
@@ -319,7 +320,7 @@ fn bad_materials_are_refused_by_the_walk_and_tables_alike() {
     let m = Material::from_coefficients("x", [1.0; 3], [0.1; 3], [0.0; 3], 1.33).unwrap();
     let bad = Config {
         extent: -1.0,
-        ..config(Model::Table, 10.0, 10)
+        ..config(ModelKind::Table, 10.0, 10)
     };
     let e = Renderer::new(&bad, &m).unwrap_err().to_string();
     assert!(e.contains("extent = -1"), "{e}");
