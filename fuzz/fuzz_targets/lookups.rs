@@ -1,10 +1,10 @@
 //! The lookups at arbitrary inputs: each input picks a table of one library file (the default
 //! grid at η = 1.33 with θ sampling, two scene subsets of its albedo rows, the same without θ
 //! sampling, small bakes at η = 0.75, 2.5 and at η = 1 with pbrt's moments, a radius axis of
-//! three nodes: `tests/lookup_common::tables`) and a model of the zoo (every registered kind,
-//! `tests/models_common::zoo`), and nine numbers (ρ′, θ, r, φ, four random numbers, σ′t), each
+//! three nodes: `bssrdf_testkit::lookups::tables`) and a model of the zoo (every registered kind,
+//! `bssrdf_testkit::models::zoo`), and nine numbers (ρ′, θ, r, φ, four random numbers, σ′t), each
 //! a special value (NaN, ±∞, ±0, subnormals, huge), any bit pattern, a table node a few ulps
-//! off, or a point of its domain. The rules are the property tests' (`tests/lookup_common`):
+//! off, or a point of its domain. The rules are the property tests' (`bssrdf_testkit::lookups`):
 //! no panic, no NaN or negative value or density, each draw `None` or a valid point whose
 //! density `pdf` gives, through `TableRef`, the Rust handles of the mapped file, the C
 //! interface on the same file (bit for bit the Rust handles' results), and the models.
@@ -14,21 +14,16 @@
 #![no_main]
 #![allow(unsafe_code)]
 
-#[path = "../../crates/zoo/tests/lookup_common/mod.rs"]
-mod lookup_common;
-#[path = "../../crates/zoo/tests/models_common/mod.rs"]
-mod models_common;
-
 use std::sync::OnceLock;
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
 use libfuzzer_sys::fuzz_target;
 
-use lookup_common::{
+use bssrdf_testkit::lookups::{
     check_capi, check_channel, check_model, check_view, inputs, model_inputs, open_tables, Opened,
 };
-use models_common::{documented_infinity, zoo, Built, WALK_THETA};
+use bssrdf_testkit::models::{documented_infinity, zoo, Built, WALK_THETA};
 
 struct Fixture {
     opened: Opened,

@@ -1,5 +1,5 @@
 //! The C interface and the Rust handles at arbitrary inputs — ρ′ and σ′t of a medium, θ, r, φ
-//! and the random numbers anywhere in f64 — on the tables of `lookup_common::tables` (a coarse
+//! and the random numbers anywhere in f64 — on the tables of `bssrdf_testkit::lookups::tables` (a coarse
 //! grid, scene subsets, no θ sampling, the ends of the η domain, pbrt's moments, a short radius
 //! axis), in one mapped file: a medium is refused or its handle's lookups are valid (no NaN or
 //! negative value or density, draws valid with the density `pdf` gives), and the C interface
@@ -13,7 +13,7 @@ use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{bake, reduced_to_mm, Grid, GridPreset};
 use proptest::prelude::*;
 
-use crate::lookup_common::{
+use bssrdf_testkit::lookups::{
     check_capi, check_channel, density_matches, inputs, open_tables, Opened,
 };
 

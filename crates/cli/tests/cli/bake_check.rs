@@ -1,7 +1,7 @@
 //! The bake checks itself: a table above its bound is not written (exit 1) unless
 //! --accept-error, and validate checks every table of a file against its own eta.
 
-use crate::cli_common::{bssrdf, fails_with, ok, text};
+use crate::common::{bssrdf, fails_with, ok, text};
 
 #[test]
 fn a_table_above_its_bound_is_refused_unless_accepted() {

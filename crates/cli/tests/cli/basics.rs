@@ -1,13 +1,13 @@
 //! End-to-end tests of the `bssrdf` command: success, --json shape, and each error path.
 
-use crate::cli_common::{text, with_stdin};
+use crate::common::{text, with_stdin};
 use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 /// Runs `bssrdf ARGS` in the test's own folder.
 fn bssrdf(args: &[&str]) -> Output {
-    crate::cli_common::bssrdf(Path::new("."), args)
+    crate::common::bssrdf(Path::new("."), args)
 }
 
 fn bssrdf_with_stdin(args: &[&str], stdin: &str) -> Output {

@@ -4,7 +4,7 @@
 
 use std::process::Output;
 
-use crate::cli_common::{bssrdf, ok, text};
+use crate::common::{bssrdf, ok, text};
 
 fn fails_with(o: &Output, code: i32, needle: &str) {
     assert_eq!(o.status.code(), Some(code), "stderr: {}", text(&o.stderr));

@@ -1,10 +1,9 @@
 //! End-to-end tests of the `bssrdf` command line: one test binary, a module per area.
 
-#[path = "../cli_common/mod.rs"]
-mod cli_common;
-
 mod bake_check;
 mod basics;
+mod common;
+mod completions;
 mod diff;
 mod files;
 mod outputs;

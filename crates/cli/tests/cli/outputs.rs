@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use crate::cli_common::{bare, bssrdf, fails_with, ok};
+use crate::common::{bare, bssrdf, fails_with, ok};
 
 // ---- Outputs: devices, links, modes, stale temporaries, inputs ----
 

@@ -6,7 +6,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use crate::cli_common::{bare, bssrdf, fails_with, ok, text, with_stdin};
+use crate::common::{bare, bssrdf, fails_with, ok, text, with_stdin};
 
 // ---- validate: a case without points is skipped, a run that checked nothing fails ----
 

@@ -3,7 +3,7 @@
 
 use std::process::Output;
 
-use crate::cli_common::{bssrdf, ok};
+use crate::common::{bssrdf, ok};
 
 fn fails_with(o: &Output, needle: &str) {
     let err = String::from_utf8_lossy(&o.stderr);

@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::cli_common::{bare, bssrdf, fails_with, ok, text};
+use crate::common::{bare, bssrdf, fails_with, ok, text};
 
 fn json(o: &Output) -> serde_json::Value {
     serde_json::from_str(&ok(o)).expect("stdout is JSON")

@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use crate::cli_common::{bssrdf, ok, text};
+use crate::common::{bssrdf, ok, text};
 
 fn json(o: &Output) -> serde_json::Value {
     serde_json::from_str(&ok(o)).expect("one JSON object")

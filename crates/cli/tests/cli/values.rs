@@ -3,7 +3,7 @@
 //! limit; ρ′ checked against a table's kept albedo rows before any output, and a material's
 //! table chosen by them; material sources over 256 bytes refused, never cut.
 
-use crate::cli_common::{bare, bssrdf, fails_with, ok, text};
+use crate::common::{bare, bssrdf, fails_with, ok, text};
 
 // ---- Numbers in messages and JSON ----
 

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::common::{material, synthetic_table, with_signed_floor};
+use bssrdf_testkit::files::{material, synthetic_table, with_signed_floor};
 use bssrdf_zoo::format::{Compression, Library, LibraryBuilder, SectionKind, Verify};
 
 /// Compiles the C reader into `dir`, or `None` (with a message) if no compiler works.

@@ -9,7 +9,7 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use crate::common::{kind, synthetic_table, tiny_builder, Raw, Sec, ENTRY, HEADER};
+use bssrdf_testkit::files::{kind, synthetic_table, tiny_builder, Raw, Sec, ENTRY, HEADER};
 use bssrdf_zoo::format::{
     pack, AxisKind, Compression, Library, LibraryBuilder, SectionKind, Verify,
 };

@@ -1,7 +1,7 @@
 //! Damage to a small library file is always detected at open with full verification: every
 //! single-byte change at every position, every truncation, any trailing bytes.
 
-use crate::common::tiny_builder;
+use bssrdf_testkit::files::tiny_builder;
 use bssrdf_zoo::format::{Compression, Library, Verify};
 
 #[test]
@@ -112,9 +112,10 @@ fn truncation_and_trailing_bytes_are_rejected_on_disk_both_ways() {
 
 #[test]
 fn extreme_dims_and_offsets_give_errors_not_overflows() {
-    let original = crate::common::Raw::new(tiny_builder().to_bytes(Compression::None).unwrap());
-    let gwc = original.entry(original.find(crate::common::kind::GWC, 0));
-    type Edit<'a> = &'a dyn Fn(&mut crate::common::Raw);
+    let original =
+        bssrdf_testkit::files::Raw::new(tiny_builder().to_bytes(Compression::None).unwrap());
+    let gwc = original.entry(original.find(bssrdf_testkit::files::kind::GWC, 0));
+    type Edit<'a> = &'a dyn Fn(&mut bssrdf_testkit::files::Raw);
     let cases: [(&str, Edit); 3] = [
         ("section-too-large", &|r| {
             for d in 0..4 {

@@ -1,8 +1,5 @@
 //! The format tests: one test binary, a module per area.
 
-#[path = "../common/mod.rs"]
-mod common;
-
 mod c_reader;
 mod conformance;
 mod corruption;

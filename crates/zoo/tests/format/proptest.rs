@@ -7,13 +7,13 @@ use proptest::prelude::*;
 
 fn valid_files() -> Vec<Vec<u8>> {
     vec![
-        crate::common::tiny_builder()
+        bssrdf_testkit::files::tiny_builder()
             .to_bytes(Compression::None)
             .unwrap(),
-        crate::common::tiny_builder()
+        bssrdf_testkit::files::tiny_builder()
             .to_bytes(Compression::Zstd { level: 1 })
             .unwrap(),
-        crate::common::spec_example_builder()
+        bssrdf_testkit::files::spec_example_builder()
             .to_bytes(Compression::None)
             .unwrap(),
     ]
@@ -134,7 +134,7 @@ proptest! {
         damages in prop::collection::vec(damage(), 1..4),
         fix_crcs in any::<bool>(),
     ) {
-        let mut raw = crate::common::Raw::new(valid_files()[file].clone());
+        let mut raw = bssrdf_testkit::files::Raw::new(valid_files()[file].clone());
         for d in &damages {
             apply(&mut raw.bytes, d);
         }

@@ -2,7 +2,7 @@
 //! reading path; equal content gives equal bytes; pack and unpack are lossless; writes are
 //! atomic with respect to readers of the old file.
 
-use crate::common::{material, synthetic_table, tiny_builder, with_signed_floor, Raw};
+use bssrdf_testkit::files::{material, synthetic_table, tiny_builder, with_signed_floor, Raw};
 use bssrdf_zoo::format::{
     pack, unpack, AxisKind, Codec, Compression, Dtype, ExtraSection, Library, LibraryBuilder,
     SectionKind, TableData, Verify,
@@ -377,7 +377,7 @@ fn negative_floor_without_the_bit_is_rejected_naming_the_node() {
 
 /// Sets node (i, j, k) = (1, 2, 3) of a 2×3×5 table's `gwc-params` in a file and fixes the CRCs.
 fn set_node(raw: &mut Raw, node: [f32; 3]) {
-    let d = raw.data(crate::common::kind::GWC, 0) + ((3 + 2) * 5 + 3) * 12;
+    let d = raw.data(bssrdf_testkit::files::kind::GWC, 0) + ((3 + 2) * 5 + 3) * 12;
     for (p, v) in node.into_iter().enumerate() {
         raw.set_f32(d + 4 * p, v);
     }

@@ -55,7 +55,7 @@ fn manifest(path: &str) -> std::path::PathBuf {
 
 #[test]
 fn spec_example_bytes_match_the_writer() {
-    let bytes = crate::common::spec_example_builder()
+    let bytes = bssrdf_testkit::files::spec_example_builder()
         .to_bytes(Compression::None)
         .unwrap();
     let dump = hexdump(&bytes);

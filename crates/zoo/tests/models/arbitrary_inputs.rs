@@ -1,16 +1,16 @@
 //! Every registered model at arbitrary inputs — θ, r, φ and the random numbers anywhere in f64,
 //! NaN, ±∞, subnormals and ±0 included — for albedos and η at the ends of their domains
-//! (`models_common::zoo`): no panic, `eval` and `pdf` ≥ 0 and never NaN (+∞ only where
+//! (`bssrdf_testkit::models::zoo`): no panic, `eval` and `pdf` ≥ 0 and never NaN (+∞ only where
 //! documented), and a draw either `None` or a valid point whose density is `pdf`'s
-//! (`lookup_common`, the rules the fuzz target `fuzz/fuzz_targets/lookups.rs` holds too).
+//! (`bssrdf_testkit::lookups`, the rules the fuzz target `fuzz/fuzz_targets/lookups.rs` holds too).
 
 use std::sync::OnceLock;
 
 use bssrdf_zoo::models::ModelKind;
 use proptest::prelude::*;
 
-use crate::lookup_common::{check_model, model_inputs};
-use crate::models_common::{documented_infinity, model, zoo, Built, MEDIA, WALK_THETA};
+use bssrdf_testkit::lookups::{check_model, model_inputs};
+use bssrdf_testkit::models::{documented_infinity, model, zoo, Built, MEDIA, WALK_THETA};
 
 fn models() -> &'static [Built] {
     static MODELS: OnceLock<Vec<Built>> = OnceLock::new();

@@ -1,10 +1,5 @@
 //! The models tests: one test binary, a module per area.
 
-#[path = "../lookup_common/mod.rs"]
-mod lookup_common;
-#[path = "../models_common/mod.rs"]
-mod models_common;
-
 mod arbitrary_inputs;
 mod compare;
 mod dirpole;

@@ -2,7 +2,7 @@
 //! documented +∞), even in φ, zero where no light enters, scaling with σ′t in world units,
 //! totals against the plane integral of `eval`, and constructor rejections naming the value.
 
-use crate::models_common::{documented_infinity, model, options, table_for};
+use bssrdf_testkit::models::{documented_infinity, model, options, table_for};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Medium;
 use bssrdf_zoo::models::burley::{BurleyFit, BurleyOptions, SurfaceAlbedo};
@@ -214,7 +214,7 @@ fn constructors_reject_bad_values_and_name_them() {
 
     let narrow = Grid {
         rho: vec![0.6, 0.7, 0.8, 0.9],
-        ..crate::models_common::small_grid()
+        ..bssrdf_testkit::models::small_grid()
     };
     let (t, _) = bake(1.33, Moments::Exact, &narrow, false).unwrap();
     let shared = TableSource::Shared(Arc::new(t));

@@ -2,12 +2,14 @@
 //! (false-failure rate 1e-6, Wilson–Hilferty critical value), and `sample`'s density equal to
 //! `pdf` at the drawn point.
 
-use crate::models_common::{chi2_critical, model, Rng};
+use bssrdf_testkit::models::model;
+use bssrdf_testkit::stats::chi2_critical_1e6;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::models::burley::{Burley, BurleyFit, BurleyOptions, SurfaceAlbedo};
 use bssrdf_zoo::models::mc::McModel;
 use bssrdf_zoo::models::{Model, ModelKind, Params};
 use bssrdf_zoo::quadrature::adaptive;
+use bssrdf_zoo::rng::SplitMix64;
 use std::f64::consts::PI;
 
 /// Draws per test.
@@ -30,10 +32,10 @@ fn cell_probability(m: &dyn Model, theta: f64, r: (f64, f64), phi: (f64, f64)) -
 fn chi_square(m: &dyn Model, theta: f64, r_edges: &[f64], phi_edges: &[f64], seed: u64) {
     let (n_r, n_phi) = (r_edges.len() - 1, phi_edges.len() - 1);
     let mut observed = vec![0usize; n_r * n_phi + 1];
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let mut failed = 0;
     for _ in 0..DRAWS {
-        let u = [rng.next(), rng.next()];
+        let u = [rng.next_f64(), rng.next_f64()];
         let Some(s) = m.sample(theta, u) else {
             failed += 1;
             continue;
@@ -97,7 +99,7 @@ fn chi_square(m: &dyn Model, theta: f64, r_edges: &[f64], phi_edges: &[f64], see
             m.kind()
         );
     }
-    let critical = chi2_critical(cells - 1);
+    let critical = chi2_critical_1e6(cells - 1);
     assert!(
         chi2 < critical,
         "{}: chi2 = {chi2:.1} over {cells} cells, critical {critical:.1}",
@@ -159,7 +161,7 @@ fn monte_carlo_sampler_matches_its_pdf() {
     let m = model(ModelKind::MonteCarlo, 0.8, 1.33, theta, 20_000).unwrap();
     let mc = McModel::run(
         &Params::new(0.8, 1.33, Moments::Exact).unwrap(),
-        &crate::models_common::options(1.33, theta, 20_000).mc,
+        &bssrdf_testkit::models::options(1.33, theta, 20_000).mc,
     )
     .unwrap();
     let r = mc.r_edges().to_vec();

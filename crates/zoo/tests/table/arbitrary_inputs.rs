@@ -1,5 +1,5 @@
 //! Every lookup of a table at arbitrary inputs — NaN, ±∞, subnormals, ±0, huge, out of range,
-//! random numbers anywhere in f64 — on the tables of `lookup_common::tables` (the default grid,
+//! random numbers anywhere in f64 — on the tables of `bssrdf_testkit::lookups::tables` (the default grid,
 //! scene subsets, no θ sampling, the ends of the η domain, pbrt's moments, a short radius
 //! axis): no panic, no NaN or negative value or density, and each draw either `None` or a
 //! valid point whose density is `pdf`'s. The fuzz target `fuzz/fuzz_targets/lookups.rs` holds
@@ -12,7 +12,7 @@ use bssrdf_zoo::table::AngularTable;
 use proptest::prelude::*;
 
 use crate::lookup::default_table;
-use crate::lookup_common::{check_view, inputs, tables};
+use bssrdf_testkit::lookups::{check_view, inputs, tables};
 
 fn fixtures() -> &'static [(&'static str, AngularTable)] {
     static TABLES: OnceLock<Vec<(&'static str, AngularTable)>> = OnceLock::new();

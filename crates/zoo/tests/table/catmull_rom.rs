@@ -2,7 +2,7 @@
 //! integration, sampler ↔ pdf ↔ CDF consistency (chi-square, round trips, analytic inverses),
 //! inversion, and edge cases.
 
-use crate::catmull_rom_common::{
+use bssrdf_testkit::splines::{
     chi_square, geometric_radii, integrated, radial_profile, simpson, uneven_nodes, SplitMix64,
     EXACT, SOLVED,
 };

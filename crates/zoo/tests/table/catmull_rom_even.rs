@@ -4,7 +4,7 @@
 //! with the chord rule away from the last two segments, better reproduction of data even about
 //! the last node, exact integration, and the sampling triad (round trips and chi-square).
 
-use crate::catmull_rom_common::{chi_square, simpson, uneven_nodes, SplitMix64, EXACT, SOLVED};
+use bssrdf_testkit::splines::{chi_square, simpson, uneven_nodes, SplitMix64, EXACT, SOLVED};
 use bssrdf_zoo::catmull_rom::{End, Nodes};
 use std::f64::consts::FRAC_PI_2;
 

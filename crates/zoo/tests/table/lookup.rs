@@ -2,6 +2,7 @@
 //! (chi-square), normalisation, the report's accuracy protocol and its figure 9 (fast forms),
 //! stability at the extremes, world units.
 
+use bssrdf_testkit::stats::chi2_critical_1e6;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::{fit_three_anchors, FitBranch, Gwc, ANCHOR_COS};
 use bssrdf_zoo::medium::Boundary;
@@ -58,14 +59,6 @@ impl Rng {
     fn next(&mut self) -> f64 {
         self.0.next_f64()
     }
-}
-
-/// Critical value of χ² with k degrees of freedom at p = 1e-6 (Wilson–Hilferty; z = 4.753).
-/// With a fixed seed a test is deterministic; the 1e-6 is its false-failure rate over seeds.
-fn chi2_critical(k: usize) -> f64 {
-    let k = k as f64;
-    let z = 4.753;
-    k * (1.0 - 2.0 / (9.0 * k) + z * (2.0 / (9.0 * k)).sqrt()).powi(3)
 }
 
 #[test]
@@ -194,7 +187,7 @@ fn samples_follow_the_pdf(table: &AngularTable) {
             chi2 += (pooled_o - pooled_e).powi(2) / pooled_e.max(1.0);
             dof += 1;
         }
-        let crit = chi2_critical(dof - 1);
+        let crit = chi2_critical_1e6(dof - 1);
         assert!(
             chi2 < crit,
             "η {} {rho} {theta_deg}: chi2 {chi2:.1} > {crit:.1} (dof {dof})",
@@ -585,7 +578,7 @@ fn path_tracing_theta_samples_follow_their_pdf() {
         let e = n as f64 * gl.integrate(a, b, |t| view.pdf_theta(rho, t));
         chi2 += (o as f64 - e).powi(2) / e;
     }
-    assert!(chi2 < chi2_critical(n_bins - 1), "chi2 {chi2}");
+    assert!(chi2 < chi2_critical_1e6(n_bins - 1), "chi2 {chi2}");
 }
 
 #[test]
@@ -791,7 +784,7 @@ fn theta_axis_ends_flat_exactly_at_grazing_incidence() {
         let spline = |x: f64| axes.theta().evaluate(rho_eff, x).unwrap();
         let simpson: f64 = theta
             .windows(2)
-            .map(|w| crate::catmull_rom_common::simpson(spline, w[0], w[1], 2))
+            .map(|w| bssrdf_testkit::splines::simpson(spline, w[0], w[1], 2))
             .sum();
         assert!((total - simpson).abs() <= 1e-12 * total, "row {i}");
     }

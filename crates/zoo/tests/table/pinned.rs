@@ -2,60 +2,9 @@
 //! the same numbers. Evaluation and densities agree to f32-level rounding (the table stores f32
 //! and blends it in f32); samples agree to the tolerance of their Newton solves.
 //!
-//! First computed at commit c3470ca, before the lookup speed work. Recomputed (all of them, with
-//! the lookup code of c445c81) on branch fig9 in the commit that made the bake store the minimax
-//! refinement of its three-anchor fits at θ ≥ 45° and wherever a fit clamped α: that moved the
-//! values at θ > 0 by up to 0.8 % and one sampled φ by 2 %; the values at θ = 0 moved only by
-//! the ≤ 4e-16 of the lookup work. Then the one point on [r₁, r₂] at θ > 0 (r = 0.0041) moved
-//! by 0.65 % when the bake began to store at r₀ = 0 the c extended from r₁ and r₂.
-//!
-//! Then, on branch thetaend, the θ spline took slope 0 at its last node, 90° (the coarse grid's
-//! last θ segment is 75°–90°), and only the values that depend on that segment were
-//! recomputed: eval and pdf at (0.15, 1.45 rad = 83°) moved by 0.47 % and 0.71 %; the samples
-//! at θ = 1.45 and 1.5 rad (86°) by up to 0.7 % in φ, 0.2 % in r and 0.5 % in pdf; and every
-//! `sample_path` draw, since the θ CDF's last segment changed and with it its total (θ, pdf_θ
-//! and pdf by up to 0.03 %, r and φ with θ). The perpendicular values and all points at
-//! θ ≤ 75° are unchanged.
-//!
-//! Then the lookup's first two radius intervals, [0, r₁] and [r₁, r₂], took the log plus the
-//! straight line through the profiles of nodes 1 and 2 (`table::lookup`), and the four values
-//! there were recomputed. Each moved towards the reference PBD quadrature: eval at (0.45, 1.3,
-//! 0.0041, −3) from 1.24 % to 0.70 % above it (0.047829), its perpendicular value from 0.51 %
-//! to 0.04 % (0.084911); at (0.9, 0.7, 0.001, 0.4) from 0.32 % below to 0.09 % (0.509983), the
-//! perpendicular one from 0.18 % to 0.002 % above (0.475829). The points at r = 0 moved by
-//! 0.04–0.06 % and the sample drawn at r = 0.0012 by 0.45 % in pdf; nothing else moved.
-//!
-//! Then the minimax refinement admitted signed floors (α < 0 with the profile still ≥ 0, see the
-//! `gwc` module docs), evaluation took the spline of the nodes' lobe shares E_β/E instead of
-//! the ratio of the splines of E_β and E, and the samplers draw a signed cell as its lobe alone
-//! (`Gwc::normalised`); all values were recomputed. At θ = 0 and in the perpendicular model
-//! nothing moved beyond rounding. At θ > 0 the evaluations moved by at most 0.09 % (pdf at
-//! (0.15, 1.45 rad, 0.012)); eval at (0.95, 0.2 rad, 20) went from 0.164 % to 0.085 % above the
-//! reference quadrature. The draw at (0.15, 1.45 rad), now in a signed cell, moved by 0.019 rad
-//! in φ and 3.7 % in pdf; the others by at most 0.003 rad, 0.04 % in r and 0.5 % in pdf, the
-//! path draws by up to 0.1 %, and the 1.4e-37 tail value by 1 %.
-//!
-//! Then the lookups took PBD's factor ρ′² out of the spline along ρ′ (E/ρ′² splined and
-//! multiplied back, c the energy-weighted mean, `table::albedo`; branch rho2-weights, merged
-//! after the signed floors) and all values were recomputed. Every pinned albedo lies between
-//! nodes of the coarse axis at ρ′ ≥ 0.15, where the change is a detail of the interpolation (at
-//! ρ′ = 0.02 it removed a factor 3.2: `crates/zoo/tests/table/lookup.rs`). Evaluations, pdfs and perpendicular
-//! values moved by at most 0.13 % (the underflowed tail at r = 150, 1.4e-37, by 19 %); sampled r
-//! and φ by at most 0.3 %, sample densities by at most 0.24 %; the path draws by up to 1.3 %
-//! (φ′ and pdf at ρ′ = 0.25). Against the reference quadrature the evaluations moved both ways:
-//! (0.45, 1.3, 0.0041, −3) from 0.70 % to 0.65 % above, (0.5, 0, 0.3, 0) from 0.049 % to
-//! 0.009 % below; away, (0.15, 1.45, 0.012, 5) to 0.43 % below and (0.8, 1.0, 7.3, −0.7) to
-//! 0.18 % above.
-//!
-//! Then the θ spline's even end at 90° also took its slope at the node before from the even
-//! quartic through the last three nodes (`catmull_rom` module docs; on the coarse grid the two
-//! segments 60°–75°–90° changed), and the values there were recomputed: the evaluations at
-//! θ = 1.2, 1.3 and 1.45 rad by +0.014 %, +0.023 % and −0.067 % (densities by up to 0.11 %),
-//! the samples at θ = 1.2, 1.45 and 1.5 rad by up to 0.03 % in r, 3·10⁻⁴ rad in φ and 0.02 % in
-//! pdf, and the one path draw whose θ fell in those segments (1.27 rad) by up to 0.014 %.
-//! Against the reference quadrature: (0.45, 1.3, 0.0041, −3) from 0.653 % to 0.676 % above,
-//! (0.99, 1.2, 2.5, −2) from 0.509 % to 0.494 % below, (0.15, 1.45, 0.012, 5) from 0.433 % to
-//! 0.499 % below. Nothing at θ ≤ 60° moved.
+//! When a change to the bake or the lookups moves these values on purpose, recompute them and
+//! say in the commit message which moved, by how much, and in which direction against the
+//! reference PBD quadrature (`git log -p` on this file has every such step so far).
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{bake, AngularTable, Grid, GridPreset};

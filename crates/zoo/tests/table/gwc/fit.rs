@@ -3,7 +3,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crate::gwc_common::{SplitMix64, UniformRange};
+use bssrdf_testkit::gwc::{SplitMix64, UniformRange};
 use bssrdf_zoo::gwc::{
     fit_anchors, fit_three_anchors, FitBranch, Gwc, GwcFit, ANCHOR_COS, C_MAX_FIT,
 };

@@ -4,7 +4,7 @@
 
 use std::f64::consts::PI;
 
-use crate::gwc_common::{SplitMix64, UniformRange};
+use bssrdf_testkit::gwc::{SplitMix64, UniformRange};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::{
     fit_three_anchors, floor_bound, refine_minimax, FitBranch, Gwc, MinimaxFit, ANCHOR_COS,

@@ -1,6 +1,5 @@
 //! Shared fixtures of the format tests: small deterministic libraries, and a raw editor that
 //! changes fields of a file and recomputes its CRCs, for hand-made invalid files.
-#![allow(dead_code)]
 
 use bssrdf_zoo::format::{
     AlbedoRange, FresnelMoments, LibraryBuilder, Material, ModelKind, Provenance, TableData,

@@ -1,7 +1,5 @@
 //! Helpers shared by the model-zoo tests: building every registered model cheaply (a small
-//! shared table per η, a short walk), a seeded stream, the χ² critical value.
-
-#![allow(dead_code)]
+//! shared table per η, a short walk).
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::models::mc::McOptions;
@@ -98,27 +96,4 @@ pub fn zoo() -> Vec<Built> {
         }
     }
     all
-}
-
-/// SplitMix64: a fixed, portable stream of uniforms in [0, 1).
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-/// Upper critical value of χ² with k degrees of freedom at p = 1e-6 (Wilson–Hilferty cube-root
-/// normal approximation, z = Φ⁻¹(1 − 10⁻⁶) = 4.7534243). With a fixed seed each test is
-/// deterministic; 1e-6 is its false-failure rate over seeds.
-pub fn chi2_critical(k: usize) -> f64 {
-    const Z: f64 = 4.753_424_308_822_899;
-    let k = k as f64;
-    let h = 2.0 / (9.0 * k);
-    k * (1.0 - h + Z * h.sqrt()).powi(3)
 }

@@ -1,18 +1,13 @@
 //! Helpers shared by the Catmull-Rom integration tests: tolerances, a seeded RNG, test node
 //! sets and profiles, quadrature and the chi-square test of a sampler against its pdf.
 
-#![allow(dead_code)]
-
+use crate::stats::chi2_critical_1e6;
 use bssrdf_zoo::catmull_rom::Nodes;
 
 /// Agreement expected from exact arithmetic carried out in f64 (a few ulps, accumulated).
 pub const EXACT: f64 = 1e-13;
 /// Agreement expected from the Newton–bisection solves (T_TOLERANCE = 1e-12 in t, plus slack).
 pub const SOLVED: f64 = 1e-10;
-/// Upper-tail standard normal quantile for p = 1e-6: Φ⁻¹(1 − 10⁻⁶) = 4.753424308822899
-/// (e.g. `scipy.stats.norm.isf(1e-6)`). Each chi-square test fails falsely with probability
-/// 10⁻⁶ over the choice of seed.
-pub const Z_ONE_IN_A_MILLION: f64 = 4.753_424_308_822_899;
 /// Samples per chi-square test.
 pub const CHI_SQUARE_SAMPLES: usize = 1_000_000;
 
@@ -57,13 +52,6 @@ pub fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, panels: usize) -> f64 {
         .map(|k| f(a + k as f64 * h) * if k % 2 == 1 { 4.0 } else { 2.0 })
         .sum();
     (f(a) + inner + f(b)) * h / 3.0
-}
-
-/// Wilson–Hilferty approximation of the chi-square quantile with `dof` degrees of freedom at
-/// upper-tail probability Φ(−z): k·(1 − 2/(9k) + z·√(2/(9k)))³.
-pub fn chi_square_critical(dof: f64, z: f64) -> f64 {
-    let c = 2.0 / (9.0 * dof);
-    dof * (1.0 - c + z * c.sqrt()).powi(3)
 }
 
 /// Draws `CHI_SQUARE_SAMPLES` samples and compares their histogram with the integral of `pdf`
@@ -112,8 +100,8 @@ pub fn chi_square(
             (observed, expected) = (0.0, 0.0);
         }
     }
-    let dof = (cells - 1) as f64;
-    let critical = chi_square_critical(dof, Z_ONE_IN_A_MILLION);
+    let dof = cells - 1;
+    let critical = chi2_critical_1e6(dof);
     assert!(cells > 20, "only {cells} cells");
     assert!(
         statistic < critical,

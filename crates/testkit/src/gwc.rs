@@ -1,9 +1,9 @@
 //! Helpers shared by the GWC integration tests: the seeded RNG and adaptive quadrature.
 
-#![allow(dead_code)]
-
 /// The crate's own generator (SplitMix64), seeded per test.
 pub use bssrdf_zoo::rng::SplitMix64;
+
+pub use crate::stats::chi2_critical_1e6;
 
 /// Uniform draws in a range from the crate's generator.
 pub trait UniformRange {
@@ -67,16 +67,6 @@ pub fn integrate(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     cuts.windows(2)
         .map(|w| simpson(f, w[0], w[1], tol / n))
         .sum()
-}
-
-/// Upper critical value of χ² with `dof` degrees of freedom at upper-tail probability 1e-6,
-/// by the Wilson–Hilferty cube-root normal approximation (accurate to about 1 % here).
-pub fn chi2_critical_1e6(dof: usize) -> f64 {
-    // Standard normal quantile for upper tail 1e-6
-    const Z: f64 = 4.753_424_308_822_899;
-    let k = dof as f64;
-    let h = 2.0 / (9.0 * k);
-    k * (1.0 - h + Z * h.sqrt()).powi(3)
 }
 
 /// χ² statistic and its degrees of freedom for 200,000 draws of `draw` against `pdf` (a density

@@ -1,6 +1,5 @@
 //! Helpers shared by the end-to-end tests of the `bssrdf` binary.
 // Each test crate uses a subset of these.
-#![allow(dead_code)]
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};

@@ -10,7 +10,6 @@
 //! Inputs come from (selector, bits) pairs ([`number`]): special values (NaN, ±∞, ±0,
 //! subnormals, huge), any f64 bit pattern, the table's own nodes nudged by a few ulps, or a
 //! point of the sensible domain, so that every branch of a lookup is met often.
-#![allow(dead_code, unsafe_code)]
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::ffi::CString;
