@@ -42,6 +42,24 @@ pub fn check_sigma_t_range(sigma_t_prime: f64) -> Result<()> {
     })
 }
 
+/// Checks a reduced extinction σ′t (mm⁻¹) given on its own, as world-unit lookups take it: not
+/// finite, 0 (vacuum), negative, or outside [[`SIGMA_T_MIN`], [`SIGMA_T_MAX`]] is an error
+/// naming the value.
+pub fn check_sigma_t_prime(sigma_t_prime: f64) -> Result<f64> {
+    finite("sigma_t'", sigma_t_prime)?;
+    if sigma_t_prime == 0.0 {
+        return Err(Error::Vacuum);
+    }
+    if sigma_t_prime < 0.0 {
+        return Err(Error::NotPositive {
+            name: "sigma_t'",
+            value: sigma_t_prime,
+        });
+    }
+    check_sigma_t_range(sigma_t_prime)?;
+    Ok(sigma_t_prime)
+}
+
 /// A validated homogeneous medium (see the module table for units and ranges).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Medium {
@@ -226,6 +244,28 @@ impl Boundary {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One check of σ′t for every world-unit wrapper: each failure its own error, naming the
+    /// value (a negative σ′t is not called vacuum).
+    #[test]
+    fn sigma_t_prime_alone_is_checked_with_its_own_errors() {
+        assert_eq!(check_sigma_t_prime(2.5), Ok(2.5));
+        assert_eq!(check_sigma_t_prime(0.0), Err(Error::Vacuum));
+        assert_eq!(check_sigma_t_prime(-0.0), Err(Error::Vacuum));
+        let negative = check_sigma_t_prime(-1.5).unwrap_err();
+        assert!(matches!(negative, Error::NotPositive { value, .. } if value == -1.5));
+        assert!(negative.to_string().contains("-1.5"), "{negative}");
+        assert!(matches!(
+            check_sigma_t_prime(f64::NAN),
+            Err(Error::NotFinite { .. })
+        ));
+        for x in [SIGMA_T_MAX * 2.0, SIGMA_T_MIN / 2.0] {
+            assert!(matches!(
+                check_sigma_t_prime(x),
+                Err(Error::OutOfRange { value, .. }) if value == x
+            ));
+        }
+    }
 
     #[test]
     fn construction_rejects_bad_values_and_names_them() {

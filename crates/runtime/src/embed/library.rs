@@ -443,11 +443,7 @@ impl TableLookup {
             what: what(),
             source,
         };
-        crate::error::finite("sigma_t'", sigma_t_prime).map_err(medium_error)?;
-        if sigma_t_prime <= 0.0 {
-            return Err(medium_error(crate::Error::Vacuum));
-        }
-        crate::medium::check_sigma_t_range(sigma_t_prime).map_err(medium_error)?;
+        crate::medium::check_sigma_t_prime(sigma_t_prime).map_err(medium_error)?;
         let nodes = self.prepared().axes.rho().as_slice();
         let (min, max) = (nodes[0], nodes[nodes.len() - 1]);
         if !(min..=max).contains(&rho) {

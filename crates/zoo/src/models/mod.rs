@@ -356,14 +356,7 @@ pub struct World<M> {
 impl<M: Model> World<M> {
     /// Wraps a model for σ′t ∈ [1e-9, 1e12] mm⁻¹.
     pub fn new(model: M, sigma_t_prime: f64) -> Result<Self> {
-        finite("sigma_t'", sigma_t_prime)?;
-        if sigma_t_prime <= 0.0 {
-            return Err(Error::NotPositive {
-                name: "sigma_t'",
-                value: sigma_t_prime,
-            });
-        }
-        crate::medium::check_sigma_t_range(sigma_t_prime)?;
+        crate::medium::check_sigma_t_prime(sigma_t_prime)?;
         Ok(Self {
             model,
             sigma_t_prime,

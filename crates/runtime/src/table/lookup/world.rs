@@ -24,11 +24,7 @@ pub struct World<'a> {
 impl<'a> World<'a> {
     /// Wraps a table for a medium of reduced extinction σ′t ∈ [1e-9, 1e12] mm⁻¹.
     pub fn new(table: TableRef<'a>, sigma_t_prime: f64) -> crate::Result<Self> {
-        crate::error::finite("sigma_t'", sigma_t_prime)?;
-        if sigma_t_prime <= 0.0 {
-            return Err(crate::Error::Vacuum);
-        }
-        crate::medium::check_sigma_t_range(sigma_t_prime)?;
+        let sigma_t_prime = crate::medium::check_sigma_t_prime(sigma_t_prime)?;
         Ok(Self::prevalidated(table, sigma_t_prime))
     }
     /// [`World::new`] for a σ′t already checked by it.
