@@ -454,7 +454,7 @@ impl TableDiff {
     }
 }
 
-/// Everything [`compare`] finds.
+/// Everything [`compare`](super::compare) finds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LibraryDiff {
     pub(super) tolerance: Tolerance,
