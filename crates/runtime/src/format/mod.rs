@@ -27,8 +27,11 @@
 //! ```
 //! Files opened with [`Library::open_mmap`] are mapped; another process truncating a mapped
 //! file kills the reader with SIGBUS, so use [`Library::read`] for files that may change.
+//!
+//! Comparing two files (what `bssrdf diff` prints): [`diff::compare`].
 
 mod atomic;
+pub mod diff;
 mod error;
 mod library;
 mod map;
