@@ -4,6 +4,7 @@
 mod cli_common;
 
 mod bake_check;
+mod bake_library;
 mod basics;
 mod diff;
 mod files;
