@@ -13,8 +13,11 @@ use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::materials;
 use bssrdf_zoo::table::{Grid, GridPreset, Lobes};
 
-/// Each table's η and its decoded sections (kind and bytes), in file order.
-fn table_sections(file: &format::Library) -> Vec<(f64, Vec<(u32, Vec<u8>)>)> {
+/// A table's decoded sections: kind code and bytes, in kind order.
+type Sections = Vec<(u32, Vec<u8>)>;
+
+/// Each table's η and its decoded sections, in file order.
+fn table_sections(file: &format::Library) -> Vec<(f64, Sections)> {
     file.tables()
         .map(|t| {
             let sections = t
