@@ -56,7 +56,7 @@ fn the_counter_counts() {
 #[test]
 fn rust_handle_lookups_and_clones_never_allocate() {
     let skin = materials::Library::builtin().get("skin1").unwrap().clone();
-    let library = bake_library(&[&skin], &Grid::ferrier(12, 5, 16)).unwrap();
+    let library = bake_library(&[&skin], Grid::ferrier(12, 5, 16)).unwrap();
     let handles: Vec<_> = Rgb::ALL
         .map(|c| library.channel("skin1", c).unwrap())
         .into();
@@ -91,7 +91,7 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("skin.bssrdf");
     let skin = materials::Library::builtin().get("skin1").unwrap().clone();
-    bake_library(&[&skin], &Grid::ferrier(12, 5, 16))
+    bake_library(&[&skin], Grid::ferrier(12, 5, 16))
         .unwrap()
         .write(&path)
         .unwrap();

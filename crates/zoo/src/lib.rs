@@ -25,6 +25,7 @@ pub mod embed;
 pub mod gwc;
 pub mod table;
 
+pub mod bake;
 pub mod materials;
 pub mod models;
 pub mod pbd;

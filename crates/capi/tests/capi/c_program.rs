@@ -181,7 +181,7 @@ fn compile(cc: &str, source: &str, exe: &Path, sanitize: bool) {
 fn bake(dir: &Path) -> (Library, PathBuf) {
     let named = materials::Library::builtin();
     let (skin, coke) = (named.get("skin1").unwrap(), named.get("coke").unwrap());
-    let library = bake_library(&[skin, coke], &Grid::preset(GridPreset::Coarse)).unwrap();
+    let library = bake_library(&[skin, coke], Grid::preset(GridPreset::Coarse)).unwrap();
     let path = dir.join("scene.bssrdf");
     library.write(&path).unwrap();
     (library, path)

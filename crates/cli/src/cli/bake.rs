@@ -4,16 +4,15 @@
 
 use super::eval::MomentsArg;
 use super::CliError;
-use bssrdf_zoo::format::{self, Compression, LibraryBuilder, Provenance};
-use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::bake::{BakeError, BakedLibrary, Baker, MaterialSpec, OnProgress, Progress};
+use bssrdf_zoo::format::{Compression, LibraryBuilder};
 use bssrdf_zoo::materials::{Library as MaterialLibrary, Material};
 use bssrdf_zoo::scene::artist::{self, EffectiveAlbedo};
 use bssrdf_zoo::scene::DEFAULT_ETA;
-use bssrdf_zoo::table::{self, bake_rows_lobes, AngularTable, Grid, GridPreset, Lobes};
+use bssrdf_zoo::table::{AngularTable, GridPreset, Lobes};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Value};
-use std::collections::BTreeMap;
 use std::io::{IsTerminal, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -141,29 +140,34 @@ fn parse_g(text: &str) -> Result<[f64; 3], String> {
     }
 }
 
-/// What every bake shares: grid, moments, threads, the progress bar, and how to write.
-pub(super) struct Baker {
-    pub grid: Grid,
-    preset: GridPreset,
-    pub moments: Moments,
-    threads: Option<usize>,
-    /// `--lobes`: `None` chooses by η ([`table::Lobes::for_eta`]).
-    lobes: Option<Lobes>,
-    bar: ProgressBar,
-    compression: Compression,
-    record_bake_time: bool,
-    pub seconds: f64,
-    /// What the bake's check found above its bound, one line per region.
-    failures: Vec<String>,
+/// The library's bake of these arguments ([`bssrdf_zoo::bake`]).
+pub(super) fn baker(args: &BakeArgs) -> Baker {
+    let preset = match args.grid {
+        GridArg::Coarse => GridPreset::Coarse,
+        GridArg::Default => GridPreset::Default,
+        GridArg::Fine => GridPreset::Fine,
+    };
+    Baker::new(preset)
+        .with_moments(args.fresnel_moments.into())
+        .with_lobes(match args.lobes {
+            LobesArg::Auto => None,
+            LobesArg::One => Some(Lobes::One),
+            LobesArg::Two => Some(Lobes::Two),
+        })
+        .with_theta_sampling(!args.no_theta_sampling)
+        .with_bake_time(args.record_bake_time)
 }
 
-impl Baker {
+/// What the command adds to the library's bake: the threads, the progress bar, the verdict on
+/// the bake's check, and the atomic write.
+pub(super) struct Session {
+    threads: Option<usize>,
+    bar: ProgressBar,
+    compression: Compression,
+}
+
+impl Session {
     pub fn new(args: &BakeArgs) -> Self {
-        let preset = match args.grid {
-            GridArg::Coarse => GridPreset::Coarse,
-            GridArg::Default => GridPreset::Default,
-            GridArg::Fine => GridPreset::Fine,
-        };
         // The bar draws only on a terminal: hidden for pipes, files, CI and --quiet.
         let bar = if args.quiet || !std::io::stderr().is_terminal() {
             ProgressBar::hidden()
@@ -177,15 +181,7 @@ impl Baker {
             bar
         };
         Self {
-            grid: Grid::preset(preset),
-            preset,
-            moments: args.fresnel_moments.into(),
             threads: args.threads,
-            lobes: match args.lobes {
-                LobesArg::Auto => None,
-                LobesArg::One => Some(Lobes::One),
-                LobesArg::Two => Some(Lobes::Two),
-            },
             bar,
             compression: if args.compress {
                 Compression::Zstd {
@@ -194,104 +190,66 @@ impl Baker {
             } else {
                 Compression::None
             },
-            record_bake_time: args.record_bake_time,
-            seconds: 0.0,
-            failures: Vec::new(),
         }
     }
 
-    /// The lobes of the table this bake makes at η (`--lobes`, or by η).
-    pub fn lobes_at(&self, eta: f64) -> Lobes {
-        self.lobes.unwrap_or_else(|| Lobes::for_eta(eta))
+    /// Runs `bake` on --threads threads with the progress bar following it; `rows` adds each
+    /// table's albedo rows to its label (scene bakes).
+    pub fn bake<T: Send>(
+        &self,
+        rows: bool,
+        bake: impl FnOnce(OnProgress<'_>) -> Result<T, BakeError> + Send,
+    ) -> Result<Result<T, BakeError>, CliError> {
+        let bar = &self.bar;
+        let progress = |p: &Progress| {
+            let mut label = format!("table {}/{} (eta {}", p.table + 1, p.tables, p.eta);
+            if rows {
+                label += &format!(", rows {}..{}", p.rows.start, p.rows.end);
+            }
+            bar.set_length(p.rows_total as u64);
+            bar.set_message(label + ")");
+            bar.set_position(p.rows_done as u64);
+        };
+        super::with_threads(self.threads, || bake(&progress))
     }
 
-    /// The grid of the table this bake makes at η: the preset's for its lobes
-    /// ([`GridPreset::grid`]). Its albedo rows are always those of [`Baker::grid`].
-    pub fn grid_at(&self, eta: f64) -> Grid {
-        self.preset.grid(self.lobes_at(eta))
-    }
-
-    /// Announces `rows` more albedo rows to the progress bar.
-    pub fn plan_rows(&self, rows: usize) {
-        self.bar.inc_length(rows as u64);
-    }
-
-    /// Bakes the albedo rows `rows` of the grid at η (all of them for a full table).
-    pub fn bake(
-        &mut self,
-        eta: f64,
-        rows: Range<usize>,
-        theta_sampling: bool,
-        label: String,
-    ) -> Result<AngularTable, CliError> {
-        let base = self.bar.position();
-        self.bar.set_message(label);
-        let grid = &self.grid_at(eta);
-        let (moments, bar) = (self.moments, &self.bar);
-        let lobes = self.lobes_at(eta);
-        let (table, report) = super::with_threads(self.threads, || {
-            bake_rows_lobes(eta, moments, grid, rows, theta_sampling, lobes, &|k| {
-                bar.set_position(base + k as u64)
-            })
-        })?
-        .map_err(|e| {
-            CliError::input(format!(
-                "cannot bake the table for eta = {}: {e}",
-                super::show(eta)
-            ))
-        })?;
-        self.seconds += report.seconds;
-        Ok(table)
-    }
-
-    /// The effective-albedo curve at η on this grid (for the artist's parameters).
-    pub fn curve(&self, eta: f64) -> Result<EffectiveAlbedo, artist::ArtistError> {
-        let (grid, moments) = (&self.grid, self.moments);
-        match super::with_threads(self.threads, || EffectiveAlbedo::bake(eta, moments, grid)) {
+    /// The effective-albedo curve at η of `baker` (for the artist's parameters).
+    pub fn curve(&self, baker: &Baker, eta: f64) -> Result<EffectiveAlbedo, artist::ArtistError> {
+        match super::with_threads(self.threads, || baker.curve(eta)) {
             Ok(result) => result,
             // Only a bad --threads fails here, and it failed before any bake already.
-            Err(_) => EffectiveAlbedo::bake(eta, moments, grid),
+            Err(_) => baker.curve(eta),
         }
     }
 
-    /// The bake's own check of `table` ([`table::check`]): the accuracy stored in the
-    /// provenance. Regions above the bound are kept for [`Baker::verdict`].
-    pub fn check(&mut self, table: &AngularTable) -> Result<Value, CliError> {
-        let moments = self.moments;
-        let bounds = match self.preset {
-            GridPreset::Coarse => table::CHECK_COARSE_BOUNDS,
-            GridPreset::Default | GridPreset::Fine => table::CHECK_BOUNDS,
-        };
-        let result = super::with_threads(self.threads, || {
-            table::check(&table.view(), moments, bounds)
-        })??;
-        for r in result.failures() {
-            self.failures.push(format!(
-                "  eta {}, rho {}-{}, theta {}-{} deg: mean {:.3} % over {} points (bound {} %), coverage max {:.3} % over {} points (bound {} %), {} silent zero(s)",
-                super::show(result.eta),
-                super::show(r.rho[0]),
-                super::show(r.rho[1]),
-                super::show(round3(r.theta_deg[0])),
-                super::show(round3(r.theta_deg[1])),
-                100.0 * r.mean_rel_error,
-                r.points,
-                super::show(100.0 * result.bounds.mean_rel_error),
-                100.0 * r.coverage_max_rel_error,
-                r.coverage_points,
-                super::show(100.0 * result.bounds.coverage_rel_error),
-                r.silent_zeros,
-            ));
+    /// After the bake: an error (exit 1) naming the regions above the bound of the bake's
+    /// check, unless `accept` (`--accept-error`), which only reports them on stderr (not with
+    /// `quiet`).
+    pub fn verdict(&self, baked: &BakedLibrary, accept: bool, quiet: bool) -> Result<(), CliError> {
+        let mut failures = Vec::new();
+        for result in baked.tables().iter().map(|t| t.check()) {
+            for r in result.failures() {
+                failures.push(format!(
+                    "  eta {}, rho {}-{}, theta {}-{} deg: mean {:.3} % over {} points (bound {} %), coverage max {:.3} % over {} points (bound {} %), {} silent zero(s)",
+                    super::show(result.eta),
+                    super::show(r.rho[0]),
+                    super::show(r.rho[1]),
+                    super::show(round3(r.theta_deg[0])),
+                    super::show(round3(r.theta_deg[1])),
+                    100.0 * r.mean_rel_error,
+                    r.points,
+                    super::show(100.0 * result.bounds.mean_rel_error),
+                    100.0 * r.coverage_max_rel_error,
+                    r.coverage_points,
+                    super::show(100.0 * result.bounds.coverage_rel_error),
+                    r.silent_zeros,
+                ));
+            }
         }
-        serde_json::to_value(&result).map_err(|e| CliError::input(e.to_string()))
-    }
-
-    /// After every table's check: an error (exit 1) naming the regions above the bound, unless
-    /// `accept` (`--accept-error`), which only reports them on stderr (not with `quiet`).
-    pub fn verdict(&self, accept: bool, quiet: bool) -> Result<(), CliError> {
-        if self.failures.is_empty() {
+        if failures.is_empty() {
             return Ok(());
         }
-        let regions = self.failures.join("\n");
+        let regions = failures.join("\n");
         if accept {
             if !quiet {
                 self.bar.suspend(|| {
@@ -305,59 +263,6 @@ impl Baker {
                 "the bake's check found these regions above its bound (docs/accuracy.md), so nothing was written:\n{regions}\n--accept-error writes the file anyway"
             )))
         }
-    }
-
-    /// The provenance of a bake; `scene` adds the scene's plan to the settings.
-    pub fn provenance(
-        &self,
-        theta_sampling: bool,
-        scene: Option<Value>,
-        accuracy: Vec<Value>,
-    ) -> Result<Provenance, CliError> {
-        let grid = &self.grid;
-        let two = self.preset.grid(Lobes::Two);
-        let mut settings = json!({
-            "grid": format!("{:?}", self.preset).to_lowercase(),
-            "dims": [grid.rho.len(), grid.theta.len(), grid.r.len()],
-            "two_lobe_dims": [two.rho.len(), two.theta.len(), two.r.len()],
-            "fresnel_moments": self.moments.name(),
-            "theta_sampling": theta_sampling,
-            "anchors_cos_phi": bssrdf_zoo::gwc::ANCHOR_COS,
-            "minimax_refinement": {
-                "theta_min_deg": bssrdf_zoo::table::REFINE_THETA_MIN_DEG,
-                "extra_phi_deg": bssrdf_zoo::table::REFINE_PHI_DEG,
-                "also_where_the_fit_clamped": true,
-            },
-            "lobes": match self.lobes {
-                None => json!({"auto": {"two_from_eta": 1.0, "two_below_eta": bssrdf_zoo::table::TWO_LOBES_BELOW_ETA}}),
-                Some(Lobes::One) => json!(1),
-                Some(Lobes::Two) => json!(2),
-            },
-            "two_lobe_fit": {
-                "azimuths_deg": bssrdf_zoo::table::two_lobe_azimuths().map(f64::to_degrees),
-                "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
-            },
-        });
-        if let (Some(scene), Some(map)) = (scene, settings.as_object_mut()) {
-            map.insert("scene".into(), scene);
-        }
-        let mut provenance = Provenance::new(concat!("bssrdf-zoo ", env!("CARGO_PKG_VERSION")))
-            .with_settings(settings)
-            .and_then(|p| {
-                p.with_quadrature(json!({
-                    "rule": "fast",
-                    "description": "composite 8-point Gauss-Legendre in u, t = t* + h sinh u, panels at the closest approach and at 3, 12, 46 nats of the exponent",
-                    "points_per_panel": bssrdf_zoo::pbd::FAST_POINTS_PER_PANEL,
-                }))
-            })
-            .and_then(|p| p.with_accuracy(json!({ "tables": accuracy })))
-            .map_err(format_error)?;
-        if self.record_bake_time {
-            provenance = provenance
-                .with_bake_seconds(self.seconds)
-                .map_err(format_error)?;
-        }
-        Ok(provenance)
     }
 
     /// Writes the library atomically; returns the bytes written (also through a device or a
@@ -380,6 +285,24 @@ impl Baker {
     }
 }
 
+/// The command's message for a failed bake (exit 2).
+pub(super) fn bake_error(e: BakeError) -> CliError {
+    match e {
+        BakeError::Table { eta, source } => CliError::input(format!(
+            "cannot bake the table for eta = {}: {source}",
+            super::show(eta)
+        )),
+        BakeError::Check { source, .. } | BakeError::Axis(source) => CliError::Library(source),
+        BakeError::Artist { name, source } => {
+            CliError::input(format!("--reflectance/--mfp material {name:?}: {source}"))
+        }
+        BakeError::Material { name, source } => {
+            CliError::input(format!("--reflectance/--mfp material {name:?}: {source}"))
+        }
+        other => CliError::input(other.to_string()),
+    }
+}
+
 /// `x` rounded to 3 decimals, for band edges such as the critical angle 48.590329…°.
 fn round3(x: f64) -> f64 {
     (x * 1000.0).round() / 1000.0
@@ -397,29 +320,8 @@ pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliErro
     super::output::check(&[("-o", output)], &inputs)
 }
 
-/// A material from the command line's coefficients or artist's parameters.
-enum Custom {
-    Coefficients(Box<Material>),
-    Diffuse {
-        name: String,
-        reflectance: [f64; 3],
-        mfp: [f64; 3],
-        g: [f64; 3],
-        eta: f64,
-    },
-}
-
-impl Custom {
-    fn eta(&self) -> f64 {
-        match self {
-            Custom::Coefficients(m) => m.eta(),
-            Custom::Diffuse { eta, .. } => *eta,
-        }
-    }
-}
-
 /// The material of --sigma-s/--sigma-a or --reflectance/--mfp, validated before any bake.
-fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<Custom>, CliError> {
+fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<MaterialSpec>, CliError> {
     let given = args.sigma_s.is_some() || args.reflectance.is_some();
     if !given {
         if args.g.is_some() || args.name.is_some() {
@@ -444,64 +346,44 @@ fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<Custom>, 
     let g = args.g.unwrap_or([0.0; 3]);
     match (args.sigma_s, args.sigma_a, args.reflectance, args.mfp) {
         (Some(s), Some(a), _, _) => Material::from_coefficients(&name, s, a, g, eta)
-            .map(|m| Some(Custom::Coefficients(Box::new(m))))
+            .map(|m| Some(MaterialSpec::new(m, "command line: --sigma-s/--sigma-a")))
             .map_err(|e| CliError::input(format!("--sigma-s/--sigma-a material: {e}"))),
         (_, _, Some(reflectance), Some(mfp)) => {
-            artist::check(reflectance, mfp, g).map_err(|e| {
-                CliError::input(format!("--reflectance/--mfp material {name:?}: {e}"))
-            })?;
-            // The id rules, checked now rather than after the bake.
-            Material::from_coefficients(&name, [1.0; 3], [1.0; 3], g, eta)
-                .map_err(|e| CliError::input(format!("--name: {e}")))?;
-            Ok(Some(Custom::Diffuse {
-                name,
-                reflectance,
-                mfp,
-                g,
-                eta,
-            }))
+            let source = format!("command line: reflectance {reflectance:?}, mfp {mfp:?} mm, inverted through the table's rho_eff at theta = 0");
+            MaterialSpec::diffuse(&name, reflectance, mfp, g, eta, source)
+                .map(Some)
+                .map_err(|e| match e {
+                    BakeError::Material { source, .. } => {
+                        CliError::input(format!("--name: {source}"))
+                    }
+                    e => bake_error(e),
+                })
         }
         // clap's `requires` pairs the flags.
         _ => Ok(None),
     }
 }
 
-/// The file's record of a material with every channel on one table, no albedo range. Its
-/// `source` was checked by [`bssrdf_zoo::scene::check_source`] when the material was named.
-pub(super) fn record(m: &Material, source: &str, table: u32) -> format::Material {
-    format::Material {
-        name: m.id().to_string(),
-        source: source.to_string(),
-        sigma_s: m.sigma_s(),
-        sigma_a: m.sigma_a(),
-        g: m.g(),
-        eta: m.eta(),
-        tables: [table; 3],
-        albedo_range: None,
-    }
-}
-
 pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
     super::check_threads(args.threads)?;
-    let mut baker = Baker::new(&args);
+    let baker = baker(&args);
+    let session = Session::new(&args);
     if let Some(scene) = &args.scene {
-        return super::bake_scene::run(&args, &mut baker, scene);
+        return super::bake_scene::run(&args, &baker, &session, scene);
     }
     let library = super::materials::library(args.materials.as_deref())?;
-    let mut materials: Vec<(Material, String)> = args
+    let mut materials: Vec<MaterialSpec> = args
         .materials_named
         .iter()
         .map(|name| {
             let m = library
                 .get(name)
                 .map_err(|e| CliError::input(e.to_string()))?;
-            let source = m
-                .source()
-                .map(|s| s.coefficients().to_string())
-                .unwrap_or_default();
-            bssrdf_zoo::scene::check_source(name, &source)
+            // Checked here to name the material as given (an alias, say).
+            let source = m.source().map(|s| s.coefficients()).unwrap_or_default();
+            bssrdf_zoo::scene::check_source(name, source)
                 .map_err(|e| CliError::input(e.to_string()))?;
-            Ok((m.clone(), source))
+            MaterialSpec::named(m).map_err(|e| CliError::input(e.to_string()))
         })
         .collect::<Result<_, CliError>>()?;
     let custom = custom(&args, &library)?;
@@ -510,10 +392,12 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
             "--materials adds files to look material names up in; name a MATERIAL from them, or drop --materials",
         ));
     }
-    let mut etas: Vec<f64> = materials.iter().map(|(m, _)| m.eta()).collect();
-    etas.extend(custom.as_ref().map(Custom::eta));
+    let mut etas: Vec<f64> = materials.iter().map(MaterialSpec::eta).collect();
+    etas.extend(custom.as_ref().map(MaterialSpec::eta));
+    // A bare table: --eta with no material.
+    let mut bare = Vec::new();
     match (etas.is_empty(), args.eta, &custom) {
-        (true, Some(eta), _) => etas.push(eta),
+        (true, Some(eta), _) => bare.push(eta),
         (true, None, _) => {
             return Err(CliError::input(
                 "name at least one material (see `bssrdf materials`), give --sigma-s/--sigma-a or --reflectance/--mfp, a --scene, or --eta",
@@ -526,18 +410,18 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
         }
         _ => {}
     }
-    etas.sort_by(f64::total_cmp);
-    etas.dedup();
-    let custom_name = custom.as_ref().map(|c| match c {
-        Custom::Coefficients(m) => m.id().to_string(),
-        Custom::Diffuse { name, .. } => name.clone(),
-    });
-    let output = match (&args.output, materials.as_slice(), &custom_name) {
-        (Some(path), _, _) => path.clone(),
-        (None, [one], None) => PathBuf::from(format!("{}.bssrdf", one.0.id())),
-        (None, [], Some(name)) => PathBuf::from(format!("{name}.bssrdf")),
-        (None, [], None) => PathBuf::from(format!("table-eta{}.bssrdf", etas[0])),
-        (None, _, _) => {
+    let custom_name = custom.as_ref().map(|c| c.id().to_string());
+    let output = match (
+        &args.output,
+        materials.as_slice(),
+        &custom_name,
+        bare.as_slice(),
+    ) {
+        (Some(path), _, _, _) => path.clone(),
+        (None, [one], None, _) => PathBuf::from(format!("{}.bssrdf", one.id())),
+        (None, [], Some(name), _) => PathBuf::from(format!("{name}.bssrdf")),
+        (None, [], None, [eta]) => PathBuf::from(format!("table-eta{eta}.bssrdf")),
+        (None, _, _, _) => {
             return Err(CliError::input(
                 "several materials go into one library: name it with -o FILE",
             ))
@@ -545,97 +429,42 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
     };
     check_output(&args, &output)?;
 
-    let theta_sampling = !args.no_theta_sampling;
-    let n_rho = baker.grid.rho.len();
-    baker.plan_rows(n_rho * etas.len());
-    let mut builder = LibraryBuilder::new();
-    let mut tables: BTreeMap<u64, (u32, AngularTable)> = BTreeMap::new();
-    let mut accuracy = Vec::new();
-    let mut table_json = Vec::new();
-    for (k, &eta) in etas.iter().enumerate() {
-        let label = format!("table {}/{} (eta {eta})", k + 1, etas.len());
-        let table = baker.bake(eta, 0..n_rho, theta_sampling, label)?;
-        accuracy.push(baker.check(&table)?);
-        let index = builder
-            .add_table(table.to_table_data())
-            .map_err(format_error)?;
-        table_json.push(table_summary(index, &table, 0..n_rho));
-        tables.insert(eta.to_bits(), (index as u32, table));
-    }
-    let mut warnings = Vec::new();
-    match custom {
-        Some(Custom::Coefficients(m)) => {
-            materials.push((*m, "command line: --sigma-s/--sigma-a".into()));
-        }
-        Some(Custom::Diffuse {
-            name,
-            reflectance,
-            mfp,
-            g,
-            eta,
-        }) => {
-            let table = tables.get(&eta.to_bits()).map(|(_, t)| t);
-            let m = diffuse_material(&name, reflectance, mfp, g, eta, table, &mut warnings)?;
-            let source = format!("command line: reflectance {reflectance:?}, mfp {mfp:?} mm, inverted through the table's rho_eff at theta = 0");
-            materials.push((m, source));
-        }
-        None => {}
-    }
-    let mut material_json = Vec::new();
-    for (m, source) in &materials {
-        let index = tables.get(&m.eta().to_bits()).map_or(0, |t| t.0);
-        builder
-            .add_material(record(m, source, index))
-            .map_err(format_error)?;
-        material_json.push(json!({
-            "name": m.id(), "eta": m.eta(), "tables": [index, index, index], "rho_prime": m.rho_prime(),
-            "albedo_range": Value::Null,
-        }));
-    }
-    builder.set_provenance(baker.provenance(theta_sampling, None, accuracy)?);
-    baker.verdict(args.accept_error, args.quiet)?;
-    let bytes = baker.write(&builder, &output)?;
+    materials.extend(custom);
+    let baked = session
+        .bake(false, |progress| {
+            baker.bake(&materials, &bare, Some(progress))
+        })?
+        .map_err(bake_error)?;
+    let tables = baked
+        .tables()
+        .iter()
+        .map(|t| table_summary(t.index(), t.table(), t.rows()))
+        .collect();
+    let materials = baked
+        .materials()
+        .iter()
+        .map(|m| {
+            let (material, record) = (m.material(), m.record());
+            json!({
+                "name": record.name, "eta": record.eta, "tables": record.tables,
+                "rho_prime": material.rho_prime(), "albedo_range": Value::Null,
+            })
+        })
+        .collect();
+    session.verdict(&baked, args.accept_error, args.quiet)?;
+    let bytes = session.write(baked.builder(), &output)?;
     let summary = Summary {
         output: &output,
         bytes,
         full_bytes: None,
         integrator: None,
-        tables: table_json,
-        materials: material_json,
-        warnings,
+        seconds: baked.seconds(),
+        tables,
+        materials,
+        warnings: baked.warnings().to_vec(),
     };
-    summary.print(&args, &baker)?;
+    summary.print(&args, &session)?;
     Ok(ExitCode::SUCCESS)
-}
-
-/// The material of --reflectance/--mfp, inverted through the θ = 0 column of the table baked
-/// at its η.
-fn diffuse_material(
-    name: &str,
-    reflectance: [f64; 3],
-    mfp: [f64; 3],
-    g: [f64; 3],
-    eta: f64,
-    table: Option<&AngularTable>,
-    warnings: &mut Vec<String>,
-) -> Result<Material, CliError> {
-    let err = |e: String| CliError::input(format!("--reflectance/--mfp material {name:?}: {e}"));
-    let table = table.ok_or_else(|| err(format!("no table at eta = {eta}")))?;
-    let curve = EffectiveAlbedo::from_table(table).map_err(|e| err(e.to_string()))?;
-    let d = curve
-        .diffuse(reflectance, mfp, g)
-        .map_err(|e| err(e.to_string()))?;
-    for (c, inv) in d.inverted.iter().enumerate() {
-        if inv.clamped {
-            warnings.push(format!(
-                "material {name:?}, channel {}: reflectance {} is above the largest effective albedo of the table, {:.4} (multiple scattering only, at reduced albedo 1); clamped to reduced albedo 1",
-                ["r", "g", "b"][c],
-                reflectance[c],
-                curve.max()
-            ));
-        }
-    }
-    Material::from_coefficients(name, d.sigma_s, d.sigma_a, g, eta).map_err(|e| err(e.to_string()))
 }
 
 /// One table of the summary.
@@ -658,13 +487,15 @@ pub(super) struct Summary<'a> {
     /// Size of the same materials baked in full (scene bakes).
     pub full_bytes: Option<u64>,
     pub integrator: Option<&'static str>,
+    /// Wall-clock seconds of the tables' bakes.
+    pub seconds: f64,
     pub tables: Vec<Value>,
     pub materials: Vec<Value>,
     pub warnings: Vec<String>,
 }
 
 impl Summary<'_> {
-    pub fn print(&self, args: &BakeArgs, baker: &Baker) -> Result<(), CliError> {
+    pub fn print(&self, args: &BakeArgs, session: &Session) -> Result<(), CliError> {
         let saved = self.full_bytes.map(|full| {
             let saved = full as i64 - self.bytes as i64;
             (full, saved, 100.0 * saved as f64 / full.max(1) as f64)
@@ -682,10 +513,10 @@ impl Summary<'_> {
                 self.materials.len(),
                 self.bytes,
                 self.bytes as f64 / 1024.0,
-                baker.seconds
+                self.seconds
             )?;
             if let Some((full, saved, percent)) = saved {
-                let compressed = if baker.compressed() {
+                let compressed = if session.compressed() {
                     ", uncompressed"
                 } else {
                     ""
@@ -704,7 +535,7 @@ impl Summary<'_> {
                 "saved_bytes": saved.map(|s| s.1),
                 "saved_percent": saved.map(|s| s.2),
                 "integrator": self.integrator,
-                "seconds": baker.seconds,
+                "seconds": self.seconds,
                 "tables": self.tables,
                 "materials": self.materials,
                 "warnings": self.warnings,
@@ -715,8 +546,4 @@ impl Summary<'_> {
         }
         Ok(())
     }
-}
-
-pub fn format_error(e: format::FormatError) -> CliError {
-    CliError::input(e.to_string())
 }

@@ -1,6 +1,7 @@
 //! End-to-end tests of the `bssrdf` command line: one test binary, a module per area.
 
 mod bake_check;
+mod bake_library;
 mod basics;
 mod common;
 mod completions;

@@ -20,7 +20,7 @@ fn baked(dir: &std::path::Path) -> std::path::PathBuf {
     let espresso = named.get("espresso").unwrap();
     assert_ne!(skin.eta(), espresso.eta(), "the test wants two tables");
     let path = dir.join("two.bssrdf");
-    bake_library(&[skin, espresso], &Grid::ferrier(12, 5, 16))
+    bake_library(&[skin, espresso], Grid::ferrier(12, 5, 16))
         .unwrap()
         .write(&path)
         .unwrap();
@@ -437,7 +437,7 @@ fn each_failure_is_its_own_error_naming_the_value() {
         "{err}"
     );
 
-    let err = bake_library(&[], &Grid::ferrier(6, 4, 10)).map(|l| l.table_count());
+    let err = bake_library(&[], Grid::ferrier(6, 4, 10)).map(|l| l.table_count());
     assert_eq!(
         err.unwrap(),
         0,
@@ -466,7 +466,7 @@ fn a_scene_bake_keeping_some_albedo_rows_rejects_media_outside_them() {
 #[test]
 fn every_lookup_outside_the_theta_axis_is_none_and_densities_are_zero() {
     let skin = materials::Library::builtin().get("skin1").unwrap().clone();
-    let library = bake_library(&[&skin], &Grid::ferrier(6, 4, 10)).unwrap();
+    let library = bake_library(&[&skin], Grid::ferrier(6, 4, 10)).unwrap();
     let red = library.channel("skin1", Rgb::Red).unwrap();
     for theta in [-0.1, 1.6, f64::NAN, f64::INFINITY] {
         assert_eq!(red.eval(theta, 1.0, 0.0), None);

@@ -7,6 +7,7 @@ mod catmull_rom;
 mod catmull_rom_even;
 mod check;
 mod embed;
+mod embed_bake;
 mod far_tail;
 mod gwc;
 mod lookup;
