@@ -166,7 +166,7 @@ impl From<EmbedError> for Failure {
                 BSSRDF_ERROR_FORMAT
             }
             EmbedError::NoMaterial { .. } | EmbedError::NoTable { .. } => BSSRDF_ERROR_NOT_FOUND,
-            EmbedError::Medium { .. } | EmbedError::Bake(_) => BSSRDF_ERROR_INVALID_ARGUMENT,
+            EmbedError::Medium { .. } => BSSRDF_ERROR_INVALID_ARGUMENT,
             EmbedError::AlbedoOutsideTable { .. } => BSSRDF_ERROR_OUT_OF_RANGE,
         };
         Failure::text(code, e.to_string())

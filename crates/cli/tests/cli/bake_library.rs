@@ -7,7 +7,7 @@ use bssrdf_zoo::format::{self, Compression, LibraryBuilder, Verify};
 use bssrdf_zoo::materials;
 use bssrdf_zoo::table::GridPreset;
 
-use crate::cli_common::{bssrdf, ok};
+use crate::common::{bssrdf, ok};
 
 #[test]
 fn bake_writes_the_file_bake_library_makes_in_memory() {

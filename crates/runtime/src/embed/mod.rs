@@ -147,7 +147,4 @@ pub enum EmbedError {
         /// Last ρ′ node of the table.
         max: f64,
     },
-    /// Baking a table failed (an invalid η or grid).
-    #[error("bake: {0}")]
-    Bake(crate::Error),
 }
