@@ -234,10 +234,8 @@ impl AlbedoAxis {
     /// [`AlbedoAxis::weights`] where they are quickest to find, `None` elsewhere: in an interior
     /// segment that the axis' cells find directly (`Nodes::hot_weights`; not segment 0), bit
     /// for bit the same weights. Lookups take the other points out of line rather than merge
-    /// the two paths' weights as they do θ's and r's: merged, these went through memory
-    /// (measured 2–5 ns slower an evaluation, merged before the scaling or after it). For the
-    /// same reason the fold on segment 1 is data ([`HotSegment`]), not a branch (a branch in
-    /// here cost about 12 ns).
+    /// the two paths' weights as they do θ's and r's: merged, these go through memory. For the
+    /// same reason the fold on segment 1 is data ([`HotSegment`]), not a branch.
     #[inline(always)]
     pub(crate) fn hot_weights(&self, rho: f64) -> Option<AlbedoWeights> {
         let w = self.nodes.hot_weights(rho)?;

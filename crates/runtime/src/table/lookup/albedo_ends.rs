@@ -20,13 +20,10 @@
 //! follow the plain spline of E along r anyway.
 //!
 //! 1/f(ρ′ᵢ, r_j) comes with the axes (`Axes::far`), so a lookup takes four exponentials, f at
-//! its own ρ′ and the window's radius nodes. An evaluation here costs 1.5–1.9 times one
-//! elsewhere: 180–215 ns against 120–130 ns before at ρ′ ∈ [0.05, 0.078), 175–200 against
-//! 100–110 at ρ′ ∈ [0.99995, 1] (`RHO=0.05,0.0776 N=4000000 cargo run --release -p bssrdf-zoo --example
-//! lookup_loop -- eval`, the machine's other core busy). The ends are 3 % of the table
-//! benchmark's points, whose evaluations did not measurably slow down.
+//! its own ρ′ and the window's radius nodes: an evaluation here costs about 1.5–1.9 times one
+//! elsewhere (docs/performance.md).
 
-use super::{axpy12, Blend, Lobe, TableRef, PARAMS_PER_NODE};
+use super::{axpy12, Blend, Cell, Lobe, TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
 use crate::gwc::cap_lobe;
 use crate::table::albedo::{far_field, sigma_tr, EndWeights};
@@ -44,10 +41,10 @@ impl TableRef<'_> {
         rho: f64,
         theta: f64,
         r: f64,
-    ) -> Option<Option<[f64; 3]>> {
+    ) -> Option<Cell> {
         let theta_weights = self.theta_weights(theta)?;
         let Some((r_eval, w)) = self.radius(r) else {
-            return Some(None);
+            return Some(Cell::OutsideRadius);
         };
         let first = self.radial_window(&w);
         // The window holds E/ρ′² times window_rho²: 1 below node 1, ρ′² at the high end
@@ -67,7 +64,7 @@ impl TableRef<'_> {
             Lobe::Share(share) => share * e_per_r,
             Lobe::Beta(beta) => cap_lobe(scale * beta, e_per_r, c),
         };
-        Some(Some([e_per_r, beta, c]))
+        Some(Cell::Profile([e_per_r, beta, c]))
     }
 
     /// The rows of the spline at `ends` and their weights at the radius nodes `first..first + 4`

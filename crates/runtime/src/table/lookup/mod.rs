@@ -21,6 +21,8 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 mod albedo_ends;
 mod sample;
+#[cfg(test)]
+mod tests;
 mod two_lobe;
 mod world;
 
@@ -103,6 +105,15 @@ enum Lobe {
     Beta(f64),
 }
 
+/// The profile at one (ρ′, θ, r) as evaluation uses it, from [`TableRef::cell_at_point`].
+#[derive(Debug, Clone, Copy)]
+enum Cell {
+    /// r outside the radial support (negative, NaN, beyond the last node): the value is 0.
+    OutsideRadius,
+    /// (E/r ≥ 0, β ∈ [0, lobe_cap(E/r, c)], c), the arguments of [`table_value`].
+    Profile([f64; 3]),
+}
+
 /// The angular profile at one (ρ′, θ, r) as the samplers use it: one lobe, or two for tables
 /// with a second lobe.
 #[derive(Debug, Clone, Copy)]
@@ -137,7 +148,7 @@ impl Profile {
 impl<'a> TableRef<'a> {
     /// `f` of the slice at (ρ′, θ), `None` outside the axes. The quick ρ′ weights
     /// (`AlbedoAxis::hot_weights`) build it inline, the other points out of line, and `f` runs
-    /// on each path's own slice: merged into one, the slice was copied (a `memmove` per lookup).
+    /// on each path's own slice, so that the slice is never copied from one path to the other.
     #[inline(always)]
     fn with_slice<T>(&self, rho: f64, theta: f64, f: impl Fn(&Slice) -> T) -> Option<T> {
         match self.axes.rho.hot_weights(rho) {
@@ -246,9 +257,9 @@ impl<'a> TableRef<'a> {
         sum
     }
 
-    /// E at the radius nodes k − 1 … k + 2 (0 for nodes outside the axis), each exactly as
-    /// [`TableRef::blend`] gives it, in one pass over the rows: the four lie in one window
-    /// of `params` per row.
+    /// E at the radius nodes k − 1 … k + 2 of a segment k (k + 1 < n_r; 0 for nodes outside the
+    /// axis), each exactly as [`TableRef::blend`] gives it, in one pass over the rows: the four
+    /// lie in one window of `params` per row (`lookup/tests.rs` holds the two to each other).
     #[inline]
     fn blend_e_around(&self, s: &Slice, k: usize) -> [f64; 4] {
         let (_, _, n_r) = self.axes.dims();
@@ -280,9 +291,9 @@ impl<'a> TableRef<'a> {
     }
 
     /// (E, E_β, c) at the four consecutive radius nodes `first..first + 4`, blended over the
-    /// slice: one contiguous 12-value window per row.
-    // Inlined, and so are the other 12-wide blends: their updates stay packed (mulps/addps;
-    // checked with objdump) and the sums stay in registers.
+    /// slice: one contiguous 12-value window per row (the same sums as [`TableRef::window_at`],
+    /// held by `lookup/tests.rs`).
+    // Inlined, like the other 12-wide blends, so that the sums stay in vector registers.
     #[inline(always)]
     fn window_params(&self, s: &Slice, first: usize) -> [f32; 12] {
         const WINDOW: usize = 4 * PARAMS_PER_NODE;
@@ -377,8 +388,8 @@ impl<'a> TableRef<'a> {
     #[inline(always)]
     fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Profile {
         let first = self.radial_window(w);
-        // Through `black_box`: seen through, the interleaved reads of (E, E_β, c) below make the
-        // compiler split the blend into half-empty vectors (measured 2× slower)
+        // Through `black_box`, an optimisation barrier: seen through, the interleaved reads of
+        // (E, E_β, c) below make the compiler split the 12-wide blend into half-filled vectors.
         let acc = std::hint::black_box(self.window_params(s, first));
         if let Some(second) = self.harmonics {
             // The samplers' profile: normalised (E/r = 1) except in the first two intervals,
@@ -444,8 +455,8 @@ impl<'a> TableRef<'a> {
         if segment <= 1 && r_nodes[0] == 0.0 {
             return self.first_intervals_cell(params, first, r_eval, blend);
         }
-        // (The energies' logarithms come straight from the window: reading them from `params`
-        // instead makes the compiler scalarise the blend's loads.)
+        // (The energies' logarithms come straight from the window, which keeps the blend's
+        // loads vectorised.)
         let ln = if LOG_ENERGY {
             ln_energies(acc)
         } else {
@@ -464,8 +475,6 @@ impl<'a> TableRef<'a> {
             c += (wk * c_scale) * ck;
             if e > 0.0 {
                 ln_e += wk * f64::from(ln);
-                // (Four scalar divisions: one vector division in `ln_energies` measured 10 ns
-                // slower per evaluation.)
                 if LOG_ENERGY {
                     node_share += wk * (eb / e);
                 }
@@ -507,8 +516,7 @@ impl<'a> TableRef<'a> {
     }
 
     /// [`TableRef::cell_from`] in the first two radius intervals (segment ≤ 1, r₀ = 0), from
-    /// the window's nodes 1 and 2. Out of line and cold: a few draws in 10³ land there, and
-    /// inlined, its code cost the other evaluations time.
+    /// the window's nodes 1 and 2. Out of line and cold: a few draws in 10³ land there.
     #[cold]
     #[inline(never)]
     fn first_intervals_cell(
@@ -558,8 +566,8 @@ impl<'a> TableRef<'a> {
     /// [0, r_max] or NaN. PBD diverges like ln(1/r) at r = 0; the table caps that growth at
     /// r = 10⁻⁹ r₁: every r below, 0 and subnormals included, has the value there (finite,
     /// documented).
-    // Inlined: returned through memory, its weights are written as scalars and read back as
-    // pairs, which stalls store forwarding (measured ~8 % of an evaluation)
+    // Inlined: returned through memory, its weights would be written as scalars and read back
+    // as pairs (a store-forwarding stall).
     #[inline(always)]
     fn radius(&self, r: f64) -> Option<(f64, Weights)> {
         if r.is_nan() || r < 0.0 {
@@ -596,17 +604,18 @@ impl<'a> TableRef<'a> {
         if !phi.is_finite() || !self.light_enters(theta) {
             return Some(0.0);
         }
-        Some(cell.map_or(0.0, |[e_per_r, beta, c]| {
-            table_value(e_per_r, beta, c, wrap_phi(phi))
-        }))
+        Some(match cell {
+            Cell::Profile([e_per_r, beta, c]) => table_value(e_per_r, beta, c, wrap_phi(phi)),
+            Cell::OutsideRadius => 0.0,
+        })
     }
 
     /// The profile at (ρ′, θ, r) as (E/r ≥ 0, β ∈ [0, lobe_cap(E/r, c)], c), the same profile as
     /// [`Gwc::from_table`] builds from [`TableRef::cell_from`], without building a slice
-    /// (evaluation needs nothing else of it): `None` if (ρ′, θ) is outside the axes, `Some(None)`
+    /// (evaluation needs nothing else of it): `None` if (ρ′, θ) is outside the axes, `OutsideRadius`
     /// where [`TableRef::radius`] is `None`.
     #[inline(always)]
-    fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
+    fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Cell> {
         // Points off the quick ρ′ weights out of line (`AlbedoAxis::hot_weights`)
         let Some(albedo) = self.axes.rho.hot_eval_weights(rho) else {
             return self.cell_at_point_cold(rho, theta, r);
@@ -615,7 +624,7 @@ impl<'a> TableRef<'a> {
     }
 
     #[inline(never)]
-    fn cell_at_point_cold(&self, rho: f64, theta: f64, r: f64) -> Option<Option<[f64; 3]>> {
+    fn cell_at_point_cold(&self, rho: f64, theta: f64, r: f64) -> Option<Cell> {
         // At the ends of the albedo axis, the spline of E/(ρ′² f) (`albedo_ends`)
         if let Some(ends) = self.axes.rho.end_weights(rho) {
             return self.cell_at_point_albedo_ends(&ends, rho, theta, r);
@@ -630,11 +639,11 @@ impl<'a> TableRef<'a> {
         rho: f64,
         theta: f64,
         r: f64,
-    ) -> Option<Option<[f64; 3]>> {
+    ) -> Option<Cell> {
         // The weight searches first: they are independent and overlap in the pipeline
         let theta_weights = self.theta_weights(theta)?;
         let Some((r_eval, w)) = self.radius(r) else {
-            return Some(None);
+            return Some(Cell::OutsideRadius);
         };
         let first = self.radial_window(&w);
         let acc = self.window_at(&albedo.energy, &theta_weights, first);
@@ -645,14 +654,16 @@ impl<'a> TableRef<'a> {
             Lobe::Share(share) => share * e_per_r,
             Lobe::Beta(beta) => cap_lobe(beta, e_per_r, c),
         };
-        Some(Some([e_per_r, beta, c]))
+        Some(Cell::Profile([e_per_r, beta, c]))
     }
 
     /// The perpendicular-incidence model: the θ = 0 slice at every θ, uniform in φ (pbrt's
     /// assumption), S = E(ρ′, 0, r)/(2πr).
     pub fn eval_perpendicular(&self, rho: f64, r: f64) -> Option<f64> {
-        let cell = self.cell_at_point(rho, 0.0, r)?;
-        Some(cell.map_or(0.0, |[e_per_r, ..]| e_per_r / TAU))
+        Some(match self.cell_at_point(rho, 0.0, r)? {
+            Cell::Profile([e_per_r, ..]) => e_per_r / TAU,
+            Cell::OutsideRadius => 0.0,
+        })
     }
 
     /// Effective albedo ρ_eff(ρ′, θ) = ∫ E dr: the total multiply scattered power per unit power
@@ -703,9 +714,7 @@ fn axpy12(acc: &mut [f32; 12], w: f32, x: &[f32; 12]) {
 /// ln E of the four nodes of a (E, E_β, c) window where E > 0 (0 for the others; the caller
 /// reads only the nodes with weight). The nodes are f32 values: their logarithms in f32 lose
 /// nothing. Out of line, so that the four library calls do not force the caller's sums to and
-/// from the stack. It takes no weights: passing them stored four scalars that it read back as
-/// pairs, a store-forwarding stall (about 1 ns of an evaluation). An inlined logarithm of our
-/// own (packed, no calls) measured slower: the blend's loads were scalarised again.
+/// from the stack; it takes no weights, which would go through memory.
 #[inline(never)]
 fn ln_energies(window: [f32; 12]) -> [f32; 4] {
     std::array::from_fn(|k| {

@@ -135,7 +135,7 @@ impl TableRef<'_> {
     ) -> Option<f64> {
         // E as a one-lobe table evaluates it (refinements along ρ′ and r included), the shape
         // from the harmonics
-        let Some([e_per_r, ..]) = self.cell_at_point(rho, theta, r)? else {
+        let Cell::Profile([e_per_r, ..]) = self.cell_at_point(rho, theta, r)? else {
             return Some(0.0);
         };
         let value = self.with_slice(rho, theta, |s| {
