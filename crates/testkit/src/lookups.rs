@@ -279,11 +279,11 @@ pub fn check_view(view: &TableRef, x: &Inputs) -> usize {
         drawn += 1;
         assert!(s.r > 0.0 && s.r <= r_max, "sample r = {} at {x:?}", s.r);
         azimuth("sample phi", s.phi, x);
-        assert!(s.pdf_area > 0.0, "sample pdf {} at {x:?}", s.pdf_area);
-        density("sample pdf", s.pdf_area, x);
+        assert!(s.pdf > 0.0, "sample pdf {} at {x:?}", s.pdf);
+        density("sample pdf", s.pdf, x);
         let pdf = |r, phi| view.pdf(rho, theta, r, phi);
         assert!(
-            density_matches(s.pdf_area, pdf, s.r, s.phi, 1.0),
+            density_matches(s.pdf, pdf, s.r, s.phi, 1.0),
             "sample {s:?} has pdf {} at {x:?}",
             pdf(s.r, s.phi)
         );
@@ -301,12 +301,8 @@ pub fn check_view(view: &TableRef, x: &Inputs) -> usize {
             s.r
         );
         azimuth("perpendicular phi", s.phi, x);
-        assert!(
-            s.pdf_area > 0.0,
-            "perpendicular pdf {} at {x:?}",
-            s.pdf_area
-        );
-        density("perpendicular pdf", s.pdf_area, x);
+        assert!(s.pdf > 0.0, "perpendicular pdf {} at {x:?}", s.pdf);
+        density("perpendicular pdf", s.pdf, x);
     }
     if let Some(p) = view.sample_path(rho, u) {
         drawn += 1;

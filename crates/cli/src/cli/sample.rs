@@ -100,7 +100,7 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
                 "{rho},{theta_deg},{},{},{:e}",
                 s.r / scale,
                 s.phi.to_degrees(),
-                s.pdf_area * scale * scale
+                s.pdf * scale * scale
             ))
         }
     };

@@ -3,60 +3,8 @@
 use super::TableLookup;
 use crate::table::World;
 
-/// One draw of the exit point for a given incidence, in world units.
-///
-/// ```
-/// # use bssrdf_zoo::embed::Library;
-/// # use bssrdf_zoo::materials::Rgb;
-/// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
-/// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
-/// let red = library.channel("skin1", Rgb::Red)?;
-/// let s = red.sample(0.4, 0.5, 0.5).unwrap();
-/// // Exit point (x, y) in the tangent frame whose x axis points along the refracted beam.
-/// let (x, y) = (s.r * s.phi.cos(), s.r * s.phi.sin());
-/// assert!(s.pdf > 0.0 && x.hypot(y) > 0.0);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    /// Distance of the exit point from the entry point, mm.
-    pub r: f64,
-    /// Exit azimuth, radians in [−π, π], 0 forward.
-    pub phi: f64,
-    /// Density per unit area of the exit plane, mm⁻².
-    pub pdf: f64,
-}
-
-/// One path-tracing draw (Ferrier §7.1, algorithm 3), in world units: the incidence θ, the exit
-/// point (r, φ) relative to the plane of incidence, and the azimuth φ′ of the entry point seen
-/// from the exit point.
-///
-/// ```
-/// # use bssrdf_zoo::embed::Library;
-/// # use bssrdf_zoo::materials::Rgb;
-/// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
-/// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
-/// let red = library.channel("skin1", Rgb::Red)?;
-/// let p = red.sample_path([0.3, 0.5, 0.5, 0.9]).unwrap();
-/// assert!((0.0..=std::f64::consts::FRAC_PI_2).contains(&p.theta));
-/// assert_eq!(p.pdf_theta, red.pdf_theta(p.theta));
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PathSample {
-    /// Incidence θ_i before refraction, radians.
-    pub theta: f64,
-    /// Exit distance, mm.
-    pub r: f64,
-    /// Exit azimuth relative to the plane of incidence, radians.
-    pub phi: f64,
-    /// Azimuth of the entry point seen from the exit point, uniform, radians in [−π, π).
-    pub phi_prime: f64,
-    /// Density of θ, per radian.
-    pub pdf_theta: f64,
-    /// Joint density pdf_theta · pdf(r, φ | θ) / (2π), per radian per mm² per radian.
-    pub pdf: f64,
-}
+/// The draws of a handle, in world units (mm, mm⁻²).
+pub use crate::table::{PathSample, Sample};
 
 /// Lookups for one medium (one colour channel of a material, or any ρ′ and σ′t) on one table,
 /// in world units: r in mm, S and densities per mm², θ and φ in radians.
@@ -218,12 +166,7 @@ impl ChannelLookup {
     #[inline]
     pub fn sample(&self, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let world = World::prevalidated(self.table.view_with(false), self.sigma_t_prime);
-        let s = world.sample(self.rho, theta, u_r, u_phi)?;
-        Some(Sample {
-            r: s.r,
-            phi: s.phi,
-            pdf: s.pdf_area,
-        })
+        world.sample(self.rho, theta, u_r, u_phi)
     }
 
     /// The path-tracing draw from four uniforms: θ from ρ_eff(ρ′, ·), then (r, φ) given θ, then
@@ -244,15 +187,7 @@ impl ChannelLookup {
     #[inline]
     pub fn sample_path(&self, u: [f64; 4]) -> Option<PathSample> {
         let world = World::prevalidated(self.table.view(), self.sigma_t_prime);
-        let p = world.sample_path(self.rho, u)?;
-        Some(PathSample {
-            theta: p.theta,
-            r: p.r,
-            phi: p.phi,
-            phi_prime: p.phi_prime,
-            pdf_theta: p.pdf_theta,
-            pdf: p.pdf,
-        })
+        world.sample_path(self.rho, u)
     }
 
     /// Density of θ in [`ChannelLookup::sample_path`], per radian (0 without θ sampling).

@@ -47,16 +47,8 @@ use std::f64::consts::PI;
 use std::fmt;
 use std::str::FromStr;
 
-/// One draw of an exit point with its density.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    /// Exit distance, reduced mean free paths.
-    pub r: f64,
-    /// Exit azimuth, radians in [−π, π], 0 forward.
-    pub phi: f64,
-    /// Density per unit area of the exit plane, reduced mfp⁻².
-    pub pdf: f64,
-}
+/// One draw of an exit point with its density, in reduced units.
+pub use crate::table::Sample;
 
 /// A BSSRDF model in reduced units (see the module docs for the quantity).
 pub trait Model: Send + Sync {

@@ -158,7 +158,7 @@ impl Model for TableModel {
         Some(Sample {
             r: s.r,
             phi: s.phi,
-            pdf: s.pdf_area,
+            pdf: s.pdf,
         })
     }
 

@@ -77,7 +77,7 @@ impl Renderer {
         for k in 0..3 {
             let st = ch[k].sigma_t_prime;
             pdf[k] = if k == h {
-                s.pdf_area * st * st
+                s.pdf * st * st
             } else if active[k] {
                 // At θ = 0 the table's profile is flat in φ (c = 0), so this is also the
                 // perpendicular model's density (tested).

@@ -27,10 +27,10 @@ fn the_theta_zero_density_is_the_perpendicular_models() {
             for phi in [s.phi, 0.0, 2.5, -1.0] {
                 let p = t.pdf(rho, 0.0, s.r, phi);
                 assert!(
-                    (p / s.pdf_area - 1.0).abs() < 1e-6,
+                    (p / s.pdf - 1.0).abs() < 1e-6,
                     "rho {rho}, r {}, phi {phi}: {p} vs {}",
                     s.r,
-                    s.pdf_area
+                    s.pdf
                 );
             }
         }

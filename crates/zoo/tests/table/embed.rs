@@ -125,7 +125,7 @@ fn channel_lookups_equal_direct_table_ref_and_world_lookups_bit_for_bit() {
                         compared[1] += 1;
                         assert_eq!(
                             [g.r, g.phi, g.pdf].map(f64::to_bits),
-                            [w.r, w.phi, w.pdf_area].map(f64::to_bits)
+                            [w.r, w.phi, w.pdf].map(f64::to_bits)
                         );
                     }
                     let u = [points.u(), points.u(), points.u(), points.u()];

@@ -102,7 +102,7 @@ const EVAL: [([f64; 4], f64, f64, f64); 11] = [
     ),
 ];
 
-/// (ρ′, θ, u_r, u_φ) → ([r, φ, pdf_area] of sample, [r, pdf_area] of sample_perpendicular).
+/// (ρ′, θ, u_r, u_φ) → ([r, φ, pdf] of sample, [r, pdf] of sample_perpendicular).
 const SAMPLE: [([f64; 4], [f64; 3], [f64; 2]); 8] = [
     (
         [0.5, 0.0, 0.5, 0.5],
@@ -225,7 +225,7 @@ fn eval_and_pdf_match_the_pinned_values() {
 #[test]
 fn samples_match_the_pinned_values() {
     let view = coarse().view();
-    for ([rho, theta, u_r, u_phi], [r, phi, pdf_area], [r_perp, pdf_perp]) in SAMPLE {
+    for ([rho, theta, u_r, u_phi], [r, phi, pdf], [r_perp, pdf_perp]) in SAMPLE {
         let s = view.sample(rho, theta, u_r, u_phi).unwrap();
         let at = (rho, theta, u_r, u_phi);
         assert!(close(s.r, r, SAMPLE_TOL), "r{at:?}: {} vs {r}", s.r);
@@ -235,9 +235,9 @@ fn samples_match_the_pinned_values() {
             s.phi
         );
         assert!(
-            close(s.pdf_area, pdf_area, VALUE_TOL),
-            "pdf{at:?}: {} vs {pdf_area}",
-            s.pdf_area
+            close(s.pdf, pdf, VALUE_TOL),
+            "pdf{at:?}: {} vs {pdf}",
+            s.pdf
         );
         let p = view.sample_perpendicular(rho, u_r, u_phi).unwrap();
         assert!(
@@ -245,10 +245,7 @@ fn samples_match_the_pinned_values() {
             "perpendicular r{at:?}: {} vs {r_perp}",
             p.r
         );
-        assert!(
-            close(p.pdf_area, pdf_perp, VALUE_TOL),
-            "perpendicular pdf{at:?}"
-        );
+        assert!(close(p.pdf, pdf_perp, VALUE_TOL), "perpendicular pdf{at:?}");
     }
 }
 

@@ -28,31 +28,35 @@ mod world;
 
 pub use world::{reduced_to_mm, World};
 
-/// One draw of (r, φ) for a given (ρ′, θ).
+/// One draw of the exit point (algorithm 2), in the units of the lookup that drew it: reduced
+/// units from [`TableRef`] and the models (r in mean free paths, the density per mfp²), world
+/// units from [`World`] and the renderer handles (mm, mm⁻²).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
-    /// Exit distance, reduced mean free paths.
+    /// Exit distance.
     pub r: f64,
     /// Exit azimuth, radians in [−π, π], 0 forward.
     pub phi: f64,
-    /// Density per unit area of the exit plane, pdf(r, φ)/r, in reduced mfp⁻².
-    pub pdf_area: f64,
+    /// Density per unit area of the exit plane, pdf(r, φ)/r.
+    pub pdf: f64,
 }
 
-/// One draw for path tracing (Ferrier §7.1, algorithm 3).
+/// One draw for path tracing (Ferrier §7.1, algorithm 3): the incidence θ, the exit point
+/// (r, φ) relative to the plane of incidence and the azimuth φ′ of the entry point seen from the
+/// exit point, in the units of the lookup that drew it (see [`Sample`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathSample {
-    /// Incidence θ_i, radians.
+    /// Incidence θ_i before refraction, radians.
     pub theta: f64,
-    /// Exit distance, reduced mean free paths.
+    /// Exit distance.
     pub r: f64,
     /// Exit azimuth relative to the plane of incidence, radians.
     pub phi: f64,
     /// Azimuth of the entry point seen from the exit point, uniform, radians in [−π, π).
     pub phi_prime: f64,
-    /// Density of θ per radian.
+    /// Density of θ, per radian.
     pub pdf_theta: f64,
-    /// Joint density: pdf_theta · pdf_area(r, φ | θ) · 1/(2π).
+    /// Joint density pdf_theta · pdf(r, φ | θ) / (2π), per radian per unit area per radian.
     pub pdf: f64,
 }
 

@@ -17,11 +17,11 @@ impl TableRef<'_> {
         let radial = self.sample_radius(s, u_r)?;
         let g = self.profile_at(s, radial.x)?;
         let (phi, pdf_phi) = g.sample_with_pdf(u_phi);
-        let pdf_area = radial.pdf * pdf_phi / radial.x;
-        (pdf_area.is_finite() && pdf_area > 0.0).then_some(Sample {
+        let pdf = radial.pdf * pdf_phi / radial.x;
+        (pdf.is_finite() && pdf > 0.0).then_some(Sample {
             r: radial.x,
             phi,
-            pdf_area,
+            pdf,
         })
     }
 
@@ -86,7 +86,7 @@ impl TableRef<'_> {
         Some(Sample {
             r: radial.x,
             phi,
-            pdf_area: radial.pdf / (TAU * radial.x),
+            pdf: radial.pdf / (TAU * radial.x),
         })
     }
 
@@ -114,7 +114,7 @@ impl TableRef<'_> {
             phi: rphi.phi,
             phi_prime,
             pdf_theta: t.pdf,
-            pdf: t.pdf * rphi.pdf_area / TAU,
+            pdf: t.pdf * rphi.pdf / TAU,
         })
     }
 

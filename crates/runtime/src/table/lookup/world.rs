@@ -51,16 +51,12 @@ impl<'a> World<'a> {
         let st = self.sigma_t_prime;
         let s = self.table.sample(rho, theta, u_r, u_phi)?;
         let r = reduced_to_mm(s.r, st);
-        let pdf_area = if st * r == s.r {
-            s.pdf_area * st * st
+        let pdf = if st * r == s.r {
+            s.pdf * st * st
         } else {
             self.pdf(rho, theta, r, s.phi)
         };
-        (pdf_area > 0.0).then_some(Sample {
-            r,
-            phi: s.phi,
-            pdf_area,
-        })
+        (pdf > 0.0).then_some(Sample { r, phi: s.phi, pdf })
     }
     /// The path-tracing draw ([`TableRef::sample_path`]) with r in mm and the joint density
     /// per mm², which is `pdf_theta` times [`World::pdf`] at (θ, r, φ) over 2π (see
