@@ -2,7 +2,8 @@
 //! changes fields of a file and recomputes its CRCs, for hand-made invalid files.
 
 use bssrdf_zoo::format::{
-    AlbedoRange, FresnelMoments, LibraryBuilder, Material, ModelKind, Provenance, TableData,
+    AlbedoRange, Compression, FresnelMoments, LibraryBuilder, Material, ModelKind, Provenance,
+    TableData,
 };
 
 /// A table of `n_rho × n_theta × n_r` entries with smooth, deterministic made-up values (not
@@ -103,6 +104,37 @@ pub fn tiny_builder() -> LibraryBuilder {
         .unwrap();
     b.set_provenance(provenance);
     b
+}
+
+/// The sections of the tiny library (see [`tiny_builder`]) followed by a `gwc-harmonics`
+/// section for its table: the harmonics of each node's one lobe, rμ₃ = E_β c³ and
+/// rμ₄ = E_β c⁴, `[2, 2, 4, 2]`, required flag set. [`Raw::build`] makes a file of them (format
+/// 1.2 needs required feature bit 2, `harmonics`, with them).
+pub fn tiny_two_lobes_sections() -> Vec<Sec> {
+    let mut secs = Raw::new(tiny_builder().to_bytes(Compression::None).unwrap()).sections();
+    let gwc = secs.iter().find(|s| s.kind == kind::GWC).unwrap();
+    let values: Vec<f32> = gwc
+        .data
+        .chunks_exact(12)
+        .flat_map(|node| {
+            let f = |k: usize| f32::from_le_bytes(node[4 * k..4 * k + 4].try_into().unwrap());
+            let (e_beta, c) = (f(1), f(2));
+            [e_beta * c.powi(3), e_beta * c.powi(4)]
+        })
+        .collect();
+    let mut dims = gwc.dims.clone();
+    dims[3] = 2;
+    secs.push(Sec {
+        kind: kind::HARMONICS,
+        table: 0,
+        dtype: 2,
+        codec: 0,
+        flags: 1,
+        dims,
+        data: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        raw_len: None,
+    });
+    secs
 }
 
 /// The example of `format-spec.md`: one 1×1×2 table, one material, no provenance.

@@ -9,7 +9,9 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use bssrdf_testkit::files::{kind, synthetic_table, tiny_builder, Raw, Sec, ENTRY, HEADER};
+use bssrdf_testkit::files::{
+    kind, synthetic_table, tiny_builder, tiny_two_lobes_sections, Raw, Sec, ENTRY, HEADER,
+};
 use bssrdf_zoo::format::{
     pack, AxisKind, Compression, Library, LibraryBuilder, SectionKind, Verify,
 };
@@ -384,34 +386,11 @@ fn invalid_vectors() -> Vec<(&'static str, Raw)> {
     out
 }
 
-/// The tiny library with a `gwc-harmonics` section for its table (the harmonics of each
-/// node's one lobe, rμ₃ = E_β c³ and rμ₄ = E_β c⁴), declaring required feature bit 2 or not.
+/// The tiny library with a `gwc-harmonics` section for its table, declaring required feature
+/// bit 2 or not.
 fn two_lobes(declared: bool) -> Raw {
-    let mut secs = tiny().sections();
-    let gwc = secs.iter().find(|s| s.kind == kind::GWC).unwrap();
-    let values: Vec<f32> = gwc
-        .data
-        .chunks_exact(12)
-        .flat_map(|node| {
-            let f = |k: usize| f32::from_le_bytes(node[4 * k..4 * k + 4].try_into().unwrap());
-            let (e_beta, c) = (f(1), f(2));
-            [e_beta * c.powi(3), e_beta * c.powi(4)]
-        })
-        .collect();
-    let mut dims = gwc.dims.clone();
-    dims[3] = 2;
-    secs.push(Sec {
-        kind: kind::HARMONICS,
-        table: 0,
-        dtype: 2,
-        codec: 0,
-        flags: 1,
-        dims,
-        data: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
-        raw_len: None,
-    });
     let required = if declared { 1 << 2 } else { 0 };
-    Raw::build(2, required, 0, 256, &secs)
+    Raw::build(2, required, 0, 256, &tiny_two_lobes_sections())
 }
 
 /// Vectors that need compressed sections.
