@@ -3,6 +3,7 @@
 mod c_reader;
 mod conformance;
 mod corruption;
+mod harmonics;
 mod mapping;
 mod proptest;
 mod roundtrip;
