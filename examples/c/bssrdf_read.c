@@ -14,10 +14,11 @@
  * zstd) is rejected as unsupported, as the spec allows. Required feature bit 1
  * (signed-floor, format 1.1: gwc-params nodes with E_beta > E) is implemented: it changes
  * how the values are interpreted, not how they are stored, and this reader prints the
- * stored values. So does required feature bit 2 (harmonics, format 1.2: a gwc-harmonics
- * section, kind 0x23, makes a table's profile two lobes). It does not check the values themselves (finite, node rules of
- * section 10). Files of any minor of major 1 are read, as section 4 requires of a reader
- * that implements every required bit the file sets.
+ * stored values. So is required feature bit 2 (harmonics, format 1.2: a gwc-harmonics
+ * section, kind 0x23, makes a table's profile two lobes); a file with such a section that
+ * does not set the bit is rejected. It does not check the values themselves (finite, node
+ * rules of section 10). Files of any minor of major 1 are read, as section 4 requires of a
+ * reader that implements every required bit the file sets.
  *
  * POSIX (mmap). Handles big-endian hosts by assembling every field byte by byte.
  */
@@ -43,6 +44,8 @@
 /* Required feature bits this reader implements (section 4): bit 1, signed-floor, and
  * bit 2, harmonics (it prints stored values, whose storage neither bit changes). */
 #define KNOWN_REQUIRED 0x6u
+#define REQUIRED_HARMONICS 0x4u
+#define KIND_HARMONICS 0x23u
 
 static const unsigned char MAGIC[12] = {0x89, 'B', 'S', 'S', 'R', 'D',
                                         'F',  '\r', '\n', 0x1A, '\n', 0x00};
@@ -129,6 +132,15 @@ int main(int argc, char **argv) {
   uint32_t alignment = le32(f + 48);
   if (alignment < 256u || alignment > 65536u || (alignment & (alignment - 1u)) != 0)
     return fail("bad alignment");
+
+  /* A gwc-harmonics section (kind 0x23) makes its table two lobes: a file that has one
+   * without required bit 2 is rejected (section 4), whichever section is asked for. */
+  uint64_t required = le64(f + 32);
+  for (uint64_t i = 0; i < count; i++) {
+    const unsigned char *e = f + HEADER_SIZE + i * ENTRY_SIZE;
+    if (le32(e) == KIND_HARMONICS && (required & REQUIRED_HARMONICS) == 0)
+      return fail("gwc-harmonics section without required feature bit 2 (harmonics)");
+  }
 
   /* Directory (section 5): find the entry. */
   for (uint64_t i = 0; i < count; i++) {

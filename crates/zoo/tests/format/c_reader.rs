@@ -131,8 +131,16 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
         ("invalid/section-crc", "section crc"),
         ("valid/tiny-packed", "compressed"),
         ("invalid/unsupported-features", "unknown required bit 7"),
+        (
+            "invalid/harmonics-not-declared",
+            "gwc-harmonics without bit 2",
+        ),
     ] {
         let (code, _) = run(&exe, &data.join(format!("{file}.bssrdf")), 0, gwc, 0);
         assert_eq!(code, 3, "{file} should be rejected ({why})");
     }
+    // The undeclared harmonics are rejected whichever section is asked for, themselves too.
+    let undeclared = data.join("invalid/harmonics-not-declared.bssrdf");
+    let (code, _) = run(&exe, &undeclared, 0, harmonics, 3);
+    assert_eq!(code, 3, "harmonics-not-declared: its harmonics were read");
 }
