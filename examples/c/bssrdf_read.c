@@ -133,13 +133,16 @@ int main(int argc, char **argv) {
   if (alignment < 256u || alignment > 65536u || (alignment & (alignment - 1u)) != 0)
     return fail("bad alignment");
 
-  /* A gwc-harmonics section (kind 0x23) makes its table two lobes: a file that has one
-   * without required bit 2 is rejected (section 4), whichever section is asked for. */
+  /* Features a section needs must be declared (section 4), whichever section is asked for:
+   * a gwc-harmonics section (kind 0x23, two lobes) needs bit 2, and a compressed section
+   * needs bit 0, which this reader lacks (a file declaring it was refused above). */
   uint64_t required = le64(f + 32);
   for (uint64_t i = 0; i < count; i++) {
     const unsigned char *e = f + HEADER_SIZE + i * ENTRY_SIZE;
     if (le32(e) == KIND_HARMONICS && (required & REQUIRED_HARMONICS) == 0)
       return fail("gwc-harmonics section without required feature bit 2 (harmonics)");
+    if (le16(e + 10) != CODEC_NONE)
+      return fail("compressed section without required feature bit 0 (zstd)");
   }
 
   /* Directory (section 5): find the entry. */

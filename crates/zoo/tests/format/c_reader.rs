@@ -135,6 +135,10 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
             "invalid/harmonics-not-declared",
             "gwc-harmonics without bit 2",
         ),
+        (
+            "invalid/feature-not-declared",
+            "a compressed section without bit 0",
+        ),
     ] {
         let (code, _) = run(&exe, &data.join(format!("{file}.bssrdf")), 0, gwc, 0);
         assert_eq!(code, 3, "{file} should be rejected ({why})");
