@@ -1,6 +1,6 @@
-//! `include/bssrdf_zoo.h` is written by hand; this test holds it to `src/capi.rs`: the same
-//! functions with the same parameter and return types (Rust types mapped to C ones), the same
-//! structs with the same fields in the same order, the same opaque types, and the same
+//! `include/bssrdf_zoo.h` is written by hand; this test holds it to `crates/capi/src/lib.rs`:
+//! the same functions with the same parameter and return types (Rust types mapped to C ones),
+//! the same structs with the same fields in the same order, the same opaque types, and the same
 //! constants with the same values. Every exported function must be `#[no_mangle]`. The C test
 //! (`crates/capi/tests/capi/c_program.rs`) then compiles against the header with `-Wall -Werror` and links.
 

@@ -20,7 +20,7 @@
 //! - for a two-lobe table (`bssrdf_zoo::table::Lobes::Two`, by default for η in [1, 1.33)), the profile's third and
 //!   fourth harmonics times r, r·μ₃ and r·μ₄, beside (E, E_β, c) of the one lobe with its first
 //!   two: lookups interpolate the four harmonics and rebuild two lobes from them
-//!   ([`crate::gwc::TwoLobe::from_moments`], `lookup.rs`; docs/accuracy.md).
+//!   ([`crate::gwc::TwoLobe::from_moments`], `lookup/two_lobe.rs`; docs/accuracy.md).
 //!
 //! Evaluation (algorithm 1) interpolates (E, E_β, c) with tensor-product Catmull-Rom weights in
 //! (ρ′, θ, r), with slope 0 at θ = 90° where PBD's is and at the node before (80° on the

@@ -17,7 +17,7 @@
 //!   a *silent zero*.
 //!
 //! The truth is PBD's fast rule, within 10⁻⁶ of the reference quadrature over the models'
-//! domain (`tests/pbd`), a thousand times below the errors measured here.
+//! domain (`tests/physics/pbd`), a thousand times below the errors measured here.
 //!
 //! The bound ([`CheckBounds`]): every region's weighted mean error at most 1 % and every
 //! coverage point within 10 %, with no silent zero. It catches a table that is broken, not
