@@ -22,6 +22,10 @@ use lookup_points::lookup_points;
 
 fn main() {
     let what = std::env::args().nth(1).unwrap_or("sample".into());
+    if !["eval", "sample"].contains(&what.as_str()) {
+        eprintln!("lookup_loop: the mode is eval or sample, not {what:?}");
+        std::process::exit(2);
+    }
     let eta = std::env::var("ETA").map_or(1.33, |v| v.parse().expect("ETA=number"));
     let (table, _) = bake(
         eta,

@@ -300,7 +300,7 @@ fn r_zero_is_each_models_limit_and_tiny_r_is_finite() {
 fn readme_quick_start_runs_as_printed() {
     let readme = include_str!("../../../../README.md");
     let start = readme
-        .find("`cargo install --path crates/cli`")
+        .find("`cargo install --locked --path crates/cli`")
         .expect("the README says how to install");
     let block = &readme[start..];
     let block = &block[block.find("```sh\n").unwrap() + 6..];
