@@ -59,7 +59,12 @@ pub fn run(args: MaterialsArgs) -> Result<ExitCode, CliError> {
                     triple(m.sigma_s()),
                     triple(m.sigma_a()),
                     triple(m.g()),
-                    source.chars().take(40).collect(),
+                    // Cut at 40 characters, marked: `--json` gives it whole.
+                    if source.chars().count() > 40 {
+                        source.chars().take(39).chain(['…']).collect()
+                    } else {
+                        source.to_string()
+                    },
                 ]
             })
             .collect();
