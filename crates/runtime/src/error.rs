@@ -48,9 +48,6 @@ pub enum Error {
         min: u64,
         max: u64,
     },
-    /// A model name that is not in the registry.
-    #[error("unknown model {name:?}; expected one of {expected}")]
-    UnknownModel { name: String, expected: String },
     /// Two values that must agree do not (e.g. a shared table baked for another η).
     #[error("{name} = {found} does not match the required {expected}")]
     Mismatch {

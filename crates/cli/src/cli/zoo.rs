@@ -23,8 +23,8 @@ pub struct ZooArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Models to compare (default: all), comma-separated names.
-    #[arg(long, value_delimiter = ',')]
-    models: Vec<String>,
+    #[arg(long, value_enum, value_delimiter = ',')]
+    models: Vec<ModelKind>,
     /// Cases as RHO:THETA_DEG pairs, comma-separated (default: ρ′ 0.5, 0.9, 0.99 × θ 0, 60, 89).
     #[arg(long, value_delimiter = ',', value_name = "RHO:THETA")]
     cases: Vec<String>,
@@ -46,11 +46,7 @@ pub struct ZooArgs {
 pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
     if !args.models.is_empty() {
-        config.models = args
-            .models
-            .iter()
-            .map(|m| m.parse::<ModelKind>())
-            .collect::<Result<_, _>>()?;
+        config.models = args.models.clone();
     }
     if !args.cases.is_empty() {
         config.cases = args

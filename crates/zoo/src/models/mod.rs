@@ -165,13 +165,23 @@ impl fmt::Display for ModelKind {
     }
 }
 
+/// A name that is not one of the registry's models.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown model {name:?}; expected one of {expected}")]
+pub struct UnknownModel {
+    /// The name given.
+    pub name: String,
+    /// The registry's names, comma-separated.
+    pub expected: String,
+}
+
 impl FromStr for ModelKind {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
+    type Err = UnknownModel;
+    fn from_str(s: &str) -> std::result::Result<Self, UnknownModel> {
         ModelKind::ALL
             .into_iter()
             .find(|k| k.name() == s)
-            .ok_or_else(|| Error::UnknownModel {
+            .ok_or_else(|| UnknownModel {
                 name: s.to_owned(),
                 expected: ModelKind::names(&ModelKind::ALL),
             })
