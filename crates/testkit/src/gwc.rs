@@ -3,8 +3,6 @@
 /// The crate's own generator (SplitMix64), seeded per test.
 pub use bssrdf_zoo::rng::SplitMix64;
 
-pub use crate::stats::chi2_critical_1e6;
-
 /// Uniform draws in a range from the crate's generator.
 pub trait UniformRange {
     /// Uniform in [lo, hi).

@@ -3,7 +3,8 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-use bssrdf_testkit::gwc::{chi2_critical_1e6, chi_square, integrate, SplitMix64, UniformRange};
+use bssrdf_testkit::gwc::{chi_square, integrate, SplitMix64, UniformRange};
+use bssrdf_testkit::stats::chi2_critical_1e6;
 use bssrdf_zoo::gwc::{cdf_wc, floor_bound, inv_cdf_wc, lobe_cap, pdf_wc, Gwc, C_LIMIT};
 use bssrdf_zoo::Error;
 

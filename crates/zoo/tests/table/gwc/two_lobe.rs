@@ -4,7 +4,8 @@
 
 use std::f64::consts::{PI, TAU};
 
-use bssrdf_testkit::gwc::{chi2_critical_1e6, chi_square, integrate, SplitMix64, UniformRange};
+use bssrdf_testkit::gwc::{chi_square, integrate, SplitMix64, UniformRange};
+use bssrdf_testkit::stats::chi2_critical_1e6;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::{fit_two_lobes, pdf_wc, TwoLobe, C_MAX_TWO_LOBES};
 use bssrdf_zoo::medium::Boundary;
