@@ -46,6 +46,15 @@ pub struct ZooArgs {
 pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
     if !args.models.is_empty() {
+        for (k, model) in args.models.iter().enumerate() {
+            if let Some(first) = args.models[..k].iter().position(|m| m == model) {
+                return Err(CliError::input(format!(
+                    "--models lists {model} twice (at positions {} and {}); give each model once",
+                    first + 1,
+                    k + 1
+                )));
+            }
+        }
         config.models = args.models.clone();
     }
     if !args.cases.is_empty() {

@@ -534,6 +534,15 @@ fn zoo_prints_a_row_per_model_and_case_and_writes_plots() {
         2,
         "dipole",
     );
+    // A model listed twice is refused, not compared twice.
+    fails_with(
+        &bssrdf(
+            dir.path(),
+            &["zoo", "--models", "dipole,burley,dipole", "--photons", "10"],
+        ),
+        2,
+        "--models lists dipole twice (at positions 1 and 3)",
+    );
     fails_with(
         &bssrdf(dir.path(), &["zoo", "--cases", "0.9", "--photons", "10"]),
         2,
