@@ -5,7 +5,7 @@
 //
 //   node format/generate.js NODE_MODULES
 //
-// NODE_MODULES is a folder where `kaitai-struct-compiler` (0.11.0) and `js-yaml` are
+// NODE_MODULES is a folder where `kaitai-struct-compiler` (0.11.0) and `js-yaml` (5.5.0) are
 // installed, outside the repository (see format/README.md). This script installs nothing.
 "use strict";
 
