@@ -30,9 +30,11 @@ doc: |
   feature bits, reserved bytes and bits (whose rule depends on the minor), `raw_len` and
   `stored_len`, the placement of sections (alignment, order, overlap, gaps, padding, trailing
   data), section ownership and uniqueness, required sections, the values in the table
-  sections (finite, axes in range and increasing, the node rules), cross-record rules of
-  materials (table indices, unique names, control characters, σ′t > 0) and the provenance
-  JSON.
+  sections (finite, axes in range and increasing, the node rules), the rules of materials
+  that involve more than one field or record (table indices, unique names, σ′t > 0, the
+  albedo range against its flag), control characters and the provenance JSON. `name`,
+  `source` and the provenance are decoded as UTF-8 by the target language's runtime
+  (Python's rejects invalid UTF-8; other targets may not).
 
   Compressed sections (codec 1, zstd) are described as their stored bytes: Kaitai Struct has
   no zstd processor built in. Decode `body` (one or more zstd frames, `raw_len` bytes once
@@ -217,34 +219,43 @@ types:
         type:
           switch-on: kind
           cases:
-            section_kind::tables: tables(dims[0], dims[1])
-            section_kind::materials: materials(dims[0], dims[1])
+            section_kind::tables: records(kind, dims[0], dims[1])
+            section_kind::materials: records(kind, dims[0], dims[1])
             section_kind::provenance: provenance
             section_kind::axis_rho: axis(dims[0])
             section_kind::axis_theta: axis(dims[0])
             section_kind::axis_r: axis(dims[0])
-            section_kind::gwc_params: gwc_params(dims[0], dims[1], dims[2])
+            section_kind::gwc_params: node_grid(kind, dims[0], dims[1], dims[2])
             section_kind::radial_cdf: radial_cdf(dims[0], dims[1], dims[2])
             section_kind::theta_cdf: theta_cdf(dims[0], dims[1])
-            section_kind::gwc_harmonics: gwc_harmonics(dims[0], dims[1], dims[2])
+            section_kind::gwc_harmonics: node_grid(kind, dims[0], dims[1], dims[2])
         doc: The section parsed by kind; bytes for an extension kind.
 
-  tables:
+  records:
     doc: |
-      The `tables` section: `n_tables` records of `record_size` bytes. Table i is record i.
-      Records are 64 bytes; a file of a newer minor may have longer ones, whose first 64
-      bytes are as described and whose extra bytes are skipped.
+      The `tables` and `materials` sections: arrays of fixed-size records (format-spec.md
+      section 9), `dims` [count, record size]. Table i is record i of `tables`, material j
+      record j of `materials`. Records are 64 (tables) or 512 (materials) bytes; a file of a
+      newer minor may have longer ones, whose first 64 or 512 bytes are as described and whose
+      extra bytes are skipped.
     params:
-      - id: n_tables
+      - id: kind
+        type: u4
+        enum: section_kind
+      - id: n_records
         type: u4
       - id: record_size
         type: u4
     seq:
       - id: records
         size: record_size
-        type: table_record
+        type:
+          switch-on: kind
+          cases:
+            section_kind::tables: table_record
+            section_kind::materials: material_record
         repeat: expr
-        repeat-expr: n_tables
+        repeat-expr: n_records
 
   table_record:
     doc: One table (format-spec.md section 9.1), in reduced units and independent of g.
@@ -287,22 +298,6 @@ types:
       - id: reserved
         size: 36
         doc: Zero (not checked here).
-
-  materials:
-    doc: |
-      The `materials` section: `n_materials` records of `record_size` bytes (512, or more in
-      a newer minor; the extra bytes are skipped). Material j is record j.
-    params:
-      - id: n_materials
-        type: u4
-      - id: record_size
-        type: u4
-    seq:
-      - id: records
-        size: record_size
-        type: material_record
-        repeat: expr
-        repeat-expr: n_materials
 
   material_record:
     doc: |
@@ -418,13 +413,15 @@ types:
         repeat: expr
         repeat-expr: n_values
 
-  gwc_params:
+  node_grid:
     doc: |
-      Per node (i, j, k) = (ρ′, θ, r) the General Wrapped Cauchy profile over the exit
-      azimuth, f(φ) = α + β·pdf_WC(φ; c), stored as (E, E_β, c). Node (i, j, k) is
-      `nodes[(i · nθ + j) · nr + k]` (format-spec.md section 10; the node rules are not
-      checked here).
+      A section with one record per node (i, j, k) = (ρ′, θ, r) of the table's nρ × nθ × nr
+      grid: `gwc-params` or `gwc-harmonics`. Node (i, j, k) is `nodes[(i · nθ + j) · nr + k]`
+      (format-spec.md section 10).
     params:
+      - id: kind
+        type: u4
+        enum: section_kind
       - id: n_rho
         type: u4
       - id: n_theta
@@ -433,11 +430,19 @@ types:
         type: u4
     seq:
       - id: nodes
-        type: gwc_node
+        type:
+          switch-on: kind
+          cases:
+            section_kind::gwc_params: gwc_node
+            section_kind::gwc_harmonics: harmonics_node
         repeat: expr
         repeat-expr: n_rho * n_theta * n_r
 
   gwc_node:
+    doc: |
+      A node of `gwc-params`: the General Wrapped Cauchy profile over the exit azimuth,
+      f(φ) = α + β·pdf_WC(φ; c), stored as (E, E_β, c); β = E_β/r and α = (E − E_β)/(2πr) at
+      r > 0. The node rules of format-spec.md section 10 are not checked here.
     seq:
       - id: e
         type: f4
@@ -482,26 +487,11 @@ types:
         repeat: expr
         repeat-expr: n_rho * n_theta
 
-  gwc_harmonics:
-    doc: |
-      Since 1.2 (required feature bit 2): the table's profile has two lobes, stored per node
-      by its third and fourth harmonics times r, (r·μ₃, r·μ₄), where μₙ = ∫ f(φ) cos nφ dφ;
-      `gwc-params` then holds the one lobe with the same first two. Node (i, j, k) is
-      `nodes[(i · nθ + j) · nr + k]`.
-    params:
-      - id: n_rho
-        type: u4
-      - id: n_theta
-        type: u4
-      - id: n_r
-        type: u4
-    seq:
-      - id: nodes
-        type: harmonics_node
-        repeat: expr
-        repeat-expr: n_rho * n_theta * n_r
-
   harmonics_node:
+    doc: |
+      A node of `gwc-harmonics` (since 1.2, required feature bit 2): the table's profile has
+      two lobes, stored by its third and fourth harmonics times r, where
+      μₙ = ∫ f(φ) cos nφ dφ; `gwc-params` then holds the one lobe with the same first two.
     seq:
       - id: r_mu3
         type: f4

@@ -33,9 +33,11 @@ class Bssrdf(KaitaiStruct):
     feature bits, reserved bytes and bits (whose rule depends on the minor), `raw_len` and
     `stored_len`, the placement of sections (alignment, order, overlap, gaps, padding, trailing
     data), section ownership and uniqueness, required sections, the values in the table
-    sections (finite, axes in range and increasing, the node rules), cross-record rules of
-    materials (table indices, unique names, control characters, σ′t > 0) and the provenance
-    JSON.
+    sections (finite, axes in range and increasing, the node rules), the rules of materials
+    that involve more than one field or record (table indices, unique names, σ′t > 0, the
+    albedo range against its flag), control characters and the provenance JSON. `name`,
+    `source` and the provenance are decoded as UTF-8 by the target language's runtime
+    (Python's rejects invalid UTF-8; other targets may not).
     
     Compressed sections (codec 1, zstd) are described as their stored bytes: Kaitai Struct has
     no zstd processor built in. Decode `body` (one or more zstd frames, `raw_len` bytes once
@@ -212,37 +214,11 @@ class Bssrdf(KaitaiStruct):
             return getattr(self, '_m_required', None)
 
 
-    class GwcHarmonics(KaitaiStruct):
-        """Since 1.2 (required feature bit 2): the table's profile has two lobes, stored per node
-        by its third and fourth harmonics times r, (r·μ₃, r·μ₄), where μₙ = ∫ f(φ) cos nφ dφ;
-        `gwc-params` then holds the one lobe with the same first two. Node (i, j, k) is
-        `nodes[(i · nθ + j) · nr + k]`.
-        """
-        def __init__(self, n_rho, n_theta, n_r, _io, _parent=None, _root=None):
-            super(Bssrdf.GwcHarmonics, self).__init__(_io)
-            self._parent = _parent
-            self._root = _root
-            self.n_rho = n_rho
-            self.n_theta = n_theta
-            self.n_r = n_r
-            self._read()
-
-        def _read(self):
-            self.nodes = []
-            for i in range((self.n_rho * self.n_theta) * self.n_r):
-                self.nodes.append(Bssrdf.HarmonicsNode(self._io, self, self._root))
-
-
-
-        def _fetch_instances(self):
-            pass
-            for i in range(len(self.nodes)):
-                pass
-                self.nodes[i]._fetch_instances()
-
-
-
     class GwcNode(KaitaiStruct):
+        """A node of `gwc-params`: the General Wrapped Cauchy profile over the exit azimuth,
+        f(φ) = α + β·pdf_WC(φ; c), stored as (E, E_β, c); β = E_β/r and α = (E − E_β)/(2πr) at
+        r > 0. The node rules of format-spec.md section 10 are not checked here.
+        """
         def __init__(self, _io, _parent=None, _root=None):
             super(Bssrdf.GwcNode, self).__init__(_io)
             self._parent = _parent
@@ -259,37 +235,11 @@ class Bssrdf(KaitaiStruct):
             pass
 
 
-    class GwcParams(KaitaiStruct):
-        """Per node (i, j, k) = (ρ′, θ, r) the General Wrapped Cauchy profile over the exit
-        azimuth, f(φ) = α + β·pdf_WC(φ; c), stored as (E, E_β, c). Node (i, j, k) is
-        `nodes[(i · nθ + j) · nr + k]` (format-spec.md section 10; the node rules are not
-        checked here).
-        """
-        def __init__(self, n_rho, n_theta, n_r, _io, _parent=None, _root=None):
-            super(Bssrdf.GwcParams, self).__init__(_io)
-            self._parent = _parent
-            self._root = _root
-            self.n_rho = n_rho
-            self.n_theta = n_theta
-            self.n_r = n_r
-            self._read()
-
-        def _read(self):
-            self.nodes = []
-            for i in range((self.n_rho * self.n_theta) * self.n_r):
-                self.nodes.append(Bssrdf.GwcNode(self._io, self, self._root))
-
-
-
-        def _fetch_instances(self):
-            pass
-            for i in range(len(self.nodes)):
-                pass
-                self.nodes[i]._fetch_instances()
-
-
-
     class HarmonicsNode(KaitaiStruct):
+        """A node of `gwc-harmonics` (since 1.2, required feature bit 2): the table's profile has
+        two lobes, stored by its third and fourth harmonics times r, where
+        μₙ = ∫ f(φ) cos nφ dφ; `gwc-params` then holds the one lobe with the same first two.
+        """
         def __init__(self, _io, _parent=None, _root=None):
             super(Bssrdf.HarmonicsNode, self).__init__(_io)
             self._parent = _parent
@@ -482,33 +432,45 @@ class Bssrdf(KaitaiStruct):
             return getattr(self, '_m_has_albedo_range', None)
 
 
-    class Materials(KaitaiStruct):
-        """The `materials` section: `n_materials` records of `record_size` bytes (512, or more in
-        a newer minor; the extra bytes are skipped). Material j is record j.
+    class NodeGrid(KaitaiStruct):
+        """A section with one record per node (i, j, k) = (ρ′, θ, r) of the table's nρ × nθ × nr
+        grid: `gwc-params` or `gwc-harmonics`. Node (i, j, k) is `nodes[(i · nθ + j) · nr + k]`
+        (format-spec.md section 10).
         """
-        def __init__(self, n_materials, record_size, _io, _parent=None, _root=None):
-            super(Bssrdf.Materials, self).__init__(_io)
+        def __init__(self, kind, n_rho, n_theta, n_r, _io, _parent=None, _root=None):
+            super(Bssrdf.NodeGrid, self).__init__(_io)
             self._parent = _parent
             self._root = _root
-            self.n_materials = n_materials
-            self.record_size = record_size
+            self.kind = kind
+            self.n_rho = n_rho
+            self.n_theta = n_theta
+            self.n_r = n_r
             self._read()
 
         def _read(self):
-            self._raw_records = []
-            self.records = []
-            for i in range(self.n_materials):
-                self._raw_records.append(self._io.read_bytes(self.record_size))
-                _io__raw_records = KaitaiStream(BytesIO(self._raw_records[i]))
-                self.records.append(Bssrdf.MaterialRecord(_io__raw_records, self, self._root))
+            self.nodes = []
+            for i in range((self.n_rho * self.n_theta) * self.n_r):
+                _on = self.kind
+                if _on == Bssrdf.SectionKind.gwc_harmonics:
+                    pass
+                    self.nodes.append(Bssrdf.HarmonicsNode(self._io, self, self._root))
+                elif _on == Bssrdf.SectionKind.gwc_params:
+                    pass
+                    self.nodes.append(Bssrdf.GwcNode(self._io, self, self._root))
 
 
 
         def _fetch_instances(self):
             pass
-            for i in range(len(self.records)):
+            for i in range(len(self.nodes)):
                 pass
-                self.records[i]._fetch_instances()
+                _on = self.kind
+                if _on == Bssrdf.SectionKind.gwc_harmonics:
+                    pass
+                    self.nodes[i]._fetch_instances()
+                elif _on == Bssrdf.SectionKind.gwc_params:
+                    pass
+                    self.nodes[i]._fetch_instances()
 
 
 
@@ -558,6 +520,59 @@ class Bssrdf(KaitaiStruct):
 
 
 
+    class Records(KaitaiStruct):
+        """The `tables` and `materials` sections: arrays of fixed-size records (format-spec.md
+        section 9), `dims` [count, record size]. Table i is record i of `tables`, material j
+        record j of `materials`. Records are 64 (tables) or 512 (materials) bytes; a file of a
+        newer minor may have longer ones, whose first 64 or 512 bytes are as described and whose
+        extra bytes are skipped.
+        """
+        def __init__(self, kind, n_records, record_size, _io, _parent=None, _root=None):
+            super(Bssrdf.Records, self).__init__(_io)
+            self._parent = _parent
+            self._root = _root
+            self.kind = kind
+            self.n_records = n_records
+            self.record_size = record_size
+            self._read()
+
+        def _read(self):
+            self._raw_records = []
+            self.records = []
+            for i in range(self.n_records):
+                _on = self.kind
+                if _on == Bssrdf.SectionKind.materials:
+                    pass
+                    self._raw_records.append(self._io.read_bytes(self.record_size))
+                    _io__raw_records = KaitaiStream(BytesIO(self._raw_records[i]))
+                    self.records.append(Bssrdf.MaterialRecord(_io__raw_records, self, self._root))
+                elif _on == Bssrdf.SectionKind.tables:
+                    pass
+                    self._raw_records.append(self._io.read_bytes(self.record_size))
+                    _io__raw_records = KaitaiStream(BytesIO(self._raw_records[i]))
+                    self.records.append(Bssrdf.TableRecord(_io__raw_records, self, self._root))
+                else:
+                    pass
+                    self.records.append(self._io.read_bytes(self.record_size))
+
+
+
+        def _fetch_instances(self):
+            pass
+            for i in range(len(self.records)):
+                pass
+                _on = self.kind
+                if _on == Bssrdf.SectionKind.materials:
+                    pass
+                    self.records[i]._fetch_instances()
+                elif _on == Bssrdf.SectionKind.tables:
+                    pass
+                    self.records[i]._fetch_instances()
+                else:
+                    pass
+
+
+
     class SectionBody(KaitaiStruct):
         """The decoded bytes of one section, by kind (format-spec.md sections 8 to 11). Usable on
         its own, e.g. on the output of a zstd decoder for a compressed section.
@@ -591,17 +606,17 @@ class Bssrdf(KaitaiStruct):
                 pass
                 self._raw_content = self._io.read_bytes_full()
                 _io__raw_content = KaitaiStream(BytesIO(self._raw_content))
-                self.content = Bssrdf.GwcHarmonics(self.dims[0], self.dims[1], self.dims[2], _io__raw_content, self, self._root)
+                self.content = Bssrdf.NodeGrid(self.kind, self.dims[0], self.dims[1], self.dims[2], _io__raw_content, self, self._root)
             elif _on == Bssrdf.SectionKind.gwc_params:
                 pass
                 self._raw_content = self._io.read_bytes_full()
                 _io__raw_content = KaitaiStream(BytesIO(self._raw_content))
-                self.content = Bssrdf.GwcParams(self.dims[0], self.dims[1], self.dims[2], _io__raw_content, self, self._root)
+                self.content = Bssrdf.NodeGrid(self.kind, self.dims[0], self.dims[1], self.dims[2], _io__raw_content, self, self._root)
             elif _on == Bssrdf.SectionKind.materials:
                 pass
                 self._raw_content = self._io.read_bytes_full()
                 _io__raw_content = KaitaiStream(BytesIO(self._raw_content))
-                self.content = Bssrdf.Materials(self.dims[0], self.dims[1], _io__raw_content, self, self._root)
+                self.content = Bssrdf.Records(self.kind, self.dims[0], self.dims[1], _io__raw_content, self, self._root)
             elif _on == Bssrdf.SectionKind.provenance:
                 pass
                 self._raw_content = self._io.read_bytes_full()
@@ -616,7 +631,7 @@ class Bssrdf(KaitaiStruct):
                 pass
                 self._raw_content = self._io.read_bytes_full()
                 _io__raw_content = KaitaiStream(BytesIO(self._raw_content))
-                self.content = Bssrdf.Tables(self.dims[0], self.dims[1], _io__raw_content, self, self._root)
+                self.content = Bssrdf.Records(self.kind, self.dims[0], self.dims[1], _io__raw_content, self, self._root)
             elif _on == Bssrdf.SectionKind.theta_cdf:
                 pass
                 self._raw_content = self._io.read_bytes_full()
@@ -703,37 +718,6 @@ class Bssrdf(KaitaiStruct):
 
         def _fetch_instances(self):
             pass
-
-
-    class Tables(KaitaiStruct):
-        """The `tables` section: `n_tables` records of `record_size` bytes. Table i is record i.
-        Records are 64 bytes; a file of a newer minor may have longer ones, whose first 64
-        bytes are as described and whose extra bytes are skipped.
-        """
-        def __init__(self, n_tables, record_size, _io, _parent=None, _root=None):
-            super(Bssrdf.Tables, self).__init__(_io)
-            self._parent = _parent
-            self._root = _root
-            self.n_tables = n_tables
-            self.record_size = record_size
-            self._read()
-
-        def _read(self):
-            self._raw_records = []
-            self.records = []
-            for i in range(self.n_tables):
-                self._raw_records.append(self._io.read_bytes(self.record_size))
-                _io__raw_records = KaitaiStream(BytesIO(self._raw_records[i]))
-                self.records.append(Bssrdf.TableRecord(_io__raw_records, self, self._root))
-
-
-
-        def _fetch_instances(self):
-            pass
-            for i in range(len(self.records)):
-                pass
-                self.records[i]._fetch_instances()
-
 
 
     class ThetaCdf(KaitaiStruct):
