@@ -60,6 +60,7 @@
 mod albedo;
 mod io;
 mod lookup;
+mod reflectance;
 mod subset;
 
 pub use crate::error::TableError;
@@ -67,6 +68,7 @@ use albedo::FarField;
 pub use albedo::{AlbedoAxis, AlbedoWeights};
 pub use io::FileTable;
 pub use lookup::{reduced_to_mm, PathSample, Sample, World};
+pub use reflectance::ReflectanceError;
 pub use subset::{check_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
 
 use crate::catmull_rom::{End, Nodes};
