@@ -319,7 +319,10 @@ mod tests {
         use std::f64::consts::FRAC_PI_2;
         for eta in [0.75f64, 0.9, 1.0, 1.0001, 1.33, 1.5, 2.5] {
             let normal = 1.0 - ((eta - 1.0) / (eta + 1.0)).powi(2);
-            assert!((entry_transmittance(0.0, eta) - normal).abs() < 1e-15, "{eta}");
+            assert!(
+                (entry_transmittance(0.0, eta) - normal).abs() < 1e-15,
+                "{eta}"
+            );
             for k in 1..90 {
                 let ti = f64::from(k).to_radians();
                 let sin_t = ti.sin() / eta;
@@ -347,7 +350,10 @@ mod tests {
         let cos_t = (1.0 - 1.0 / (eta * eta)).sqrt();
         let first_order = 2.0 * theta.cos() * (1.0 / (eta * cos_t) + eta / cos_t);
         let got = entry_transmittance(theta, eta);
-        assert!((got / first_order - 1.0).abs() < 1e-9, "{got} {first_order}");
+        assert!(
+            (got / first_order - 1.0).abs() < 1e-9,
+            "{got} {first_order}"
+        );
     }
 
     #[test]

@@ -249,6 +249,9 @@ mod tests {
             assert_eq!(from_order_key(order_key(x)).to_bits(), x.to_bits());
         }
         assert_eq!(order_key(0.0) - order_key(-0.0), 1);
-        assert_eq!(from_order_key(order_key(0.5) + 1), crate::float::next_up(0.5));
+        assert_eq!(
+            from_order_key(order_key(0.5) + 1),
+            crate::float::next_up(0.5)
+        );
     }
 }
