@@ -7,7 +7,7 @@ use super::CliError;
 use bssrdf_zoo::bake::{BakeError, BakedLibrary, Baker, MaterialSpec, OnProgress, Progress};
 use bssrdf_zoo::format::{Compression, LibraryBuilder};
 use bssrdf_zoo::materials::{Library as MaterialLibrary, Material};
-use bssrdf_zoo::scene::artist::{self, EffectiveAlbedo};
+use bssrdf_zoo::scene::artist::{self, ReflectanceCurve};
 use bssrdf_zoo::scene::DEFAULT_ETA;
 use bssrdf_zoo::table::{AngularTable, GridPreset, Lobes};
 use clap::{Args, ValueEnum};
@@ -213,8 +213,8 @@ impl Session {
         super::with_threads(self.threads, || bake(&progress))
     }
 
-    /// The effective-albedo curve at η of `baker` (for the artist's parameters).
-    pub fn curve(&self, baker: &Baker, eta: f64) -> Result<EffectiveAlbedo, artist::ArtistError> {
+    /// The diffuse-reflectance curve at η of `baker` (for the artist's parameters).
+    pub fn curve(&self, baker: &Baker, eta: f64) -> Result<ReflectanceCurve, artist::ArtistError> {
         match super::with_threads(self.threads, || baker.curve(eta)) {
             Ok(result) => result,
             // Only a bad --threads fails here, and it failed before any bake already.
