@@ -68,7 +68,8 @@ pub struct BakeArgs {
     #[arg(long, value_name = "G", value_parser = parse_g, allow_hyphen_values = true)]
     g: Option<[f64; 3]>,
     /// Diffuse reflectance per channel in [0, 1]: a material from the artist's parameters,
-    /// inverted through the table's effective albedo at θ = 0 (with --mfp).
+    /// inverted through the table's diffuse reflectance (1 − F_r) ρ_eff at θ = 0 (with --mfp;
+    /// above the largest, clamped to ρ′ = 1 with a warning).
     #[arg(long, value_name = "R,G,B", value_parser = parse_rgb, allow_hyphen_values = true,
           requires = "mfp")]
     reflectance: Option<[f64; 3]>,
@@ -349,7 +350,7 @@ fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<MaterialS
             .map(|m| Some(MaterialSpec::new(m, "command line: --sigma-s/--sigma-a")))
             .map_err(|e| CliError::input(format!("--sigma-s/--sigma-a material: {e}"))),
         (_, _, Some(reflectance), Some(mfp)) => {
-            let source = format!("command line: reflectance {reflectance:?}, mfp {mfp:?} mm, inverted through the table's rho_eff at theta = 0");
+            let source = format!("command line: reflectance {reflectance:?}, mfp {mfp:?} mm, inverted through the table's (1 - F_r) rho_eff at theta = 0");
             MaterialSpec::diffuse(&name, reflectance, mfp, g, eta, source)
                 .map(Some)
                 .map_err(|e| match e {

@@ -274,6 +274,18 @@ impl Baker {
         ReflectanceCurve::bake(eta, self.moments, &self.grid_at(eta), self.lobes_at(eta))
     }
 
+    /// The table this bake makes at η, alone: every albedo row on its grid with its lobes and
+    /// moments, without the θ-sampling section and unchecked, for lookups that need no file
+    /// (`bssrdf invert` without one). Its rows equal those of the file [`Baker::bake`] writes
+    /// for η, bit for bit. Runs on the current rayon pool.
+    pub fn table(&self, eta: f64) -> Result<AngularTable, BakeError> {
+        let (grid, lobes) = (self.grid_at(eta), self.lobes_at(eta));
+        let rows = 0..grid.rho.len();
+        table::bake_rows_lobes(eta, self.moments, &grid, rows, false, lobes, &|_| {})
+            .map(|(table, _)| table)
+            .map_err(|source| BakeError::Table { eta, source })
+    }
+
     /// Bakes and checks the tables `plan` (η and albedo rows each, in file order), adding them
     /// to `builder`.
     fn bake_tables(
