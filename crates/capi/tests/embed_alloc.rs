@@ -155,3 +155,54 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
     );
     assert_eq!(n, 0, "{n} allocations in 3000 rounds of C lookups");
 }
+
+/// The diffuse reflectance's inverse and range allocate nothing when they succeed, through the
+/// runtime (`TableRef`) and through the C interface (a failure formats its message).
+#[test]
+#[allow(unsafe_code)]
+fn reflectance_inversions_that_succeed_never_allocate() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("skin.bssrdf");
+    let skin = materials::Library::builtin().get("skin1").unwrap().clone();
+    bake_library(&[&skin], Grid::ferrier(12, 5, 16))
+        .unwrap()
+        .write(&path)
+        .unwrap();
+    let table = bssrdf_zoo::embed::Library::read(&path)
+        .unwrap()
+        .table(0)
+        .unwrap();
+    let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+    let mut library = std::ptr::null_mut();
+    // SAFETY: a valid string and output; the handle is closed below, once.
+    assert_eq!(
+        unsafe { capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library) },
+        0
+    );
+    let mut rng = SplitMix64::new(5);
+    let mut sink = 0.0;
+    let n = allocations(|| {
+        for _ in 0..3000 {
+            // θ below 89° and A inside the range: every call succeeds.
+            let theta = 1.55 * rng.next_f64();
+            let view = table.view();
+            let [_, max] = view.reflectance_range(theta).unwrap();
+            let a = max * rng.next_f64();
+            sink += view.rho_prime_for_reflectance(a, theta).unwrap();
+            let (mut rho, mut lo, mut hi) = (0.0, 0.0, 0.0);
+            // SAFETY: a live library handle and valid outputs.
+            let statuses = unsafe {
+                [
+                    capi::bssrdf_library_reflectance_range(library, 0, theta, &mut lo, &mut hi),
+                    capi::bssrdf_library_invert_albedo(library, 0, a, theta, &mut rho),
+                ]
+            };
+            assert_eq!(statuses, [0, 0]);
+            sink += rho + hi;
+        }
+    });
+    // SAFETY: the handle from above, closed once.
+    unsafe { capi::bssrdf_library_close(library) };
+    assert!(sink.is_finite() && sink > 0.0);
+    assert_eq!(n, 0, "{n} allocations in 3000 rounds of inversions");
+}

@@ -5,7 +5,7 @@
  * interface and requires the same status and the same bits (the C interface returns the
  * doubles of the same Rust code, so equality is exact).
  *
- *   capi_test LIBRARY_FILE EXPECTATIONS_FILE
+ *   capi_test LIBRARY_FILE EXPECTATIONS_FILE [REFLECTANCE_EXPECTATIONS_FILE]
  *
  * Expectations, one per line, doubles as 16 hex digits of their IEEE-754 bits:
  *   M material channel status            make the current channel (status expected)
@@ -19,6 +19,9 @@
  * Values after a failing status are written as 0 and not compared; outputs must then be
  * untouched. The whole file is run for both open modes, the second time with the library
  * closed as soon as each channel is made (channels keep the file open).
+ *
+ * The diffuse reflectance's functions read a file of their own (section "Diffuse
+ * reflectance" below).
  *
  * Prints "ok: N checks" and exits 0, or prints each mismatch and exits 1 (2 for usage/IO).
  */
@@ -251,10 +254,80 @@ static const any_function every_function[] = {
     (any_function)bssrdf_status_name,
 };
 
+/* ---- Diffuse reflectance: bssrdf_library_reflectance_range, bssrdf_library_invert_albedo.
+ * Expectations, one per line, doubles as 16 hex digits of their IEEE-754 bits:
+ *   G table theta status min max             bssrdf_library_reflectance_range
+ *   R table reflectance theta status rho'    bssrdf_library_invert_albedo
+ * Values after a failing status are written as 0 and not compared; outputs must then be
+ * untouched. */
+static const any_function reflectance_functions[] = {
+    (any_function)bssrdf_library_reflectance_range,
+    (any_function)bssrdf_library_invert_albedo,
+};
+
+static void reflectance_checks(const char *library_path, const char *expectations,
+                               uint32_t flags) {
+    FILE *f = fopen(expectations, "r");
+    bssrdf_library *library = NULL;
+    char kind[4];
+    int line = 0;
+    size_t k;
+    for (k = 0; k < sizeof reflectance_functions / sizeof reflectance_functions[0]; k++) {
+        if (reflectance_functions[k] == NULL) {
+            fail(0, "a function resolved to NULL");
+        }
+    }
+    if (f == NULL) {
+        perror(expectations);
+        exit(2);
+    }
+    same_status(0, "open", bssrdf_library_open(library_path, flags, &library), BSSRDF_OK);
+    if (library == NULL) {
+        exit(1);
+    }
+    while (fscanf(f, "%3s", kind) == 1) {
+        unsigned long table;
+        double v[3];
+        int status, want;
+        line++;
+        if (fscanf(f, "%lu", &table) != 1) {
+            break;
+        }
+        if (kind[0] == 'G') {
+            double lo = -7.0, hi = -7.0;
+            if (!read_double(f, &v[0]) || fscanf(f, "%d", &want) != 1 ||
+                !read_doubles(f, v + 1, 2)) {
+                break;
+            }
+            status = bssrdf_library_reflectance_range(library, (size_t)table, v[0], &lo, &hi);
+            same_status(line, "reflectance_range", status, want);
+            same_bits(line, "min", lo, status == BSSRDF_OK ? v[1] : -7.0);
+            same_bits(line, "max", hi, status == BSSRDF_OK ? v[2] : -7.0);
+        } else if (kind[0] == 'R') {
+            double rho = -7.0;
+            if (!read_doubles(f, v, 2) || fscanf(f, "%d", &want) != 1 || !read_double(f, &v[2])) {
+                break;
+            }
+            status = bssrdf_library_invert_albedo(library, (size_t)table, v[0], v[1], &rho);
+            same_status(line, "invert_albedo", status, want);
+            same_bits(line, "rho'", rho, status == BSSRDF_OK ? v[2] : -7.0);
+        } else {
+            fail(line, "unknown reflectance expectation kind");
+            break;
+        }
+    }
+    if (!feof(f)) {
+        fail(line, "malformed reflectance expectations file");
+    }
+    fclose(f);
+    bssrdf_library_close(library);
+}
+
 int main(int argc, char **argv) {
     size_t k;
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s LIBRARY_FILE EXPECTATIONS_FILE\n", argv[0]);
+    if (argc != 3 && argc != 4) {
+        fprintf(stderr, "usage: %s LIBRARY_FILE EXPECTATIONS_FILE [REFLECTANCE_EXPECTATIONS_FILE]\n",
+                argv[0]);
         return 2;
     }
     for (k = 0; k < sizeof every_function / sizeof every_function[0]; k++) {
@@ -265,6 +338,10 @@ int main(int argc, char **argv) {
     boundary_checks(argv[1]);
     run(argv[1], argv[2], BSSRDF_OPEN_MAP, 0);
     run(argv[1], argv[2], BSSRDF_OPEN_READ, 1);
+    if (argc == 4) {
+        reflectance_checks(argv[1], argv[3], BSSRDF_OPEN_MAP);
+        reflectance_checks(argv[1], argv[3], BSSRDF_OPEN_READ);
+    }
     if (failures != 0) {
         fprintf(stderr, "%d of %ld checks failed\n", failures, checks);
         return 1;
