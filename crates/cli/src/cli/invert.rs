@@ -205,14 +205,13 @@ fn invert_and_print(
                 .map_err(|e| refuse(k, e))
         })
         .collect::<Result<_, _>>()?;
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    if args.json {
+    // One line: the ρ′ values, or the JSON object.
+    let line = if args.json {
         let rho_eff: Vec<Option<f64>> = rho
             .iter()
             .map(|&r| view.effective_albedo(r, theta))
             .collect();
-        let object = json!({
+        json!({
             "eta": view.eta(),
             "fresnel_moments": moments.name(),
             "table": table,
@@ -223,12 +222,15 @@ fn invert_and_print(
             "reflectance": values,
             "rho_prime": rho,
             "effective_albedo": rho_eff,
-        });
-        writeln!(out, "{object}")?;
+        })
+        .to_string()
     } else {
-        let text: Vec<String> = rho.iter().map(|r| r.to_string()).collect();
-        writeln!(out, "{}", text.join(","))?;
-    }
+        let text: Vec<String> = rho.iter().map(f64::to_string).collect();
+        text.join(",")
+    };
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    writeln!(out, "{line}")?;
     out.flush()?;
     Ok(ExitCode::SUCCESS)
 }

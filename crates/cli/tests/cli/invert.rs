@@ -137,19 +137,7 @@ fn invert_refuses_every_value_outside_its_domain() {
     fn file<'a>(extra: &[&'a str]) -> Vec<&'a str> {
         [&["t.bssrdf"][..], extra].concat()
     }
-    // Reflectances: above the table's range (named with it), outside [0, 1], not numbers
-    refused(
-        &file(&["--reflectance", "0.95"]),
-        "--reflectance 0.95 is outside the valid range: [0, 0.93",
-    );
-    refused(
-        &file(&["--reflectance", "0.5,0.5,0.95"]),
-        "--reflectance[b] 0.95 is outside the valid range: [0, 0.93",
-    );
-    refused(
-        &file(&["--reflectance", "0.5", "--theta", "89.9"]),
-        "--reflectance 0.5 is outside the valid range: [0, 0.01",
-    );
+    // Reflectances outside [0, 1] or not numbers (the table's own range is below)
     for (value, needle) in [
         (
             "-0.1",
@@ -207,55 +195,88 @@ fn invert_refuses_every_value_outside_its_domain() {
         refused(&file(&["--reflectance", "0.5", flag, value]), needle);
         refused(&["--reflectance", "0.5", flag, value], needle);
     }
-    // No light: grazing incidence, beyond the critical angle
-    refused(
-        &file(&["--reflectance", "0", "--theta", "90"]),
-        "--theta 90: no light enters at grazing incidence",
-    );
-    refused(
-        &["--reflectance", "0.1", "--theta", "90"],
-        "--theta 90: no light enters at grazing incidence",
-    );
-    refused(
-        &["--reflectance", "0.1", "--theta", "60", "--eta", "0.8"],
-        "--theta 60: no light enters beyond the critical angle, asin(eta = 0.8) = 53.1",
-    );
-    // Flags that need a FILE, or that a FILE's table makes meaningless
-    refused(
-        &["--reflectance", "0.5", "--table", "0"],
-        "--table chooses how to read a library FILE",
-    );
-    refused(
-        &["--reflectance", "0.5", "--mmap"],
-        "--mmap chooses how to read a library FILE",
-    );
-    for (flag, value) in [
-        ("--grid", "coarse"),
-        ("--fresnel-moments", "pbrt"),
-        ("--threads", "2"),
-    ] {
-        refused(
-            &file(&["--reflectance", "0.5", flag, value]),
-            &format!("{flag} sets the table baked without a FILE"),
-        );
+    // Reflectances above the table's range (named with it); no light (grazing incidence,
+    // beyond the critical angle); flags that need a FILE or that a FILE's table makes
+    // meaningless; tables the file does not hold.
+    let cases: [(&[&str], &str); 15] = [
+        (
+            &["t.bssrdf", "--reflectance", "0.95"],
+            "--reflectance 0.95 is outside the valid range: [0, 0.93",
+        ),
+        (
+            &["t.bssrdf", "--reflectance", "0.5,0.5,0.95"],
+            "--reflectance[b] 0.95 is outside the valid range: [0, 0.93",
+        ),
+        (
+            &["t.bssrdf", "--reflectance", "0.5", "--theta", "89.9"],
+            "--reflectance 0.5 is outside the valid range: [0, 0.01",
+        ),
+        (
+            &["t.bssrdf", "--reflectance", "0", "--theta", "90"],
+            "--theta 90: no light enters at grazing incidence",
+        ),
+        (
+            &["--reflectance", "0.1", "--theta", "90"],
+            "--theta 90: no light enters at grazing incidence",
+        ),
+        (
+            &["--reflectance", "0.1", "--theta", "60", "--eta", "0.8"],
+            "--theta 60: no light enters beyond the critical angle, asin(eta = 0.8) = 53.1",
+        ),
+        (
+            &["--reflectance", "0.5", "--table", "0"],
+            "--table chooses how to read a library FILE",
+        ),
+        (
+            &["--reflectance", "0.5", "--mmap"],
+            "--mmap chooses how to read a library FILE",
+        ),
+        (
+            &["t.bssrdf", "--reflectance", "0.5", "--grid", "coarse"],
+            "--grid sets the table baked without a FILE",
+        ),
+        (
+            &[
+                "t.bssrdf",
+                "--reflectance",
+                "0.5",
+                "--fresnel-moments",
+                "pbrt",
+            ],
+            "--fresnel-moments sets the table baked without a FILE",
+        ),
+        (
+            &["t.bssrdf", "--reflectance", "0.5", "--threads", "2"],
+            "--threads sets the table baked without a FILE",
+        ),
+        (
+            &["--reflectance", "0.5", "--threads", "0"],
+            "--threads 0 is outside the valid range",
+        ),
+        (
+            &["t.bssrdf", "--reflectance", "0.5", "--table", "3"],
+            "--table 3: t.bssrdf holds 1 table(s)",
+        ),
+        (
+            &["t.bssrdf", "--reflectance", "0.5", "--eta", "1.5"],
+            "--eta 1.5: t.bssrdf has no table at this eta; its tables: 1.33 (table 0)",
+        ),
+        (
+            &[
+                "t.bssrdf",
+                "--reflectance",
+                "0.5",
+                "--eta",
+                "1.5",
+                "--table",
+                "0",
+            ],
+            "--table 0 holds eta 1.33, not --eta 1.5",
+        ),
+    ];
+    for (args, needle) in cases {
+        refused(args, needle);
     }
-    refused(
-        &["--reflectance", "0.5", "--threads", "0"],
-        "--threads 0 is outside the valid range",
-    );
-    // Tables the file does not hold
-    refused(
-        &file(&["--reflectance", "0.5", "--table", "3"]),
-        "--table 3: t.bssrdf holds 1 table(s)",
-    );
-    refused(
-        &file(&["--reflectance", "0.5", "--eta", "1.5"]),
-        "--eta 1.5: t.bssrdf has no table at this eta; its tables: 1.33 (table 0)",
-    );
-    refused(
-        &file(&["--reflectance", "0.5", "--eta", "1.5", "--table", "0"]),
-        "--table 0 holds eta 1.33, not --eta 1.5",
-    );
     refused(&file(&[]), "--reflectance");
 }
 
