@@ -41,13 +41,14 @@
 //! The solver is bisection with a fixed sequence of probes: first over the albedo nodes, then
 //! over the f64 values between the two nodes that bracket A, halving the distance between their
 //! order keys (the bit patterns, arranged so that integer order is the numbers' order), so that
-//! it ends on two neighbouring f64 after at most 64 steps whatever the scale of ρ′ (an A of
-//! 1e-300 needs ρ′ near 1e-150, which halving the interval itself would take 500 steps to reach). Each step keeps
-//! A(lo) ≤ A < A(hi); the end takes whichever of the two neighbours is closer in A. Every probe
-//! depends only on the outcomes of the comparisons before it, so for A₁ < A₂ the two searches
-//! agree until the first probe p they judge differently, after which the first stays ≤ p and the
-//! second ≥ p: the inverse is monotone in A by construction, even where f32 rounding makes the
-//! curve step down by an ulp. It costs about 70 lookups of ρ_eff.
+//! it ends on two neighbouring f64 after at most 64 steps whatever the scale of ρ′ (A = 1e-30
+//! needs ρ′ ≈ 1e-15, which halving the interval itself would take about 100 steps to resolve
+//! to its last bit). Each step keeps A(lo) ≤ A < A(hi); the end takes whichever of the two
+//! neighbours is closer in A. Every probe depends only on the outcomes of the comparisons
+//! before it, so for A₁ < A₂ the two searches agree until the first probe p they judge
+//! differently, after which the first stays ≤ p and the second ≥ p: the inverse is monotone in
+//! A by construction, even where f32 rounding makes the curve step down (by about 1e-7 of A).
+//! It costs about 70 lookups of ρ_eff.
 
 use super::TableRef;
 use crate::error::number;
