@@ -177,6 +177,35 @@ const char *bssrdf_last_error_message(void);
 /* The name of a status code's constant ("BSSRDF_ERROR_IO", ...), or "unknown status". Static. */
 const char *bssrdf_status_name(int status);
 
+/* Diffuse reflectance: the reduced albedo for an artist's colour.
+ *
+ * For light arriving at incidence theta (radians, before refraction) the diffuse reflectance of
+ * a medium of reduced albedo rho' on a table of relative index eta is
+ *   A(rho', theta) = (1 - F_r(cos theta; eta)) rho_eff(rho', theta):
+ * the multiply scattered power leaving the surface (anywhere, in any direction) per unit power
+ * ARRIVING. rho_eff (bssrdf_channel_effective_albedo) is per unit power entering and already
+ * holds the exit Fresnel transmission; 1 - F_r is the unpolarised Fresnel transmittance at
+ * entry. What the boundary reflects at once, F_r, is the renderer's specular lobe, not part of
+ * A; single scattering is not in the model. Defined in docs/physics.md. */
+
+/* The reflectances table `table` reaches at incidence theta: A at its first and at its last
+ * albedo row ([0, A(rho' = 1)] for a full table, e.g. [0, 0.931] at theta = 0, eta = 1.33 on the
+ * default grid; [0, 0] where no light enters: grazing incidence, beyond the critical angle of
+ * an eta below 1). BSSRDF_ERROR_NOT_FOUND for a table index past the end,
+ * BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table or NaN. */
+int bssrdf_library_reflectance_range(const bssrdf_library *library, size_t table, double theta,
+                                     double *out_min, double *out_max);
+
+/* The reduced albedo rho' whose diffuse reflectance A(rho', theta) on table `table` is
+ * `reflectance`, in *out_rho_prime: solved on the table's own curve to its resolution (about
+ * 1e-7 of A), monotone in the reflectance. No silent clamp: BSSRDF_ERROR_OUT_OF_RANGE for a
+ * reflectance outside bssrdf_library_reflectance_range or NaN (the message names the value and
+ * the range), for theta outside the table or NaN, and where no light enters at theta;
+ * BSSRDF_ERROR_NOT_FOUND for a table index past the end. Allocates nothing on success (a
+ * failure formats its message). */
+int bssrdf_library_invert_albedo(const bssrdf_library *library, size_t table, double reflectance,
+                                 double theta, double *out_rho_prime);
+
 #ifdef __cplusplus
 }
 #endif

@@ -20,7 +20,8 @@
 //! library may be closed first. Both are immutable: any number of threads may use the same
 //! handle at once; only closing or releasing it must not race with its other uses.
 //!
-//! This module and `format::map` are the only places with `unsafe` code. Here it is only
+//! This module (with its submodule `reflectance`) and `format::map` are the only places with
+//! `unsafe` code. Here it is only
 //! pointer reads and writes at the boundary, and `#[no_mangle]` (which the lint also counts).
 #![allow(unsafe_code)]
 // C names, as the header spells them.
@@ -33,6 +34,10 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use bssrdf_runtime::embed::Rgb;
 use bssrdf_runtime::embed::{ChannelLookup, EmbedError, Library};
 use bssrdf_runtime::format::FormatError;
+
+// The diffuse reflectance's inverse and range (header section "Diffuse reflectance").
+mod reflectance;
+pub use reflectance::{bssrdf_library_invert_albedo, bssrdf_library_reflectance_range};
 
 /// Success.
 pub const BSSRDF_OK: c_int = 0;

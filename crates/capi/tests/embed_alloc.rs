@@ -85,11 +85,11 @@ fn rust_handle_lookups_and_clones_never_allocate() {
     assert_eq!(n, 0, "{n} allocations in 3000 rounds of lookups");
 }
 
-#[test]
+/// skin1 on a small grid, written to `dir` and opened through the C interface: its path and
+/// the library handle (the caller closes it).
 #[allow(unsafe_code)]
-fn c_interface_lookups_never_allocate_even_when_they_fail() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("skin.bssrdf");
+fn skin_file(dir: &std::path::Path) -> (std::path::PathBuf, *mut capi::bssrdf_library) {
+    let path = dir.join("skin.bssrdf");
     let skin = materials::Library::builtin().get("skin1").unwrap().clone();
     bake_library(&[&skin], Grid::ferrier(12, 5, 16))
         .unwrap()
@@ -97,13 +97,20 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
         .unwrap();
     let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
     let mut library = std::ptr::null_mut();
+    // SAFETY: a valid string and output.
+    let status = unsafe { capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library) };
+    assert_eq!(status, 0);
+    (path, library)
+}
+
+#[test]
+#[allow(unsafe_code)]
+fn c_interface_lookups_never_allocate_even_when_they_fail() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, library) = skin_file(dir.path());
     let mut channel = std::ptr::null_mut();
-    // SAFETY: valid strings and outputs; the handles are released below, once.
+    // SAFETY: a live library, a valid string and output; the handles are released below, once.
     unsafe {
-        assert_eq!(
-            capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library),
-            0
-        );
         let status = capi::bssrdf_library_channel(library, c"skin1".as_ptr(), 1, &mut channel);
         assert_eq!(status, 0);
     }
@@ -154,4 +161,43 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
         "the failure paths ran ({failures} failures)"
     );
     assert_eq!(n, 0, "{n} allocations in 3000 rounds of C lookups");
+}
+
+/// The diffuse reflectance's inverse and range allocate nothing when they succeed, through the
+/// runtime (`TableRef`) and through the C interface (a failure formats its message).
+#[test]
+#[allow(unsafe_code)]
+fn reflectance_inversions_that_succeed_never_allocate() {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, library) = skin_file(dir.path());
+    let table = bssrdf_zoo::embed::Library::read(&path)
+        .unwrap()
+        .table(0)
+        .unwrap();
+    let mut rng = SplitMix64::new(5);
+    let mut sink = 0.0;
+    let n = allocations(|| {
+        for _ in 0..3000 {
+            // θ below 89° and A inside the range: every call succeeds.
+            let theta = 1.55 * rng.next_f64();
+            let view = table.view();
+            let [_, max] = view.reflectance_range(theta).unwrap();
+            let a = max * rng.next_f64();
+            sink += view.rho_prime_for_reflectance(a, theta).unwrap();
+            let (mut rho, mut lo, mut hi) = (0.0, 0.0, 0.0);
+            // SAFETY: a live library handle and valid outputs.
+            let statuses = unsafe {
+                [
+                    capi::bssrdf_library_reflectance_range(library, 0, theta, &mut lo, &mut hi),
+                    capi::bssrdf_library_invert_albedo(library, 0, a, theta, &mut rho),
+                ]
+            };
+            assert_eq!(statuses, [0, 0]);
+            sink += rho + hi;
+        }
+    });
+    // SAFETY: the handle from above, closed once.
+    unsafe { capi::bssrdf_library_close(library) };
+    assert!(sink.is_finite() && sink > 0.0);
+    assert_eq!(n, 0, "{n} allocations in 3000 rounds of inversions");
 }

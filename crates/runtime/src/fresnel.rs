@@ -98,6 +98,32 @@ pub fn transmittance(cos_i: f64, eta: f64) -> f64 {
     1.0 - reflectance(cos_i, eta)
 }
 
+/// T(θ) = 1 − F_r: the unpolarised Fresnel transmittance into a medium of relative index η for
+/// light arriving from outside at incidence θ (radians from the normal, before refraction). It
+/// is 0 at grazing incidence (the f64 nearest π/2 stands for 90° exactly, as in
+/// [`refracted_cos`]), beyond the critical angle (η < 1), and for θ outside [0, π/2] or NaN.
+///
+/// Computed as the sum of the two polarisations' transmittances, 1 − r² = 4ab/(a + b)² for
+/// r = (a − b)/(a + b), rather than 1 − [`reflectance`]: near grazing incidence, where
+/// F_r → 1, that difference would lose the digits of T.
+pub fn entry_transmittance(theta: f64, eta: f64) -> f64 {
+    let Some(cos_t) = refracted_cos(theta, eta) else {
+        return 0.0;
+    };
+    let cos_i = if theta == std::f64::consts::FRAC_PI_2 {
+        0.0
+    } else {
+        theta.cos()
+    };
+    // t_s = 4 cos_i η cos_t / (cos_i + η cos_t)², t_p = 4 η cos_i cos_t / (η cos_i + cos_t)²
+    let numerator = 2.0 * eta * cos_i * cos_t;
+    let (s, p) = (cos_i + eta * cos_t, eta * cos_i + cos_t);
+    if numerator == 0.0 {
+        return 0.0;
+    }
+    numerator / (s * s) + numerator / (p * p)
+}
+
 /// Exact n-th hemispherical moment of the internal reflectance, F_n(η) = ∫₀¹ F_r(μ; 1/η) μⁿ dμ.
 ///
 /// For η > 1, light inside is totally reflected for μ < μ_c = √(1 − 1/η²); that part integrates
@@ -283,6 +309,51 @@ mod tests {
             assert!((deon_irving_moment1(eta) - pbrt_moment1(eta)).abs() < 2e-4);
             assert!((deon_irving_moment2(eta) - pbrt_moment2(eta)).abs() < 2e-4);
         }
+    }
+
+    /// T(θ) against the textbook form in angles, R_s = sin²(θi − θt)/sin²(θi + θt) and
+    /// R_p = tan²(θi − θt)/tan²(θi + θt) (θ > 0), and ((η − 1)/(η + 1))² at θ = 0; and against
+    /// 1 − [`reflectance`] where that difference keeps its digits.
+    #[test]
+    fn entry_transmittance_matches_the_fresnel_equations_in_angles() {
+        use std::f64::consts::FRAC_PI_2;
+        for eta in [0.75f64, 0.9, 1.0, 1.0001, 1.33, 1.5, 2.5] {
+            let normal = 1.0 - ((eta - 1.0) / (eta + 1.0)).powi(2);
+            assert!(
+                (entry_transmittance(0.0, eta) - normal).abs() < 1e-15,
+                "{eta}"
+            );
+            for k in 1..90 {
+                let ti = f64::from(k).to_radians();
+                let sin_t = ti.sin() / eta;
+                if sin_t >= 1.0 {
+                    assert_eq!(entry_transmittance(ti, eta), 0.0, "{eta} {k}");
+                    continue;
+                }
+                let tt = sin_t.asin();
+                let r_s = ((ti - tt).sin() / (ti + tt).sin()).powi(2);
+                let r_p = ((ti - tt).tan() / (ti + tt).tan()).powi(2);
+                let closed = 1.0 - 0.5 * (r_s + r_p);
+                let got = entry_transmittance(ti, eta);
+                assert!((got - closed).abs() < 1e-12, "{eta} {k}: {got} {closed}");
+                assert!((got - transmittance(ti.cos(), eta)).abs() < 1e-14);
+            }
+            assert_eq!(entry_transmittance(FRAC_PI_2, eta), 0.0);
+            for bad in [-1e-9, FRAC_PI_2 + 1e-9, f64::NAN] {
+                assert_eq!(entry_transmittance(bad, eta), 0.0);
+            }
+        }
+        // Near grazing the transmittance keeps its digits: to first order in cos θ,
+        // T = 2 cos θ (1/(η cos θ′) + η/cos θ′), the s and p halves.
+        let eta = 1.33f64;
+        let theta = FRAC_PI_2 - 1e-12;
+        let cos_t = (1.0 - 1.0 / (eta * eta)).sqrt();
+        let first_order = 2.0 * theta.cos() * (1.0 / (eta * cos_t) + eta / cos_t);
+        let got = entry_transmittance(theta, eta);
+        assert!(
+            (got / first_order - 1.0).abs() < 1e-9,
+            "{got} {first_order}"
+        );
     }
 
     #[test]

@@ -5,7 +5,7 @@
  * interface and requires the same status and the same bits (the C interface returns the
  * doubles of the same Rust code, so equality is exact).
  *
- *   capi_test LIBRARY_FILE EXPECTATIONS_FILE
+ *   capi_test LIBRARY_FILE EXPECTATIONS_FILE [REFLECTANCE_EXPECTATIONS_FILE]
  *
  * Expectations, one per line, doubles as 16 hex digits of their IEEE-754 bits:
  *   M material channel status            make the current channel (status expected)
@@ -19,6 +19,9 @@
  * Values after a failing status are written as 0 and not compared; outputs must then be
  * untouched. The whole file is run for both open modes, the second time with the library
  * closed as soon as each channel is made (channels keep the file open).
+ *
+ * The diffuse reflectance's functions read a file of their own (section "Diffuse
+ * reflectance" below).
  *
  * Prints "ok: N checks" and exits 0, or prints each mismatch and exits 1 (2 for usage/IO).
  */
@@ -251,10 +254,75 @@ static const any_function every_function[] = {
     (any_function)bssrdf_status_name,
 };
 
+/* ---- Diffuse reflectance: bssrdf_library_reflectance_range, bssrdf_library_invert_albedo.
+ * Expectations, one per line, doubles as 16 hex digits of their IEEE-754 bits:
+ *   G table theta status min max             bssrdf_library_reflectance_range
+ *   R table reflectance theta status rho'    bssrdf_library_invert_albedo
+ * Values after a failing status are written as 0 and not compared; outputs must then be
+ * untouched. */
+static const any_function reflectance_functions[] = {
+    (any_function)bssrdf_library_reflectance_range,
+    (any_function)bssrdf_library_invert_albedo,
+};
+
+/* A double from the 16 hex digits of its bits. */
+static double from_bits(const char *hex) {
+    unsigned long long bits = strtoull(hex, NULL, 16);
+    double out;
+    memcpy(&out, &bits, sizeof out);
+    return out;
+}
+
+static void reflectance_checks(const char *library_path, const char *expectations,
+                               uint32_t flags) {
+    FILE *f = fopen(expectations, "r");
+    bssrdf_library *library = NULL;
+    char text[256], a[24], b[24], c[24];
+    int line = 0;
+    size_t k;
+    for (k = 0; k < sizeof reflectance_functions / sizeof reflectance_functions[0]; k++) {
+        if (reflectance_functions[k] == NULL) {
+            fail(0, "a function resolved to NULL");
+        }
+    }
+    if (f == NULL) {
+        perror(expectations);
+        exit(2);
+    }
+    same_status(0, "open", bssrdf_library_open(library_path, flags, &library), BSSRDF_OK);
+    /* One expectation per line, parsed whole. */
+    while (library != NULL && fgets(text, sizeof text, f) != NULL) {
+        unsigned long table;
+        int want, status;
+        double lo = -7.0, hi = -7.0, rho = -7.0;
+        line++;
+        if (sscanf(text, "G %lu %23s %d %23s %23s", &table, a, &want, b, c) == 5) {
+            status = bssrdf_library_reflectance_range(library, (size_t)table, from_bits(a), &lo,
+                                                      &hi);
+            same_status(line, "reflectance_range", status, want);
+            same_bits(line, "min", lo, status == BSSRDF_OK ? from_bits(b) : -7.0);
+            same_bits(line, "max", hi, status == BSSRDF_OK ? from_bits(c) : -7.0);
+        } else if (sscanf(text, "R %lu %23s %23s %d %23s", &table, a, b, &want, c) == 5) {
+            status = bssrdf_library_invert_albedo(library, (size_t)table, from_bits(a),
+                                                  from_bits(b), &rho);
+            same_status(line, "invert_albedo", status, want);
+            same_bits(line, "rho'", rho, status == BSSRDF_OK ? from_bits(c) : -7.0);
+        } else {
+            fail(line, "malformed reflectance expectation");
+        }
+    }
+    if (line == 0) {
+        fail(0, "no reflectance expectations");
+    }
+    fclose(f);
+    bssrdf_library_close(library);
+}
+
 int main(int argc, char **argv) {
     size_t k;
-    if (argc != 3) {
-        fprintf(stderr, "usage: %s LIBRARY_FILE EXPECTATIONS_FILE\n", argv[0]);
+    if (argc != 3 && argc != 4) {
+        fprintf(stderr, "usage: %s LIBRARY_FILE EXPECTATIONS_FILE [REFLECTANCE_EXPECTATIONS_FILE]\n",
+                argv[0]);
         return 2;
     }
     for (k = 0; k < sizeof every_function / sizeof every_function[0]; k++) {
@@ -265,6 +333,10 @@ int main(int argc, char **argv) {
     boundary_checks(argv[1]);
     run(argv[1], argv[2], BSSRDF_OPEN_MAP, 0);
     run(argv[1], argv[2], BSSRDF_OPEN_READ, 1);
+    if (argc == 4) {
+        reflectance_checks(argv[1], argv[3], BSSRDF_OPEN_MAP);
+        reflectance_checks(argv[1], argv[3], BSSRDF_OPEN_READ);
+    }
     if (failures != 0) {
         fprintf(stderr, "%d of %ld checks failed\n", failures, checks);
         return 1;

@@ -272,11 +272,14 @@ fn run_capi_test(cc: &str, sanitize: bool) {
     let (library, path) = bake(dir.path());
     let expected = dir.path().join("expected.txt");
     std::fs::write(&expected, expectations(&library)).unwrap();
+    let reflectance = dir.path().join("reflectance.txt");
+    std::fs::write(&reflectance, crate::reflectance::expectations(&library)).unwrap();
     let exe = dir.path().join("capi_test");
     compile(cc, "tests/c/capi_test.c", &exe, sanitize);
     let out = Command::new(&exe)
         .arg(&path)
         .arg(&expected)
+        .arg(&reflectance)
         .output()
         .unwrap();
     let (stdout, stderr) = (

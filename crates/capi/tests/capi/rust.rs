@@ -20,15 +20,15 @@ fn grid() -> Grid {
 
 /// Random points per channel and open mode in the comparison with the Rust API (Miri runs
 /// them a thousandfold slower).
-const ROUNDS: usize = if cfg!(miri) { 3 } else { 300 };
+pub(crate) const ROUNDS: usize = if cfg!(miri) { 3 } else { 300 };
 
 /// skin1 (η 1.3) and coke (η 1.33; its blue channel has σs = 0, so ρ′ = 0) in a file.
-fn baked(dir: &std::path::Path) -> CString {
+pub(crate) fn baked(dir: &std::path::Path) -> CString {
     let path = crate::fixture::scene(dir, &grid());
     CString::new(path.to_str().unwrap()).unwrap()
 }
 
-fn last_error() -> String {
+pub(crate) fn last_error() -> String {
     // SAFETY: never NULL, NUL-terminated, valid until the next failing call on this thread.
     unsafe { CStr::from_ptr(bssrdf_last_error_message()) }
         .to_string_lossy()
@@ -37,7 +37,7 @@ fn last_error() -> String {
 
 /// Asserts a status and, for a failure, that the message contains `needle`.
 #[track_caller]
-fn expect(status: c_int, code: c_int, needle: &str) {
+pub(crate) fn expect(status: c_int, code: c_int, needle: &str) {
     // SAFETY: a static string.
     let name = unsafe { CStr::from_ptr(bssrdf_status_name(status)) };
     assert_eq!(status, code, "got {name:?}: {}", last_error());
@@ -50,7 +50,7 @@ fn expect(status: c_int, code: c_int, needle: &str) {
     }
 }
 
-fn open(path: &CStr, flags: u32) -> *mut bssrdf_library {
+pub(crate) fn open(path: &CStr, flags: u32) -> *mut bssrdf_library {
     let mut library = null_mut();
     // SAFETY: a valid string and output.
     expect(

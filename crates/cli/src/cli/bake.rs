@@ -7,7 +7,7 @@ use super::CliError;
 use bssrdf_zoo::bake::{BakeError, BakedLibrary, Baker, MaterialSpec, OnProgress, Progress};
 use bssrdf_zoo::format::{Compression, LibraryBuilder};
 use bssrdf_zoo::materials::{Library as MaterialLibrary, Material};
-use bssrdf_zoo::scene::artist::{self, EffectiveAlbedo};
+use bssrdf_zoo::scene::artist::{self, ReflectanceCurve};
 use bssrdf_zoo::scene::DEFAULT_ETA;
 use bssrdf_zoo::table::{AngularTable, GridPreset, Lobes};
 use clap::{Args, ValueEnum};
@@ -68,7 +68,8 @@ pub struct BakeArgs {
     #[arg(long, value_name = "G", value_parser = parse_g, allow_hyphen_values = true)]
     g: Option<[f64; 3]>,
     /// Diffuse reflectance per channel in [0, 1]: a material from the artist's parameters,
-    /// inverted through the table's effective albedo at θ = 0 (with --mfp).
+    /// inverted through the table's diffuse reflectance (1 − F_r) ρ_eff at θ = 0 (with --mfp;
+    /// above the largest, clamped to ρ′ = 1 with a warning).
     #[arg(long, value_name = "R,G,B", value_parser = parse_rgb, allow_hyphen_values = true,
           requires = "mfp")]
     reflectance: Option<[f64; 3]>,
@@ -213,8 +214,8 @@ impl Session {
         super::with_threads(self.threads, || bake(&progress))
     }
 
-    /// The effective-albedo curve at η of `baker` (for the artist's parameters).
-    pub fn curve(&self, baker: &Baker, eta: f64) -> Result<EffectiveAlbedo, artist::ArtistError> {
+    /// The diffuse-reflectance curve at η of `baker` (for the artist's parameters).
+    pub fn curve(&self, baker: &Baker, eta: f64) -> Result<ReflectanceCurve, artist::ArtistError> {
         match super::with_threads(self.threads, || baker.curve(eta)) {
             Ok(result) => result,
             // Only a bad --threads fails here, and it failed before any bake already.
@@ -349,7 +350,7 @@ fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<MaterialS
             .map(|m| Some(MaterialSpec::new(m, "command line: --sigma-s/--sigma-a")))
             .map_err(|e| CliError::input(format!("--sigma-s/--sigma-a material: {e}"))),
         (_, _, Some(reflectance), Some(mfp)) => {
-            let source = format!("command line: reflectance {reflectance:?}, mfp {mfp:?} mm, inverted through the table's rho_eff at theta = 0");
+            let source = format!("command line: reflectance {reflectance:?}, mfp {mfp:?} mm, inverted through the table's (1 - F_r) rho_eff at theta = 0");
             MaterialSpec::diffuse(&name, reflectance, mfp, g, eta, source)
                 .map(Some)
                 .map_err(|e| match e {

@@ -111,6 +111,18 @@ fn keeps(library: &Library, index: usize, rho: f64) -> bool {
 }
 
 impl TableChoice {
+    /// A choice by --table and --eta only (no material), for commands that take no material.
+    pub fn of_table(table: Option<usize>, eta: Option<f64>, mmap: bool) -> Self {
+        Self {
+            table,
+            eta,
+            material: None,
+            channel: None,
+            materials: None,
+            mmap,
+        }
+    }
+
     /// The colour channel of --material (red unless --channel says otherwise).
     pub fn channel(&self) -> Rgb {
         self.channel.unwrap_or(Channel::R).rgb()

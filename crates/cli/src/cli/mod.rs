@@ -6,6 +6,7 @@ mod completions;
 mod diff;
 mod eval;
 mod inspect;
+mod invert;
 mod library;
 mod materials;
 mod output;
@@ -50,6 +51,10 @@ enum Command {
     /// Draw samples (r, φ) or path-tracing quadruples from a table, as CSV.
     #[command(allow_negative_numbers = true)]
     Sample(sample::SampleArgs),
+    /// Find the reduced albedo ρ′ whose diffuse reflectance (1 − F_r) ρ_eff at θ is a given
+    /// value: the artist's colour, per channel.
+    #[command(allow_negative_numbers = true)]
+    Invert(invert::InvertArgs),
     /// Run the accuracy protocol on a table: error against run time.
     #[command(allow_negative_numbers = true)]
     Validate(validate::ValidateArgs),
@@ -92,6 +97,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Command::Bake(args) => bake::run(args),
         Command::Eval(args) => eval::run(args),
         Command::Sample(args) => sample::run(args),
+        Command::Invert(args) => invert::run(args),
         Command::Validate(args) => validate::run(args),
         Command::Inspect(args) => inspect::run(args),
         Command::Pack(args) => pack::pack(args),

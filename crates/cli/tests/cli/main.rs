@@ -7,6 +7,7 @@ mod common;
 mod completions;
 mod diff;
 mod files;
+mod invert;
 mod outputs;
 mod promises;
 mod render;

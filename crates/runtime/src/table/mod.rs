@@ -53,6 +53,11 @@
 //! Units: all lookups are in reduced units (σ′t = 1); [`World`] converts (r scales with 1/σ′t,
 //! S with σ′t²).
 //!
+//! The diffuse reflectance A = (1 − F_r(θ)) ρ_eff(ρ′, θ), the power leaving per unit power
+//! arriving, and its inverse, the ρ′ that gives an artist's colour, are
+//! [`TableRef::diffuse_reflectance`] and [`TableRef::rho_prime_for_reflectance`]
+//! (`reflectance.rs`).
+//!
 //! Where it breaks down: at r = 0 the model returns its continuous limit from the first radius
 //! interval (PBD itself diverges there); outside the stored axes a lookup is an error, never an
 //! extrapolation; the GWC profile is monotone in |φ| (see [`crate::gwc`]).
@@ -60,6 +65,7 @@
 mod albedo;
 mod io;
 mod lookup;
+mod reflectance;
 mod subset;
 
 pub use crate::error::TableError;
@@ -67,6 +73,7 @@ use albedo::FarField;
 pub use albedo::{AlbedoAxis, AlbedoWeights};
 pub use io::FileTable;
 pub use lookup::{reduced_to_mm, PathSample, Sample, World};
+pub use reflectance::ReflectanceError;
 pub use subset::{check_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
 
 use crate::catmull_rom::{End, Nodes};

@@ -3,7 +3,7 @@
 use super::{BakeError, BakedLibrary, BakedMaterial, Baker, OnProgress};
 use crate::format::{self, LibraryBuilder};
 use crate::materials::Material;
-use crate::scene::artist::{self, EffectiveAlbedo};
+use crate::scene::artist::{self, ReflectanceCurve};
 use crate::scene::check_source;
 use crate::table::AngularTable;
 
@@ -54,7 +54,7 @@ impl MaterialSpec {
     /// A material with id `name` from the artist's parameters per channel R, G, B: diffuse
     /// reflectance in [0, 1], unreduced mean free path 1/σt in mm, Henyey–Greenstein g in
     /// (−1, 1), at η ([`crate::scene::artist`]). The bake inverts the reflectance through the
-    /// θ = 0 column of the table it bakes at η. Checks the parameters
+    /// diffuse reflectance at θ = 0 of the table it bakes at η. Checks the parameters
     /// ([`BakeError::Artist`]), then the id and η ([`BakeError::Material`]), before any bake.
     pub fn diffuse(
         name: &str,
@@ -123,12 +123,12 @@ impl MaterialSpec {
             name: name.clone(),
             source,
         };
-        let curve = EffectiveAlbedo::from_table(table).map_err(artist)?;
+        let curve = ReflectanceCurve::from_table(table).map_err(artist)?;
         let d = curve.diffuse(reflectance, mfp, g).map_err(artist)?;
         for (c, inv) in d.inverted.iter().enumerate() {
             if inv.clamped {
                 warnings.push(format!(
-                    "material {name:?}, channel {}: reflectance {} is above the largest effective albedo of the table, {:.4} (multiple scattering only, at reduced albedo 1); clamped to reduced albedo 1",
+                    "material {name:?}, channel {}: reflectance {} is above the largest diffuse reflectance of the table at normal incidence, {:.4} ((1 - F_r) rho_eff: multiple scattering only, at reduced albedo 1); clamped to reduced albedo 1",
                     ["r", "g", "b"][c],
                     reflectance[c],
                     curve.max()

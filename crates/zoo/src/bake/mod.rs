@@ -44,7 +44,7 @@ use crate::embed::{EmbedError, Library};
 use crate::format::{self, Compression, FormatError, LibraryBuilder, Provenance, Verify};
 use crate::fresnel::Moments;
 use crate::materials::{Material, MaterialError};
-use crate::scene::artist::{ArtistError, EffectiveAlbedo};
+use crate::scene::artist::{ArtistError, ReflectanceCurve};
 use crate::scene::SceneError;
 use crate::table::{self, AngularTable, BakeReport, CheckBounds, Grid, GridPreset, Lobes};
 use crate::table::{SubsetError, TableCheck};
@@ -266,10 +266,24 @@ impl Baker {
         }
     }
 
-    /// The effective-albedo curve at η on this bake's albedo rows, which inverts the artist's
-    /// parameters (for [`crate::scene::Scene::from_toml_str`]).
-    pub fn curve(&self, eta: f64) -> Result<EffectiveAlbedo, ArtistError> {
-        EffectiveAlbedo::bake(eta, self.moments, &self.albedo_grid())
+    /// The diffuse-reflectance curve at η through which the artist's parameters are inverted
+    /// (for [`crate::scene::Scene::from_toml_str`]): the θ = 0 column of the table this bake
+    /// makes at η, with its grid and lobes, so that a scene's materials invert on the table its
+    /// file holds (every albedo row: the rows a scene keeps depend on the ρ′ found).
+    pub fn curve(&self, eta: f64) -> Result<ReflectanceCurve, ArtistError> {
+        ReflectanceCurve::bake(eta, self.moments, &self.grid_at(eta), self.lobes_at(eta))
+    }
+
+    /// The table this bake makes at η, alone: every albedo row on its grid with its lobes and
+    /// moments, without the θ-sampling section and unchecked, for lookups that need no file
+    /// (`bssrdf invert` without one). Its rows equal those of the file [`Baker::bake`] writes
+    /// for η, bit for bit. Runs on the current rayon pool.
+    pub fn table(&self, eta: f64) -> Result<AngularTable, BakeError> {
+        let (grid, lobes) = (self.grid_at(eta), self.lobes_at(eta));
+        let rows = 0..grid.rho.len();
+        table::bake_rows_lobes(eta, self.moments, &grid, rows, false, lobes, &|_| {})
+            .map(|(table, _)| table)
+            .map_err(|source| BakeError::Table { eta, source })
     }
 
     /// Bakes and checks the tables `plan` (η and albedo rows each, in file order), adding them

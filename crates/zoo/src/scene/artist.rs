@@ -1,40 +1,51 @@
 //! The artist's parameters: a diffuse reflectance and a mean free path per channel, turned into
-//! coefficients through the table's effective albedo, as pbrt's `SubsurfaceFromDiffuse` does
-//! (pbrt-v3 `core/bssrdf.cpp`, pbrt-v4 `BSSRDFTable` and `SubsurfaceFromDiffuse`).
+//! coefficients through the table's diffuse reflectance at normal incidence, as pbrt's
+//! `SubsurfaceFromDiffuse` turns them through its ρ_eff (pbrt-v3 `core/bssrdf.cpp`, pbrt-v4
+//! `BSSRDFTable` and `SubsurfaceFromDiffuse`).
 //!
 //! | parameter | unit | valid range | meaning |
 //! |---|---|---|---|
-//! | reflectance | – | [0, 1] per channel | the diffuse colour: the effective albedo ρ_eff wanted |
+//! | reflectance | – | [0, 1] per channel | the diffuse colour: the diffuse reflectance A wanted at normal incidence |
 //! | mfp | mm | > 0, finite, per channel | the unreduced mean free path 1/σt (pbrt's convention) |
 //! | g | – | (−1, 1) | Henyey–Greenstein asymmetry (default 0) |
 //!
-//! 1. ρ′ from the reflectance: invert ρ ↦ ρ_eff(ρ, θ = 0) of the table (as pbrt's
-//!    `InvertCatmullRom` inverts its spline), where ρ_eff(ρ′_i, 0) is the last radial-CDF node of
-//!    row (i, θ = 0): the table's own total multiply scattered power at normal incidence,
-//!    interpolated along ρ′ as the table interpolates it (ρ′² times the spline of ρ_eff/ρ′²,
-//!    `table::albedo`), so that the table's ρ_eff at the ρ′ found is the reflectance. It is
-//!    **multiple scattering only** (PBD has no single-scattering term): at ρ′ = 1 and η = 1.33
-//!    it is 0.9503 on the default grid (0.9513 coarse, 0.9496 fine; PBD's exact value is
-//!    0.9613, of which the table misses the tail beyond its last radius, 243 mean free paths,
-//!    where a non-absorbing profile decays only slowly), while pbrt's ρ_eff, which adds single
-//!    scattering, exceeds 1. A reflectance above the table's largest ρ_eff cannot be
-//!    reached: it is clamped to ρ′ = 1 and reported ([`Inverted::clamped`]) so that the caller
-//!    warns (pbrt clamps silently); a reflectance outside [0, 1] is an error.
+//! 1. ρ′ from the reflectance: the ρ′ whose diffuse reflectance at θ = 0,
+//!    A(ρ′, 0) = (1 − F_r(0; η)) ρ_eff(ρ′, 0), is the reflectance, found by the runtime's one
+//!    inversion, [`TableRef::rho_prime_for_reflectance`] (`table::reflectance` defines A), on
+//!    the table's own curve. A is what a renderer shows for the material lit from above: the
+//!    power leaving after multiple scattering per unit power arriving, the entry Fresnel
+//!    transmittance included. pbrt inverts ρ_eff alone (per unit power entering), so what it
+//!    renders is 1 − F_r(0) times the colour asked for: 0.980 at η = 1.33, 0.960 at 1.5, 0.816 at
+//!    2.5. A is **multiple scattering only** (PBD has no single-scattering term): its largest
+//!    value, at ρ′ = 1, is 0.9312 at η = 1.33 on the default grid (ρ_eff(1, 0) = 0.9503 times
+//!    1 − F_r = 0.97994; PBD's own ρ_eff is 0.9613, of which the table misses the tail beyond
+//!    its last radius, 243 mean free paths, where a non-absorbing profile decays only slowly),
+//!    while pbrt's ρ_eff, which adds single scattering, exceeds 1.
+//!
+//!    A reflectance in [0, 1] above that largest value cannot be reached: it is clamped to the
+//!    last albedo row (ρ′ = 1) and reported ([`Inverted::clamped`]) so that the caller warns
+//!    (pbrt clamps silently). This is a deliberate choice for materials and scenes, built on the
+//!    same inversion (its out-of-range error, taken as "clamp" only above the range): an artist's
+//!    white, 1.0, is a common value no multiple scattering reaches, and a bake of many materials
+//!    should not stop at it. The strict inverse, which refuses instead, is the runtime's
+//!    (`bssrdf invert`, the C library's `bssrdf_library_invert_albedo`). A reflectance outside
+//!    [0, 1] is an error.
 //! 2. σt = 1/mfp, and σs solves σs(1 − g)/(σs(1 − g) + σa) = ρ′ with σs + σa = σt:
 //!    σs = ρ′σt/(1 − g(1 − ρ′)), σa = σt − σs. With g = 0 this is pbrt's σs = ρσt, σa = (1 − ρ)σt.
 //!
 //! The result depends on the grid the curve comes from (the coarse grid's ρ_eff differs from
-//! the default grid's by ~1e-4), so a bake inverts with the curve of the grid it bakes.
+//! the default grid's by ~1e-4), so a bake inverts with the curve of the table it bakes.
 
-use crate::catmull_rom::Nodes;
 use crate::fresnel::Moments;
-use crate::table::{bake_rows, AlbedoAxis, AngularTable, Grid, SubsetError};
+use crate::table::{
+    bake_rows_lobes, AngularTable, Axes, Grid, Lobes, ReflectanceError, SubsetError, TableRef,
+};
 
-/// ρ_eff(ρ′, θ = 0) of a table over its albedo nodes.
+/// The diffuse reflectance A(ρ′, θ = 0) of a table over its albedo rows: the table's every
+/// albedo row at its first two incidence nodes (θ = 0 and the next, which a θ axis needs).
 #[derive(Debug, Clone, PartialEq)]
-pub struct EffectiveAlbedo {
-    rho: AlbedoAxis,
-    rho_eff: Vec<f64>,
+pub struct ReflectanceCurve {
+    table: AngularTable,
 }
 
 /// Why artist's parameters could not be turned into coefficients.
@@ -49,12 +60,22 @@ pub enum ArtistError {
     /// g is NaN or outside (−1, 1).
     #[error("g[{channel}] = {value} is outside (-1, 1)")]
     Asymmetry { channel: &'static str, value: f64 },
-    /// The table has no θ = 0 node, or its ρ_eff does not increase with ρ′.
+    /// The table has no θ = 0 node.
     #[error("the table cannot invert reflectance: {0}")]
     Curve(&'static str),
+    /// The inversion refused a reflectance in [0, 1] other than by being above the range (a
+    /// table whose first albedo row is above 0).
+    #[error("reflectance[{channel}]: {source}")]
+    Invert {
+        channel: &'static str,
+        source: ReflectanceError,
+    },
     /// Baking the curve failed.
     #[error(transparent)]
     Bake(#[from] SubsetError),
+    /// The table's first two θ columns do not make a table (its arrays do not fit its axes).
+    #[error("the table cannot invert reflectance: {0}")]
+    Table(#[from] crate::Error),
 }
 
 /// ρ′ for one reflectance.
@@ -62,7 +83,8 @@ pub enum ArtistError {
 pub struct Inverted {
     /// Reduced albedo ρ′ ∈ [0, 1].
     pub rho_prime: f64,
-    /// Whether the reflectance was above the largest ρ_eff and ρ′ was clamped to the last node.
+    /// Whether the reflectance was above the largest diffuse reflectance and ρ′ was clamped to
+    /// the last albedo row.
     pub clamped: bool,
 }
 
@@ -79,62 +101,92 @@ pub struct Diffuse {
 
 const CHANNELS: [&str; 3] = ["r", "g", "b"];
 
-impl EffectiveAlbedo {
-    /// A curve from its nodes ρ′ᵢ (strictly increasing, at least 2) and the values
-    /// ρ_eff(ρ′ᵢ, θ = 0), which must not decrease. Between the nodes it is ρ′² times the spline
-    /// of ρ_eff/ρ′², as a table's (see the module docs): for values that vanish like ρ′² (multiple
-    /// scattering only; pbrt's `rhoEff`, which adds single scattering, does not).
-    pub fn new(rho: Vec<f64>, rho_eff: Vec<f64>) -> Result<Self, ArtistError> {
-        let rho = Nodes::new(rho).map_err(|_| ArtistError::Curve("its nodes do not increase"))?;
-        let rho = AlbedoAxis::new(rho);
-        if rho_eff.len() != rho.nodes().as_slice().len() {
-            return Err(ArtistError::Curve("it has not one value per node"));
-        }
-        if rho_eff.iter().any(|v| !v.is_finite()) {
-            return Err(ArtistError::Curve("a value is not finite"));
-        }
-        if rho_eff.windows(2).any(|w| w[1] < w[0]) {
-            return Err(ArtistError::Curve("its rho_eff decreases somewhere"));
-        }
-        Ok(Self { rho, rho_eff })
-    }
-
-    /// The curve of `table`, whose θ axis must start at 0 (normal incidence).
+impl ReflectanceCurve {
+    /// The curve of `table`, whose θ axis must start at 0 (normal incidence): its θ = 0 column
+    /// and the next.
     pub fn from_table(table: &AngularTable) -> Result<Self, ArtistError> {
-        let (n_rho, n_theta, n_r) = table.axes().dims();
-        if table.axes().theta().as_slice().first() != Some(&0.0) {
+        let axes = table.axes();
+        let (n_rho, n_theta, n_r) = axes.dims();
+        let theta = axes.theta().as_slice();
+        if theta.first() != Some(&0.0) {
             return Err(ArtistError::Curve("its theta axis does not start at 0"));
         }
-        let cdf = table.radial_cdf();
-        let rho_eff: Vec<f64> = (0..n_rho)
-            .map(|i| f64::from(cdf[i * n_theta * n_r + n_r - 1]))
-            .collect();
-        Self::new(table.axes().rho().as_slice().to_vec(), rho_eff)
+        // The first two θ columns of every albedo row, `per` values per node.
+        let columns = |values: &[f32], per: usize| -> Vec<f32> {
+            let (row, kept) = (n_theta * n_r * per, 2 * n_r * per);
+            values
+                .chunks_exact(row)
+                .flat_map(|r| &r[..kept])
+                .copied()
+                .collect()
+        };
+        let narrow = Axes::new(
+            axes.rho().as_slice().to_vec(),
+            theta[..2].to_vec(),
+            axes.r().as_slice().to_vec(),
+        )?;
+        debug_assert_eq!(narrow.dims(), (n_rho, 2, n_r));
+        let mut curve = AngularTable::from_parts(
+            table.eta(),
+            table.moments(),
+            narrow,
+            columns(table.params(), crate::table::PARAMS_PER_NODE),
+            columns(table.radial_cdf(), 1),
+            None,
+        )
+        .map_err(crate::Error::from)?;
+        if let Some(harmonics) = table.harmonics() {
+            curve = curve
+                .with_harmonics(columns(harmonics, crate::table::HARMONICS_PER_NODE))
+                .map_err(crate::Error::from)?;
+        }
+        Ok(Self { table: curve })
     }
 
     /// Bakes only what the curve needs: every albedo row of `grid` at its first two incidence
-    /// nodes (rows are independent, so the θ = 0 values equal the full bake's bit for bit).
-    pub fn bake(eta: f64, moments: Moments, grid: &Grid) -> Result<Self, ArtistError> {
+    /// nodes, with `lobes` (rows are independent, so the θ = 0 values equal those of the full
+    /// bake with these lobes bit for bit).
+    pub fn bake(
+        eta: f64,
+        moments: Moments,
+        grid: &Grid,
+        lobes: Lobes,
+    ) -> Result<Self, ArtistError> {
         let small = Grid {
             rho: grid.rho.clone(),
             theta: grid.theta.iter().take(2).copied().collect(),
             r: grid.r.clone(),
         };
-        let (table, _) = bake_rows(eta, moments, &small, 0..small.rho.len(), false, &|_| {})?;
+        let rows = 0..small.rho.len();
+        let (table, _) = bake_rows_lobes(eta, moments, &small, rows, false, lobes, &|_| {})?;
         Self::from_table(&table)
     }
 
-    /// The largest effective albedo the table reaches (at its last albedo node, normally ρ′ = 1).
+    /// The curve's table (every albedo row, θ = 0 and the next node).
+    pub fn view(&self) -> TableRef<'_> {
+        self.table.view()
+    }
+
+    /// η of the table.
+    pub fn eta(&self) -> f64 {
+        self.table.eta()
+    }
+
+    /// The largest diffuse reflectance the table reaches at normal incidence (at its last albedo
+    /// row, normally ρ′ = 1).
     pub fn max(&self) -> f64 {
-        self.rho_eff.last().copied().unwrap_or(0.0)
+        self.view()
+            .reflectance_range(0.0)
+            .map_or(0.0, |[_, max]| max)
     }
 
-    /// ρ_eff at reduced albedo `rho` (interpolated as the table's), `None` outside the axis.
+    /// A(ρ′, 0) at reduced albedo `rho` (interpolated as the table's), `None` outside the axis.
     pub fn at(&self, rho: f64) -> Option<f64> {
-        Some(self.rho.weights(rho)?.apply(|i| self.rho_eff[i]))
+        self.view().diffuse_reflectance(rho, 0.0)
     }
 
-    /// ρ′ whose ρ_eff is `reflectance` ∈ [0, 1]; above the largest ρ_eff, the last node, clamped.
+    /// ρ′ whose diffuse reflectance at normal incidence is `reflectance` ∈ [0, 1]; above the
+    /// largest, the last albedo row, clamped (module docs).
     pub fn invert(&self, reflectance: f64, channel: usize) -> Result<Inverted, ArtistError> {
         let name = CHANNELS.get(channel).copied().unwrap_or("?");
         if !(0.0..=1.0).contains(&reflectance) {
@@ -143,42 +195,22 @@ impl EffectiveAlbedo {
                 value: reflectance,
             });
         }
-        let rho_prime = self.solve(reflectance);
-        Ok(Inverted {
-            rho_prime: rho_prime.clamp(0.0, 1.0),
-            clamped: reflectance > self.max(),
-        })
-    }
-
-    /// ρ′ with ρ_eff(ρ′) = y (not NaN): the first node at or below the curve's first value, the
-    /// last at or above its last, else bisected on the segment whose nodes bracket y, to the
-    /// last bit (ρ_eff is continuous and its nodes do not decrease).
-    fn solve(&self, y: f64) -> f64 {
-        let (x, v) = (self.rho.nodes().as_slice(), &self.rho_eff);
-        let n = x.len();
-        if y <= v[0] {
-            return x[0];
-        }
-        if y >= v[n - 1] {
-            return x[n - 1];
-        }
-        // Segment i: v[i] ≤ y < v[i + 1]
-        let i = v.partition_point(|&vi| vi <= y) - 1;
-        let (mut lo, mut hi) = (x[i], x[i + 1]);
-        loop {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                return if y - self.at(lo).unwrap_or(y) <= self.at(hi).unwrap_or(y) - y {
-                    lo
-                } else {
-                    hi
-                };
+        let view = self.view();
+        match view.rho_prime_for_reflectance(reflectance, 0.0) {
+            Ok(rho_prime) => Ok(Inverted {
+                rho_prime,
+                clamped: false,
+            }),
+            Err(ReflectanceError::OutOfRange { max, rho_max, .. }) if reflectance > max => {
+                Ok(Inverted {
+                    rho_prime: rho_max,
+                    clamped: true,
+                })
             }
-            if self.at(mid).is_some_and(|v| v <= y) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
+            Err(source) => Err(ArtistError::Invert {
+                channel: name,
+                source,
+            }),
         }
     }
 
@@ -206,6 +238,24 @@ impl EffectiveAlbedo {
             out.inverted[c] = inverted;
         }
         Ok(out)
+    }
+
+    /// A made-up curve for tests that bake nothing: ρ_eff(ρ′ᵢ, θ) = `rho_eff[i]` at the nodes
+    /// `rho` (strictly increasing) at θ = 0 and 0.1, on four radii, at η.
+    #[cfg(test)]
+    pub(crate) fn synthetic(eta: f64, rho: Vec<f64>, rho_eff: Vec<f64>) -> Self {
+        let n_r = 4;
+        let axes = Axes::new(rho, vec![0.0, 0.1], vec![0.0, 1.0, 2.0, 3.0]).unwrap();
+        let (n_rho, n_theta, _) = axes.dims();
+        let mut cdf = Vec::with_capacity(n_rho * n_theta * n_r);
+        for &total in &rho_eff {
+            for _ in 0..n_theta {
+                cdf.extend((0..n_r).map(|k| (total * k as f64 / (n_r - 1) as f64) as f32));
+            }
+        }
+        let params = vec![0.0; n_rho * n_theta * n_r * crate::table::PARAMS_PER_NODE];
+        let table = AngularTable::from_parts(eta, Moments::Exact, axes, params, cdf, None).unwrap();
+        Self { table }
     }
 }
 
@@ -264,23 +314,29 @@ mod tests {
         assert_eq!(coefficients(0.25, 0.5, 0.0), (0.5, 1.5));
     }
 
-    fn curve() -> EffectiveAlbedo {
-        // ρ_eff = ρ²·0.9 on five nodes: increasing, max 0.9.
+    /// ρ_eff = 0.9ρ′² on five nodes at η = 1.33: A = 0.9·T₀·ρ′², max 0.9·T₀.
+    fn curve() -> ReflectanceCurve {
         let rho = vec![0.0, 0.25, 0.5, 0.75, 1.0];
         let rho_eff = rho.iter().map(|r| 0.9 * r * r).collect();
-        EffectiveAlbedo::new(rho, rho_eff).unwrap()
+        ReflectanceCurve::synthetic(1.33, rho, rho_eff)
     }
 
+    /// 1 − F_r at normal incidence, η = 1.33.
+    const T0: f64 = 1.0 - (0.33 / 2.33) * (0.33 / 2.33);
+
     #[test]
-    fn inversion_round_trips_and_clamps_above_the_maximum() {
+    fn inversion_includes_the_entry_fresnel_round_trips_and_clamps_above_the_maximum() {
         let c = curve();
+        assert!((c.max() - 0.9 * T0).abs() < 1e-7, "{}", c.max());
         for rho in [0.1, 0.4, 0.6, 0.95] {
             let y = c.at(rho).unwrap();
+            assert!((y - 0.9 * T0 * rho * rho).abs() < 1e-7 * y);
             let back = c.invert(y, 0).unwrap();
-            assert!((back.rho_prime - rho).abs() < 1e-9, "{rho}: {back:?}");
+            assert!((back.rho_prime - rho).abs() < 1e-6, "{rho}: {back:?}");
             assert!(!back.clamped);
         }
-        let top = c.invert(0.95, 1).unwrap();
+        // Between T₀·0.9 and 1: clamped to the last row, reported.
+        let top = c.invert(0.9, 1).unwrap();
         assert_eq!(top.rho_prime, 1.0);
         assert!(top.clamped);
         assert_eq!(
@@ -291,6 +347,21 @@ mod tests {
             })
         );
         assert!(c.invert(f64::NAN, 0).is_err());
+        assert!(c.invert(-0.1, 0).is_err());
+    }
+
+    #[test]
+    fn a_curve_whose_first_row_is_above_zero_refuses_what_it_cannot_reach() {
+        let rho = vec![0.5, 0.75, 1.0];
+        let c = ReflectanceCurve::synthetic(1.33, rho, vec![0.2, 0.5, 0.9]);
+        let err = c.invert(0.1, 1).unwrap_err();
+        assert!(
+            matches!(err, ArtistError::Invert { channel: "g", .. }),
+            "{err:?}"
+        );
+        assert!(err
+            .to_string()
+            .starts_with("reflectance[g]: reflectance 0.1 is outside [0.19"));
     }
 
     #[test]

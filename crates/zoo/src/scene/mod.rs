@@ -52,7 +52,7 @@ use crate::catmull_rom::Nodes;
 use crate::format;
 use crate::materials::{Library, Material, MaterialError};
 use crate::table::{merge_runs, rows_for, RhoInterval, SubsetError};
-use artist::{ArtistError, EffectiveAlbedo};
+use artist::{ArtistError, ReflectanceCurve};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -282,18 +282,18 @@ pub struct ScenePlan {
 
 impl Scene {
     /// Parses a manifest and resolves its materials in `library`. `curve(η)` gives the
-    /// effective-albedo curve that inverts the artist's parameters of materials at η (called
+    /// diffuse-reflectance curve that inverts the artist's parameters of materials at η (called
     /// only for such materials, once per η).
     pub fn from_toml_str(
         text: &str,
         library: &Library,
-        curve: &mut dyn FnMut(f64) -> Result<EffectiveAlbedo, ArtistError>,
+        curve: &mut dyn FnMut(f64) -> Result<ReflectanceCurve, ArtistError>,
     ) -> Result<Scene, SceneError> {
         let raw: RawManifest = toml::from_str(text).map_err(|e| SceneError::Toml(e.to_string()))?;
         if raw.material.is_empty() {
             return Err(SceneError::NoMaterials);
         }
-        let mut curves: BTreeMap<u64, EffectiveAlbedo> = BTreeMap::new();
+        let mut curves: BTreeMap<u64, ReflectanceCurve> = BTreeMap::new();
         let mut materials: Vec<SceneMaterial> = Vec::with_capacity(raw.material.len());
         for entry in &raw.material {
             let m = resolve(entry, library, &mut |eta| {
@@ -328,7 +328,7 @@ impl Scene {
     }
 
     /// Things worth telling the user that are not errors: a material's own ρ′ outside its
-    /// declared range, a reflectance above the table's largest effective albedo.
+    /// declared range, a reflectance above the table's largest diffuse reflectance.
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
         for m in &self.materials {
@@ -345,7 +345,7 @@ impl Scene {
                 }
                 if m.clamped[c] {
                     out.push(format!(
-                        "material {id:?}, channel {name}: the reflectance is above the largest effective albedo the table reaches (multiple scattering only); clamped to reduced albedo 1"
+                        "material {id:?}, channel {name}: the reflectance is above the largest diffuse reflectance the table reaches at normal incidence ((1 - F_r) rho_eff: multiple scattering only); clamped to reduced albedo 1"
                     ));
                 }
             }
@@ -418,7 +418,7 @@ impl Scene {
 fn resolve(
     entry: &RawMaterial,
     library: &Library,
-    curve: &mut dyn FnMut(f64) -> Result<EffectiveAlbedo, ArtistError>,
+    curve: &mut dyn FnMut(f64) -> Result<ReflectanceCurve, ArtistError>,
 ) -> Result<SceneMaterial, SceneError> {
     let name = entry.name.as_str();
     let owned = || name.to_string();
@@ -502,7 +502,7 @@ fn resolve(
         let m = Material::from_coefficients(name, d.sigma_s, d.sigma_a, g.unwrap_or([0.0; 3]), eta)
             .map_err(invalid)?;
         let source = entry.source.clone().unwrap_or_else(|| {
-            format!("scene manifest: reflectance {refl:?}, mfp {path:?} mm, inverted through the table's rho_eff at theta = 0")
+            format!("scene manifest: reflectance {refl:?}, mfp {path:?} mm, inverted through the table's (1 - F_r) rho_eff at theta = 0")
         });
         (m, Origin::Diffuse, source, d.inverted.map(|i| i.clamped))
     } else {

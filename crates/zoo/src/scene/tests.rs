@@ -6,11 +6,11 @@ fn library() -> Library {
     Library::builtin()
 }
 
-/// ρ_eff = 0.95·ρ′² on 21 nodes.
-fn curve(_eta: f64) -> Result<EffectiveAlbedo, ArtistError> {
+/// ρ_eff = 0.95·ρ′² on 21 nodes: A = (1 − F_r(0; η))·0.95·ρ′².
+fn curve(eta: f64) -> Result<ReflectanceCurve, ArtistError> {
     let rho: Vec<f64> = (0..21).map(|i| f64::from(i) / 20.0).collect();
     let rho_eff = rho.iter().map(|r| 0.95 * r * r).collect();
-    EffectiveAlbedo::new(rho, rho_eff)
+    Ok(ReflectanceCurve::synthetic(eta, rho, rho_eff))
 }
 
 fn parse(text: &str) -> Result<Scene, SceneError> {
@@ -172,17 +172,30 @@ fn inline_errors_name_the_field_and_value() {
 
 #[test]
 fn artist_parameters_invert_through_the_curve() {
-    let scene = parse(
-        "[[material]]\nname = \"jade\"\nreflectance = [0.2375, 0.5, 0.99]\nmfp = [2, 1, 0.5]\n",
-    )
+    // The reflectance includes the entry Fresnel transmittance at normal incidence:
+    // T₀·0.95·0.5² (the curve's value at its node, ρ_eff stored as f32) gives ρ′ = 0.5, to the
+    // curve's resolution (its rows blend with f32 weights, which round to 1 and 0 within 1e-8
+    // of a node).
+    let t0 = crate::fresnel::entry_transmittance(0.0, DEFAULT_ETA);
+    let at_node = curve(DEFAULT_ETA).unwrap().at(0.5).unwrap();
+    assert!((at_node - t0 * 0.95 * 0.25).abs() < 1e-8);
+    let scene = parse(&format!(
+        "[[material]]\nname = \"jade\"\nreflectance = [{at_node}, 0.5, 0.99]\nmfp = [2, 1, 0.5]\n"
+    ))
     .unwrap();
     let m = &scene.materials()[0];
     assert_eq!(m.origin(), Origin::Diffuse);
     let rho = m.material().rho_prime();
-    // 0.95·0.5² = 0.2375 at a node: ρ′ = 0.5 exactly.
-    assert!((rho[0] - 0.5).abs() < 1e-12, "{rho:?}");
+    assert!((rho[0] - 0.5).abs() < 1e-8, "{rho:?}");
     assert!((m.material().sigma_s()[0] + m.material().sigma_a()[0] - 0.5).abs() < 1e-12);
-    // 0.99 is above the largest ρ_eff, 0.95: clamped, with a warning.
+    // Without the entry Fresnel, 0.2375 would have given 0.5; with it, a larger ρ′.
+    let plain = parse(
+        "[[material]]\nname = \"jade\"\nreflectance = [0.2375, 0.5, 0.5]\nmfp = [2, 1, 0.5]\n",
+    )
+    .unwrap();
+    let rho_plain = plain.materials()[0].material().rho_prime()[0];
+    assert!((rho_plain - 0.5 / t0.sqrt()).abs() < 1e-6, "{rho_plain}");
+    // 0.99 is above the largest diffuse reflectance, 0.95·T₀: clamped, with a warning.
     assert_eq!(rho[2], 1.0);
     let warnings = scene.warnings();
     assert!(

@@ -12,4 +12,5 @@ mod far_tail;
 mod gwc;
 mod lookup;
 mod pinned;
+mod reflectance;
 mod subset;
