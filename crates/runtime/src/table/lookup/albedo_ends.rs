@@ -118,7 +118,7 @@ impl TableRef<'_> {
             .into_iter()
             .flatten()
         {
-            // The row blended over θ, in f32 as every lookup's blend (`TableRef::window_params`)
+            // The row blended over θ, in f32 as every lookup's GWC window (`TableRef::window_at`)
             let mut row = [0.0f32; WINDOW];
             for (j, weight) in theta_weights.iter() {
                 let base = ((i * n_theta + j) * n_r + first) * PARAMS_PER_NODE;

@@ -75,7 +75,7 @@ struct Slice {
     len: usize,
     /// Index of node 0 of each row in `radial_cdf` (in `params`, times `PARAMS_PER_NODE`).
     offsets: [u32; 16],
-    /// f32: the table's values are f32 and are blended in f32 (see `window_params`); the blends
+    /// f32: the table's values are f32 and are blended in f32 (see `blend`); the blends
     /// in f64 widen them (exactly).
     weights: [f32; 16],
     blend: Blend,
@@ -126,6 +126,20 @@ enum Profile {
     Two(TwoLobe),
 }
 
+impl Cell {
+    /// The cell of energy `e` and `lobe` (from [`TableRef::cell_from`]) at `r_eval`: E/r ≥ 0,
+    /// and β capped at `lobe_cap(E/r, c)`.
+    #[inline(always)]
+    fn profile(e: f64, lobe: Lobe, c: f64, r_eval: f64) -> Self {
+        let e_per_r = (e / r_eval).max(0.0);
+        let beta = match lobe {
+            Lobe::Share(share) => share * e_per_r,
+            Lobe::Beta(beta) => cap_lobe(beta, e_per_r, c),
+        };
+        Cell::Profile([e_per_r, beta, c])
+    }
+}
+
 impl Profile {
     fn sample_with_pdf(&self, u: f64) -> (f64, f64) {
         match self {
@@ -169,35 +183,33 @@ impl<'a> TableRef<'a> {
     #[inline(always)]
     fn slice_with(&self, rho_weights: &AlbedoWeights, rho: f64, theta: f64) -> Option<Slice> {
         let theta_weights = self.theta_weights(theta)?;
-        Some(self.slice_of(rho_weights, &theta_weights, rho, theta))
+        let blend = Blend::new(rho_weights, rho, theta);
+        Some(self.slice_of(&rho_weights.energy, &theta_weights, blend))
     }
 
     #[inline(always)]
-    fn slice_of(
-        &self,
-        albedo: &AlbedoWeights,
-        theta_weights: &Weights,
-        rho: f64,
-        theta: f64,
-    ) -> Slice {
+    fn slice_of(&self, rho_weights: &Weights, theta_weights: &Weights, blend: Blend) -> Slice {
         let (n_rho, n_theta, n_r) = self.axes.dims();
-        let rho_weights = &albedo.energy;
-        // Nodes segment − 1 … segment + 2 of each axis. Those outside the array have weight 0
-        // and are left out below; clamped, their indices stay in bounds anyway. Offsets fit
+        // Nodes segment − 1 … segment + 2 of each axis. Those outside the axis have weight 0
+        // and are left out below; clamped, their offsets stay in bounds anyway. Offsets fit
         // u32: the format caps a table far below 2³² values.
-        let offsets = |w: &Weights, n: usize, stride: usize| {
-            let first = w.segment() as isize - 1;
-            [0isize, 1, 2, 3]
-                .map(|k| ((first + k).clamp(0, n as isize - 1) as usize * stride) as u32)
-        };
-        let rho_offsets = offsets(rho_weights, n_rho, n_theta * n_r);
-        let theta_offsets = offsets(theta_weights, n_theta, n_r);
+        let node = |w: &Weights, k: usize, n: usize| (w.segment() + k).clamp(1, n) - 1;
+        let mut theta_offsets = [0; 4];
+        for (b, offset) in theta_offsets.iter_mut().enumerate() {
+            *offset = node(theta_weights, b, n_theta) * n_r;
+        }
         let (wr, wt) = (rho_weights.as_array(), theta_weights.as_array());
-        let mut offsets: [u32; 16] =
-            std::array::from_fn(|k| rho_offsets[k / 4] + theta_offsets[k % 4]);
-        let mut weights: [f32; 16] = std::array::from_fn(|k| (wr[k / 4] * wt[k % 4]) as f32);
+        let (mut offsets, mut weights) = ([0u32; 16], [0.0f32; 16]);
+        for a in 0..4 {
+            let rho_offset = node(rho_weights, a, n_rho) * n_theta * n_r;
+            for b in 0..4 {
+                offsets[4 * a + b] = (rho_offset + theta_offsets[b]) as u32;
+                weights[4 * a + b] = (wr[a] * wt[b]) as f32;
+            }
+        }
         let mut len = 16;
-        if !weights.iter().fold(true, |all, &w| all & (w != 0.0)) {
+        // A product is 0 where a factor is (or where it underflows f32: that row adds 0 anyway)
+        if wr.contains(&0.0) || wt.contains(&0.0) {
             // Keep the rows of nonzero weight in order, then pad with weight-0 copies of the
             // last one (there is one: the weights of each axis sum to 1, so the largest product
             // is at least 1/16).
@@ -218,7 +230,7 @@ impl<'a> TableRef<'a> {
             len,
             offsets,
             weights,
-            blend: Blend::new(albedo, rho, theta),
+            blend,
         }
     }
 
@@ -240,92 +252,121 @@ impl<'a> TableRef<'a> {
         rho * rho * self.c_e * cos_t / PI
     }
 
-    /// Σ over the slice's rows of weight × `values[(offset + k)·stride]`, in f64: radius node k
-    /// of `radial_cdf` (stride 1) or of one parameter of `params` (stride `PARAMS_PER_NODE`).
-    #[inline]
-    fn blend(s: &Slice, values: &[f32], k: usize, stride: usize) -> f64 {
-        // In row order, as one sum: the rows' CDFs nearly cancel in C_{k+1} − C_k, so another
-        // order would move the radial density of a thin segment far beyond rounding.
-        let mut sum = 0.0;
-        let n = s.len.min(16);
-        for (offsets, weights) in s.offsets[..n]
-            .chunks_exact(4)
-            .zip(s.weights[..n].chunks_exact(4))
-        {
-            for (&offset, &w) in offsets.iter().zip(weights) {
-                if let Some(&v) = values.get((offset as usize + k) * stride) {
-                    sum += f64::from(w) * f64::from(v);
-                }
-            }
-        }
-        sum
-    }
-
-    /// E at the radius nodes k − 1 … k + 2 of a segment k (k + 1 < n_r; 0 for nodes outside the
-    /// axis), each exactly as [`TableRef::blend`] gives it, in one pass over the rows: the four
-    /// lie in one window of `params` per row (`lookup/tests.rs` holds the two to each other).
-    #[inline]
-    fn blend_e_around(&self, s: &Slice, k: usize) -> [f64; 4] {
-        let (_, _, n_r) = self.axes.dims();
-        if n_r < 4 {
-            let e = |j: usize| Self::blend(s, self.params, j, PARAMS_PER_NODE);
-            return [0, 1, 2, 3].map(|j| match (k + j).checked_sub(1) {
-                Some(node) if node < n_r => e(node),
-                _ => 0.0,
-            });
-        }
-        // A window of 4 nodes inside the axis, and where node k − 1 sits in it
-        let first = k.saturating_sub(1).min(n_r - 4);
-        let mut acc = [0.0f64; 4];
-        let n = s.len.min(16);
-        for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights[..n]) {
-            let w = f64::from(w);
-            let base = (offset as usize + first) * PARAMS_PER_NODE;
-            if let Some(window) = self.params.get(base..).and_then(<[f32]>::first_chunk::<10>) {
-                for (acc, &e) in acc.iter_mut().zip(window.iter().step_by(PARAMS_PER_NODE)) {
-                    *acc += w * f64::from(e);
-                }
-            }
-        }
-        match (first + 1).checked_sub(k) {
-            Some(0) => acc,
-            Some(_) => [0.0, acc[0], acc[1], acc[2]],
-            None => [acc[1], acc[2], acc[3], 0.0],
-        }
-    }
-
-    /// (E, E_β, c) at the four consecutive radius nodes `first..first + 4`, blended over the
-    /// slice: one contiguous 12-value window per row (the same sums as [`TableRef::window_at`],
-    /// held by `lookup/tests.rs`).
-    // Inlined, like the other 12-wide blends, so that the sums stay in vector registers.
+    /// The one blend of every lookup: Σ over the slice's rows, in row order, of the row's
+    /// weight × N values of the row, `values[(offset + node)·per_node + STEP·j]` for j < N,
+    /// summed in `A`. `per_node` is the number of values per radius node of the array (1 for
+    /// `radial_cdf`, `PARAMS_PER_NODE` for `params`); STEP picks every STEP-th value, so one
+    /// call gives the (E, E_β, c) window of four nodes (N = 12, STEP = 1), the energies of four
+    /// nodes (N = 4, STEP = `PARAMS_PER_NODE`) or one node's value (N = 1). The N values must
+    /// lie in the row (a row whose values run past the array would add nothing).
+    ///
+    /// The precision is part of the results (pinned by crates/zoo/tests/table/pinned.rs): the
+    /// GWC window blends in f32, like the stored values, so its 12 lanes vectorise; the rounding
+    /// is ~1e-7 of the largest term, up to ~5e-5 of the result where the Catmull-Rom terms nearly
+    /// cancel (steep tails), below the table's interpolation error. The radial CDF and the
+    /// energies the radial sampler reads blend in f64, in row order as one sum: the rows' CDFs
+    /// nearly cancel in C_{k+1} − C_k, and in f32 or in another order the radial density of a
+    /// thin segment would move far beyond rounding.
     #[inline(always)]
-    fn window_params(&self, s: &Slice, first: usize) -> [f32; 12] {
-        const WINDOW: usize = 4 * PARAMS_PER_NODE;
-        // Accumulated in f32, like the stored values, so the 12-wide window vectorises. The
-        // rounding is ~1e-7 of the largest term; where the Catmull-Rom terms nearly cancel (steep
-        // tails) that is up to ~5e-5 of the result, still below the table's interpolation error.
-        // The summation order is part of the results (pinned by crates/zoo/tests/table/pinned.rs).
-        let mut acc = [0.0f32; WINDOW];
+    fn blend<A: Lane, const N: usize, const STEP: usize>(
+        s: &Slice,
+        values: &[f32],
+        node: usize,
+        per_node: usize,
+    ) -> [A; N] {
+        let mut acc = [A::ZERO; N];
         let n = s.len.min(16);
         // Rows in groups of 4 (the slice pads to a multiple of 4): unrolled, less loop overhead
-        for (offsets, weights) in s.offsets[..n]
-            .chunks_exact(4)
-            .zip(s.weights[..n].chunks_exact(4))
-        {
-            for (&offset, &w) in offsets.iter().zip(weights) {
-                let base = (offset as usize + first) * PARAMS_PER_NODE;
-                if let Some(window) = self.params.get(base..).and_then(<[f32]>::first_chunk) {
-                    axpy12(&mut acc, w, window);
+        for group in 0..n / 4 {
+            for k in 4 * group..4 * group + 4 {
+                let base = (s.offsets[k] as usize + node) * per_node;
+                if let Some(row) = values.get(base..base + N * STEP) {
+                    let w = A::from(s.weights[k]);
+                    for (j, acc) in acc.iter_mut().enumerate() {
+                        *acc = *acc + w * A::from(row[STEP * j]);
+                    }
                 }
             }
         }
         acc
     }
 
-    /// [`TableRef::window_params`] over the slice of (`rho_weights`, the energy weights along ρ′,
-    /// `theta_weights`) without building it: the same rows, in the same order, skipping the
-    /// same zero weights, so the same sums. For a lookup that needs nothing else of the slice
-    /// (evaluation).
+    /// (E, E_β, c) at the four consecutive radius nodes `first..first + 4`, blended over the
+    /// slice in f32 ([`TableRef::blend`]).
+    #[inline(always)]
+    fn window(&self, s: &Slice, first: usize) -> [f32; 12] {
+        let (_, _, n_r) = self.axes.dims();
+        if n_r < 4 {
+            return self.short_window(s);
+        }
+        Self::blend::<f32, 12, 1>(s, self.params, first, PARAMS_PER_NODE)
+    }
+
+    /// [`TableRef::window`] of a table of fewer than 4 radii: its nodes, then 0 for the nodes
+    /// past the axis (which the weights along r give 0). Node by node: a row's window of 4
+    /// would run into the next row, and past the end of the array at the last one.
+    #[cold]
+    #[inline(never)]
+    fn short_window(&self, s: &Slice) -> [f32; 12] {
+        let (_, _, n_r) = self.axes.dims();
+        let mut window = [0.0; 12];
+        for (node, values) in window
+            .chunks_exact_mut(PARAMS_PER_NODE)
+            .take(n_r)
+            .enumerate()
+        {
+            let blend =
+                Self::blend::<f32, PARAMS_PER_NODE, 1>(s, self.params, node, PARAMS_PER_NODE);
+            values.copy_from_slice(&blend);
+        }
+        window
+    }
+
+    /// [`TableRef::window`] as a call, for the samplers: inlined into [`TableRef::profile`],
+    /// whose reads of (E, E_β, c) interleave, the 12-wide blend compiles to half-filled vectors.
+    #[inline(never)]
+    fn window_out_of_line(&self, s: &Slice, first: usize) -> [f32; 12] {
+        self.window(s, first)
+    }
+
+    /// E at the radius nodes k − 1 … k + 2 of a segment k (0 for nodes outside the axis), in
+    /// f64, for the radial sampler ([`TableRef::blend`]).
+    #[inline]
+    fn energies_around(&self, s: &Slice, k: usize) -> [f64; 4] {
+        let (_, _, n_r) = self.axes.dims();
+        if n_r < 4 {
+            return [0, 1, 2, 3].map(|j| match (k + j).checked_sub(1) {
+                Some(node) if node < n_r => self.energy(s, node),
+                _ => 0.0,
+            });
+        }
+        // A window of 4 nodes inside the axis, and where node k − 1 sits in it
+        let first = k.saturating_sub(1).min(n_r - 4);
+        let e = Self::blend::<f64, 4, PARAMS_PER_NODE>(s, self.params, first, PARAMS_PER_NODE);
+        match (first + 1).checked_sub(k) {
+            Some(0) => e,
+            Some(_) => [0.0, e[0], e[1], e[2]],
+            None => [e[1], e[2], e[3], 0.0],
+        }
+    }
+
+    /// E at radius node k, in f64 ([`TableRef::blend`]).
+    fn energy(&self, s: &Slice, k: usize) -> f64 {
+        Self::blend::<f64, 1, 1>(s, self.params, k, PARAMS_PER_NODE)[0]
+    }
+
+    /// The radial CDF at radius node k, in f64 ([`TableRef::blend`]).
+    fn cdf(&self, s: &Slice, k: usize) -> f64 {
+        Self::blend::<f64, 1, 1>(s, self.radial_cdf, k, 1)[0]
+    }
+
+    /// [`TableRef::window`] over the slice of (`rho_weights`, the energy weights along ρ′,
+    /// `theta_weights`) without building it, for evaluation, which needs nothing else of the
+    /// slice: the same rows in the same order, so the same sums (`lookup/tests.rs` holds the
+    /// two to each other bit for bit). A fast leaf: built and summed through a slice,
+    /// evaluation takes about a fifth longer (docs/performance.md). For tables of at least 4
+    /// radii: it reads 4 radius nodes of each row, which run past the last row of the others
+    /// ([`TableRef::cell_at_point`] sends them through the slice).
     #[inline(always)]
     fn window_at(&self, rho_weights: &Weights, theta_weights: &Weights, first: usize) -> [f32; 12] {
         const WINDOW: usize = 4 * PARAMS_PER_NODE;
@@ -392,9 +433,7 @@ impl<'a> TableRef<'a> {
     #[inline(always)]
     fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Profile {
         let first = self.radial_window(w);
-        // Through `black_box`, an optimisation barrier: seen through, the interleaved reads of
-        // (E, E_β, c) below make the compiler split the 12-wide blend into half-filled vectors.
-        let acc = std::hint::black_box(self.window_params(s, first));
+        let acc = self.window_out_of_line(s, first);
         if let Some(second) = self.harmonics {
             // The samplers' profile: normalised (E/r = 1) except in the first two intervals,
             // where the harmonics are outright and E/r the plain spline's
@@ -425,7 +464,7 @@ impl<'a> TableRef<'a> {
 
     /// The cell (E, lobe, c) of the profile at `r_eval` (E, β = share·E/r or the lobe's β, and
     /// c are the arguments of [`Gwc::from_table`]), from (E, E_β, c) blended at the radius nodes
-    /// `first..first + 4` (as [`TableRef::window_params`] gives them, with the energy weights
+    /// `first..first + 4` (as [`TableRef::window`] gives them, with the energy weights
     /// along ρ′), the radius weights `w` at `r_eval` and the [`Blend`].
     ///
     /// Along r, E is interpolated as exp(Catmull-Rom of ln E) wherever the four nodes of the
@@ -620,11 +659,30 @@ impl<'a> TableRef<'a> {
     /// where [`TableRef::radius`] is `None`.
     #[inline(always)]
     fn cell_at_point(&self, rho: f64, theta: f64, r: f64) -> Option<Cell> {
+        if self.axes.dims().2 < 4 {
+            return self.cell_at_point_short(rho, theta, r);
+        }
         // Points off the quick ρ′ weights out of line (`AlbedoAxis::hot_weights`)
         let Some(albedo) = self.axes.rho.hot_eval_weights(rho) else {
             return self.cell_at_point_cold(rho, theta, r);
         };
         self.cell_at_point_with(albedo, rho, theta, r)
+    }
+
+    /// [`TableRef::cell_at_point`] of a table of fewer than 4 radii, from the slice's
+    /// [`TableRef::window`]: [`TableRef::window_at`] reads 4 radius nodes of each row, which
+    /// run past the last row of such a table. Out of line: no table the crate bakes has so few.
+    #[cold]
+    #[inline(never)]
+    fn cell_at_point_short(&self, rho: f64, theta: f64, r: f64) -> Option<Cell> {
+        let s = self.with_slice(rho, theta, |s| *s)?;
+        let Some((r_eval, w)) = self.radius(r) else {
+            return Some(Cell::OutsideRadius);
+        };
+        let first = self.radial_window(&w);
+        let (e, lobe, c) =
+            self.cell_from::<true>(self.window(&s, first), first, r_eval, &w, s.blend);
+        Some(Cell::profile(e, lobe, c, r_eval))
     }
 
     #[inline(never)]
@@ -653,12 +711,7 @@ impl<'a> TableRef<'a> {
         let acc = self.window_at(&albedo.energy, &theta_weights, first);
         let blend = Blend::new(&albedo, rho, theta);
         let (e, lobe, c) = self.cell_from::<true>(acc, first, r_eval, &w, blend);
-        let e_per_r = (e / r_eval).max(0.0);
-        let beta = match lobe {
-            Lobe::Share(share) => share * e_per_r,
-            Lobe::Beta(beta) => cap_lobe(beta, e_per_r, c),
-        };
-        Some(Cell::Profile([e_per_r, beta, c]))
+        Some(Cell::profile(e, lobe, c, r_eval))
     }
 
     /// The perpendicular-incidence model: the θ = 0 slice at every θ, uniform in φ (pbrt's
@@ -689,7 +742,7 @@ impl<'a> TableRef<'a> {
 
     fn total(&self, s: &Slice) -> f64 {
         let (_, _, n_r) = self.axes.dims();
-        Self::blend(s, self.radial_cdf, n_r - 1, 1).max(0.0)
+        self.cdf(s, n_r - 1).max(0.0)
     }
 }
 
@@ -713,6 +766,19 @@ fn axpy12(acc: &mut [f32; 12], w: f32, x: &[f32; 12]) {
     for k in 0..12 {
         acc[k] += w * x[k];
     }
+}
+
+/// The number type a [`TableRef::blend`] sums in: f32 or f64, from the table's f32 values.
+trait Lane: Copy + From<f32> + std::ops::Add<Output = Self> + std::ops::Mul<Output = Self> {
+    const ZERO: Self;
+}
+
+impl Lane for f32 {
+    const ZERO: Self = 0.0;
+}
+
+impl Lane for f64 {
+    const ZERO: Self = 0.0;
 }
 
 /// ln E of the four nodes of a (E, E_β, c) window where E > 0 (0 for the others; the caller

@@ -52,8 +52,8 @@ impl TableRef<'_> {
             // the comparisons vectorise, where a bisection waits for each load in turn.
             Some(inner.get(1..)?.iter().filter(|&&c| c <= goal).count())
         });
-        let e = |k: usize| self.blend_e_around(s, k);
-        let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+        let e = |k: usize| self.energies_around(s, k);
+        let cdf = |k: usize| self.cdf(s, k);
         self.axes.r().sample_with(e, cdf, u, hint)
     }
 
@@ -70,8 +70,8 @@ impl TableRef<'_> {
         if r <= 0.0 || !r.is_finite() {
             return 0.0;
         }
-        let e = |k: usize| self.blend_e_around(s, k);
-        let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+        let e = |k: usize| self.energies_around(s, k);
+        let cdf = |k: usize| self.cdf(s, k);
         let pdf_r = self.axes.r().pdf_with(e, cdf, r);
         match self.profile_at(s, r) {
             Some(g) if pdf_r > 0.0 => pdf_r * g.pdf(wrap_phi(phi)) / r,
@@ -105,7 +105,7 @@ impl TableRef<'_> {
             return None;
         }
         let w_theta = self.axes.theta().weights(t.x)?;
-        let s = self.slice_of(&w_rho, &w_theta, rho, t.x);
+        let s = self.slice_of(&w_rho.energy, &w_theta, Blend::new(&w_rho, rho, t.x));
         let rphi = self.sample_slice(&s, u[1], u[2])?;
         let phi_prime = uniform_azimuth(u[3]);
         Some(PathSample {
@@ -139,8 +139,8 @@ impl TableRef<'_> {
             return None;
         }
         self.with_slice(rho, theta, |s| {
-            let e = |k: usize| Self::blend(s, self.params, k, PARAMS_PER_NODE);
-            let cdf = |k: usize| Self::blend(s, self.radial_cdf, k, 1);
+            let e = |k: usize| self.energy(s, k);
+            let cdf = |k: usize| self.cdf(s, k);
             let u_r = self.axes.r().cdf(e, cdf, r)?;
             let g = self.profile_at(s, r)?;
             Some((u_r, g.cdf(wrap_phi(phi))))

@@ -1,9 +1,9 @@
-//! The lookups' blends agree with each other bit for bit: evaluation's [`TableRef::window_at`]
-//! with the samplers' [`TableRef::window_params`] over the slice, and the samplers' four
-//! energies of a segment at once ([`TableRef::blend_e_around`]) with [`TableRef::blend`] node by
-//! node. The
-//! lookups rely on it (an evaluation and a density at a node see the same profile); the values
-//! are arbitrary, the blends do not care what they mean.
+//! The lookups' blend ([`TableRef::blend`] over a [`Slice`], and evaluation's
+//! [`TableRef::window_at`]) against a plain sum written from the table's layout: for every (ρ′, θ) node pair of the 4 × 4 neighbourhood in order, the
+//! product of the two axes' weights (skipped where it is 0 in f32) times the row's value. The
+//! slice leaves rows out and pads; the sums must not notice, bit for bit, in f32 (the GWC
+//! window) and in f64 (energies and the radial CDF). The values are arbitrary: the blend does
+//! not care what they mean.
 
 use super::*;
 use crate::fresnel::Moments;
@@ -30,12 +30,42 @@ fn table(n_r: usize, rng: &mut SplitMix64) -> AngularTable {
     AngularTable::from_parts(1.33, Moments::Exact, axes, params, radial_cdf, None).unwrap()
 }
 
+/// Σ over the neighbourhood of (ρ′, θ) of w_ρ′ · w_θ × `value(row)`, in node order, with
+/// the row index i·nθ + j of each node pair inside both axes.
+fn plain_sum<A: Lane>(
+    view: &TableRef<'_>,
+    albedo: &AlbedoWeights,
+    theta: &Weights,
+    value: impl Fn(usize) -> A,
+) -> A {
+    let (n_rho, n_theta, _) = view.axes.dims();
+    let mut sum = A::ZERO;
+    for (a, &wa) in albedo.energy.as_array().iter().enumerate() {
+        for (b, &wb) in theta.as_array().iter().enumerate() {
+            let (i, j) = (albedo.energy.segment() + a, theta.segment() + b);
+            let w = (wa * wb) as f32;
+            if (1..=n_rho).contains(&i) && (1..=n_theta).contains(&j) && w != 0.0 {
+                sum = sum + A::from(w) * value((i - 1) * n_theta + j - 1);
+            }
+        }
+    }
+    sum
+}
+
 #[test]
-fn evaluation_and_sampling_blend_the_same_window() {
+fn the_blend_is_the_plain_sum_over_the_neighbourhood() {
     let mut rng = SplitMix64::new(7);
-    for n_r in [4, 9] {
+    for n_r in [2, 3, 4, 9] {
         let table = table(n_r, &mut rng);
         let view = table.view();
+        // 0 past the axis (a window of 4 nodes of a table of fewer radii)
+        let param = |row: usize, node: usize, p: usize| {
+            if node < n_r {
+                view.params[(row * n_r + node) * 3 + p]
+            } else {
+                0.0
+            }
+        };
         for _ in 0..4000 {
             // Points anywhere on the axes, a quarter of them on a node of one axis
             let on_node = |rng: &mut SplitMix64, nodes: &[f64]| {
@@ -51,29 +81,85 @@ fn evaluation_and_sampling_blend_the_same_window() {
                 continue;
             };
             let theta_weights = view.theta_weights(theta).unwrap();
-            let slice = view.slice_of(&albedo, &theta_weights, rho, theta);
-            for first in 0..=n_r - 4 {
-                let at = view.window_at(&albedo.energy, &theta_weights, first);
-                let params = view.window_params(&slice, first);
+            let blend = Blend::new(&albedo, rho, theta);
+            let slice = view.slice_of(&albedo.energy, &theta_weights, blend);
+            let at = format!("n_r {n_r}, (ρ′, θ) = ({rho}, {theta})");
+            for first in 0..=n_r.saturating_sub(4) {
+                let window = view.window(&slice, first);
+                // Evaluation's fast leaf, the same sums without a slice (for tables of at least
+                // 4 radii: evaluation takes the others through the slice)
+                if n_r >= 4 {
+                    let at_point = view.window_at(&albedo.energy, &theta_weights, first);
+                    assert_eq!(window.map(f32::to_bits), at_point.map(f32::to_bits), "{at}");
+                }
+                let plain: [f32; 12] = std::array::from_fn(|lane| {
+                    plain_sum(&view, &albedo, &theta_weights, |row| {
+                        param(row, first + lane / 3, lane % 3)
+                    })
+                });
                 assert_eq!(
-                    at.map(f32::to_bits),
-                    params.map(f32::to_bits),
-                    "(ρ′, θ) = ({rho}, {theta}), first {first}"
+                    window.map(f32::to_bits),
+                    plain.map(f32::to_bits),
+                    "{at}, first {first}"
                 );
             }
-            // Every segment k of the radius axis, as the samplers ask
+            for k in 0..n_r {
+                let energy = plain_sum(&view, &albedo, &theta_weights, |row| {
+                    f64::from(param(row, k, 0))
+                });
+                assert_eq!(
+                    view.energy(&slice, k).to_bits(),
+                    energy.to_bits(),
+                    "{at}, E at {k}"
+                );
+                let cdf = plain_sum(&view, &albedo, &theta_weights, |row| {
+                    f64::from(view.radial_cdf[row * n_r + k])
+                });
+                assert_eq!(
+                    view.cdf(&slice, k).to_bits(),
+                    cdf.to_bits(),
+                    "{at}, CDF at {k}"
+                );
+            }
+            // The radial sampler's four energies of each segment k, node by node
             for k in 0..n_r - 1 {
-                let around = view.blend_e_around(&slice, k);
-                for (j, value) in around.into_iter().enumerate() {
+                for (j, value) in view.energies_around(&slice, k).into_iter().enumerate() {
                     let expected = match (k + j).checked_sub(1) {
-                        Some(node) if node < n_r => {
-                            TableRef::blend(&slice, view.params, node, PARAMS_PER_NODE)
-                        }
+                        Some(node) if node < n_r => view.energy(&slice, node),
                         _ => 0.0,
                     };
-                    assert_eq!(value.to_bits(), expected.to_bits(), "node {k} + {j} − 1");
+                    assert_eq!(
+                        value.to_bits(),
+                        expected.to_bits(),
+                        "{at}, node {k} + {j} − 1"
+                    );
                 }
             }
+        }
+    }
+}
+
+#[test]
+fn a_table_of_fewer_than_four_radii_evaluates_its_last_row() {
+    // At a node of every axis the weights are 1 and 0, and evaluation returns the stored
+    // profile; the last (ρ′, θ) row is where a window of 4 radius nodes runs past the arrays
+    let mut rng = SplitMix64::new(11);
+    for n_r in [2, 3] {
+        let table = table(n_r, &mut rng);
+        let view = table.view();
+        let (n_rho, n_theta, _) = view.axes.dims();
+        let rho = view.axes.rho().as_slice()[n_rho - 1];
+        let theta = view.axes.theta().as_slice()[n_theta - 1];
+        let r = view.axes.r().as_slice()[1];
+        let at = ((n_rho * n_theta - 1) * n_r + 1) * PARAMS_PER_NODE;
+        let [e, e_beta, c] = [0, 1, 2].map(|k| f64::from(view.params[at + k]));
+        for phi in [0.0, 1.0, 3.0] {
+            let expected = table_value(e / r, cap_lobe(e_beta / r, e / r, c), c, phi);
+            let value = view.eval(rho, theta, r, phi).unwrap();
+            assert!(
+                (value - expected).abs() <= 1e-6 * expected,
+                "n_r {n_r}, φ {phi}: {value} against {expected}"
+            );
         }
     }
 }

@@ -15,7 +15,7 @@ impl TableRef<'_> {
     /// that a blend of rμₙ would not follow. 0 at a node where no row holds energy.
     pub(super) fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> [[f64; 4]; 4] {
         // sum[n][k]: Σ ω × share n at node k; weight[k]: Σ ω over the rows with energy there.
-        // In f32, like the stored values and `window_params`, and laid out per harmonic so the
+        // In f32, like the stored values and the GWC window (`TableRef::blend`), and laid out per harmonic so the
         // four nodes of a row update together.
         let (mut sum, mut weight) = ([[0.0f32; 4]; 4], [0.0f32; 4]);
         let n = s.len.min(16);
@@ -145,7 +145,7 @@ impl TableRef<'_> {
             let first = self.radial_window(&w);
             let shares = self.harmonic_shares(s, second, first);
             // The first array's window only in the first two intervals, which read it
-            let window = || self.window_params(s, first);
+            let window = || self.window(s, first);
             self.two_lobe_cell(window, &shares, first, r_eval, &w, e_per_r)
                 .eval(wrap_phi(phi))
         })?;
