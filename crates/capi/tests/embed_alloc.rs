@@ -10,7 +10,7 @@ use bssrdf as capi;
 use bssrdf_zoo::embed::bake_library;
 use bssrdf_zoo::materials::{self, Rgb};
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::Grid;
+use bssrdf_zoo::table::{Grid, SamplesMut};
 
 struct Counting;
 
@@ -154,4 +154,189 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
         "the failure paths ran ({failures} failures)"
     );
     assert_eq!(n, 0, "{n} allocations in 3000 rounds of C lookups");
+}
+
+/// Lookups with the medium given per call and batches, from Rust and through C: none
+/// allocates, not even a failing one, whose message names the value (C formats it into a
+/// fixed buffer).
+#[test]
+#[allow(unsafe_code)]
+fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
+    const N: usize = 64;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("skin.bssrdf");
+    let skin = materials::Library::builtin().get("skin1").unwrap().clone();
+    let rust = bake_library(&[&skin], Grid::ferrier(12, 5, 16)).unwrap();
+    rust.write(&path).unwrap();
+    let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+    let mut library = std::ptr::null_mut();
+    // SAFETY: a valid string and output; the handle is closed below, once.
+    let status = unsafe { capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library) };
+    assert_eq!(status, 0);
+    let view = rust.view(0).unwrap();
+    let mut rng = SplitMix64::new(5);
+    // Per-point media: ρ′ up to 1.1 (a tenth outside the table), σ′t down to 0 (vacuum), θ
+    // beyond 90°
+    let mut column = |scale: f64| -> [f64; N] { std::array::from_fn(|_| scale * rng.next_f64()) };
+    let (rho, sigma_t, theta) = (column(1.1), column(3.0), column(1.7));
+    let (r, phi, u_r, u_phi) = (column(3.0), column(3.0), column(1.0), column(1.0));
+    let (mut out, mut draw_r, mut draw_phi, mut draw_pdf) =
+        ([0.0; N], [0.0; N], [0.0; N], [0.0; N]);
+    // The Rust and C batches over the points, and a C batch refused (a NULL array)
+    let batches = |library, out: &mut [f64; N], [dr, dphi, dpdf]: [&mut [f64; N]; 3]| {
+        view.eval_n(&rho, &sigma_t, &theta, &r, &phi, out).unwrap();
+        view.pdf_n(&rho, &sigma_t, &theta, &r, &phi, out).unwrap();
+        let draws = SamplesMut {
+            r: dr,
+            phi: dphi,
+            pdf: dpdf,
+        };
+        view.sample_n(&rho, &sigma_t, &theta, &u_r, &u_phi, draws)
+            .unwrap();
+        let [rho, sigma_t, theta, r, phi, u_r, u_phi] =
+            [&rho, &sigma_t, &theta, &r, &phi, &u_r, &u_phi].map(|a| a.as_ptr());
+        // SAFETY: a live library handle, arrays of N doubles, outputs apart from the inputs.
+        let statuses = unsafe {
+            [
+                capi::bssrdf_table_eval_n(
+                    library,
+                    0,
+                    N,
+                    rho,
+                    sigma_t,
+                    theta,
+                    r,
+                    phi,
+                    out.as_mut_ptr(),
+                ),
+                capi::bssrdf_table_pdf_n(
+                    library,
+                    0,
+                    N,
+                    rho,
+                    sigma_t,
+                    theta,
+                    r,
+                    phi,
+                    out.as_mut_ptr(),
+                ),
+                capi::bssrdf_table_sample_n(
+                    library,
+                    0,
+                    N,
+                    rho,
+                    sigma_t,
+                    theta,
+                    u_r,
+                    u_phi,
+                    dr.as_mut_ptr(),
+                    dphi.as_mut_ptr(),
+                    dpdf.as_mut_ptr(),
+                ),
+                capi::bssrdf_table_eval_n(
+                    library,
+                    0,
+                    N,
+                    rho,
+                    std::ptr::null(),
+                    theta,
+                    r,
+                    phi,
+                    out.as_mut_ptr(),
+                ),
+            ]
+        };
+        assert_eq!(statuses, [0, 0, 0, capi::BSSRDF_ERROR_NULL_POINTER]);
+    };
+    let mut failures = 0;
+    let mut sink = 0.0;
+    let n = allocations(|| {
+        for round in 0..3000 {
+            let k = round % N;
+            let (rho, sigma_t, theta) = (rho[k], sigma_t[k], theta[k]);
+            let u = [u_r[k], u_phi[k], u_r[N - 1 - k], u_phi[N - 1 - k]];
+            match view.medium(rho, sigma_t) {
+                Ok(m) => {
+                    sink += m.eval(theta, r[k], phi[k]).unwrap_or(0.0) + m.pdf(theta, r[k], phi[k]);
+                    sink += m.sample(theta, u[0], u[1]).map_or(0.0, |s| s.r);
+                    sink += m.sample_path(u).map_or(0.0, |s| s.pdf) + m.pdf_theta(theta);
+                    sink += m.effective_albedo(theta).unwrap_or(0.0);
+                }
+                Err(e) => sink += f64::from(u8::from(matches!(e, bssrdf_zoo::Error::Vacuum))),
+            }
+            let mut value = 0.0;
+            let mut sample = capi::bssrdf_sample {
+                r: 0.0,
+                phi: 0.0,
+                pdf: 0.0,
+            };
+            let mut path = capi::bssrdf_path_sample {
+                theta: 0.0,
+                r: 0.0,
+                phi: 0.0,
+                phi_prime: 0.0,
+                pdf_theta: 0.0,
+                pdf: 0.0,
+            };
+            // SAFETY: a live library handle and valid outputs (one NULL, refused).
+            let statuses = unsafe {
+                [
+                    capi::bssrdf_table_eval(
+                        library, 0, rho, sigma_t, theta, r[k], phi[k], &mut value,
+                    ),
+                    capi::bssrdf_table_pdf(
+                        library, 0, rho, sigma_t, theta, r[k], phi[k], &mut value,
+                    ),
+                    capi::bssrdf_table_sample(
+                        library,
+                        0,
+                        rho,
+                        sigma_t,
+                        theta,
+                        u[0],
+                        u[1],
+                        &mut sample,
+                    ),
+                    capi::bssrdf_table_sample_path(library, 0, rho, sigma_t, u.as_ptr(), &mut path),
+                    capi::bssrdf_table_pdf_theta(library, 0, rho, sigma_t, theta, &mut value),
+                    capi::bssrdf_table_effective_albedo(
+                        library, 0, rho, sigma_t, theta, &mut value,
+                    ),
+                    capi::bssrdf_table_eval(
+                        library, 3, rho, sigma_t, theta, r[k], phi[k], &mut value,
+                    ),
+                    capi::bssrdf_table_eval(
+                        library,
+                        0,
+                        rho,
+                        sigma_t,
+                        theta,
+                        r[k],
+                        phi[k],
+                        std::ptr::null_mut(),
+                    ),
+                ]
+            };
+            failures += statuses.iter().filter(|&&s| s != 0).count();
+            std::hint::black_box((value, sample, path));
+            if k == 0 {
+                batches(
+                    library,
+                    &mut out,
+                    [&mut draw_r, &mut draw_phi, &mut draw_pdf],
+                );
+            }
+        }
+    });
+    std::hint::black_box(sink);
+    // SAFETY: opened above, closed once.
+    unsafe { capi::bssrdf_library_close(library) };
+    assert!(
+        failures > 3000,
+        "the failure paths ran ({failures} failures)"
+    );
+    assert_eq!(
+        n, 0,
+        "{n} allocations in 3000 rounds of per-call and batch lookups"
+    );
 }

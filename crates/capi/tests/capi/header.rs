@@ -1,4 +1,5 @@
-//! `include/bssrdf_zoo.h` is written by hand; this test holds it to `crates/capi/src/lib.rs`:
+//! `include/bssrdf_zoo.h` is written by hand; this test holds it to `crates/capi/src/lib.rs` and
+//! `crates/capi/src/media.rs`:
 //! the same functions with the same parameter and return types (Rust types mapped to C ones),
 //! the same structs with the same fields in the same order, the same opaque types, and the same
 //! constants with the same values. Every exported function must be `#[no_mangle]`. The C test
@@ -7,7 +8,10 @@
 use std::collections::BTreeMap;
 
 const HEADER: &str = include_str!("../../../../include/bssrdf_zoo.h");
-const RUST: &str = include_str!("../../src/lib.rs");
+const RUST: &str = concat!(
+    include_str!("../../src/lib.rs"),
+    include_str!("../../src/media.rs")
+);
 
 /// A signature as C spells its types with the spaces removed: return type, parameter types.
 type Signature = (String, Vec<String>);

@@ -4,5 +4,6 @@ mod arbitrary_inputs;
 mod c_program;
 mod fixture;
 mod header;
+mod media;
 mod rust;
 mod threads;
