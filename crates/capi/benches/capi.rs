@@ -22,6 +22,7 @@ use std::ptr::null_mut;
 use std::time::Instant;
 
 use bssrdf::{self as capi, bssrdf_channel};
+use bssrdf_testkit::lookups::{Columns, Inputs};
 use bssrdf_zoo::embed::{ChannelLookup, Library};
 use bssrdf_zoo::format::{self, Compression, LibraryBuilder, Verify};
 use bssrdf_zoo::fresnel::Moments;
@@ -50,17 +51,6 @@ struct Fixture<'a> {
     /// The points as a batch takes them: point i with its medium's ρ′ and σ′t, and the
     /// uniforms of its draw.
     columns: Columns,
-}
-
-/// One array per argument of a batch.
-struct Columns {
-    rho: Vec<f64>,
-    sigma_t: Vec<f64>,
-    theta: Vec<f64>,
-    r: Vec<f64>,
-    phi: Vec<f64>,
-    u_r: Vec<f64>,
-    u_phi: Vec<f64>,
 }
 
 /// Bakes the default grid for η = 1.33 into `dir`.
@@ -110,16 +100,18 @@ impl<'a> Fixture<'a> {
             })
             .collect();
         let uniforms: Vec<[f64; 4]> = (0..4096).map(|_| [0; 4].map(|_| rng.next_f64())).collect();
-        let column = |f: &dyn Fn(usize) -> f64| (0..points.len()).map(f).collect();
-        let columns = Columns {
-            rho: column(&|i| media[points[i].0].0),
-            sigma_t: column(&|i| media[points[i].0].1),
-            theta: column(&|i| points[i].1[0]),
-            r: column(&|i| points[i].1[1]),
-            phi: column(&|i| points[i].1[2]),
-            u_r: column(&|i| uniforms[(i + 1) % uniforms.len()][0]),
-            u_phi: column(&|i| uniforms[(i + 1) % uniforms.len()][1]),
-        };
+        let columns = points
+            .iter()
+            .enumerate()
+            .map(|(i, &(m, [theta, r, phi]))| Inputs {
+                rho: media[m].0,
+                theta,
+                r,
+                phi,
+                u: uniforms[(i + 1) % uniforms.len()],
+                sigma_t: media[m].1,
+            })
+            .collect();
         Fixture {
             direct,
             handles,
@@ -518,37 +510,17 @@ impl Fixture<'_> {
         let (c, lib, n) = (&self.columns, self.c_library, range.len());
         let at = |v: &[f64]| v[range.start..].as_ptr();
         let (rho, st, theta) = (at(&c.rho), at(&c.sigma_t), at(&c.theta));
-        let value = out.value.as_mut_ptr();
+        let (r, phi, value) = (at(&c.r), at(&c.phi), out.value.as_mut_ptr());
+        let (u_r, u_phi) = (at(&c.u_r), at(&c.u_phi));
+        let (draw_r, draw_phi) = (out.r.as_mut_ptr(), out.phi.as_mut_ptr());
         // SAFETY: a live library; every array holds at least n doubles from its pointer, the
         // outputs apart from the inputs.
         let status = unsafe {
             match what {
-                Lookup::Eval => capi::bssrdf_table_eval_n(
-                    lib,
-                    0,
-                    n,
-                    rho,
-                    st,
-                    theta,
-                    at(&c.r),
-                    at(&c.phi),
-                    value,
-                ),
-                Lookup::Pdf => {
-                    capi::bssrdf_table_pdf_n(lib, 0, n, rho, st, theta, at(&c.r), at(&c.phi), value)
-                }
+                Lookup::Eval => capi::bssrdf_table_eval_n(lib, 0, n, rho, st, theta, r, phi, value),
+                Lookup::Pdf => capi::bssrdf_table_pdf_n(lib, 0, n, rho, st, theta, r, phi, value),
                 Lookup::Sample => capi::bssrdf_table_sample_n(
-                    lib,
-                    0,
-                    n,
-                    rho,
-                    st,
-                    theta,
-                    at(&c.u_r),
-                    at(&c.u_phi),
-                    out.r.as_mut_ptr(),
-                    out.phi.as_mut_ptr(),
-                    value,
+                    lib, 0, n, rho, st, theta, u_r, u_phi, draw_r, draw_phi, value,
                 ),
             }
         };
@@ -633,23 +605,22 @@ fn paired_batches(f: &Fixture) -> Vec<String> {
             ],
         );
         let [single, c_batch, rust_batch] = [ns[0], ns[1], ns[2]];
+        let figures = format!(
+            "C batch {c_batch:.1} ns ({:.2}x), Rust batch {rust_batch:.1} ns ({:.2}x) per point",
+            c_batch / single,
+            rust_batch / single
+        );
         let verdict = match floor {
             Some(floor) if c_batch.max(rust_batch) > floor => {
-                let message = format!(
-                    "batch {name}: {:.1} ns per point (C), {rust_batch:.1} (Rust), over the floor of {floor} ns",
-                    c_batch
-                );
-                over.push(message);
+                over.push(format!(
+                    "batch {name}: {figures}, over the floor of {floor} ns"
+                ));
                 format!("OVER the floor of {floor} ns")
             }
             Some(floor) => format!("within the floor of {floor} ns"),
             None => "no floor".to_owned(),
         };
-        println!(
-            "paired batch {name}: single C call {single:.1} ns, C batch {c_batch:.1} ns ({:.2}x), Rust batch {rust_batch:.1} ns ({:.2}x) per point; {verdict}",
-            c_batch / single,
-            rust_batch / single
-        );
+        println!("paired batch {name}: single C call {single:.1} ns, {figures}; {verdict}");
     }
     over
 }

@@ -84,7 +84,7 @@ pub struct bssrdf_channel {
 
 /// One draw of the exit point (see [`bssrdf_runtime::embed::Sample`]).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct bssrdf_sample {
     /// Exit distance, mm.
     pub r: f64,
@@ -96,7 +96,7 @@ pub struct bssrdf_sample {
 
 /// One path-tracing draw (see [`bssrdf_runtime::embed::PathSample`]).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct bssrdf_path_sample {
     /// Incidence before refraction, radians.
     pub theta: f64,
@@ -581,12 +581,29 @@ pub unsafe extern "C" fn bssrdf_channel_get_info(
     })
 }
 
-const THETA_OUTSIDE: &CStr =
-    c"theta is outside the table's theta axis (baked tables: [0, pi/2] radians) or NaN";
-const NO_SAMPLE: &CStr =
-    c"no sample: no energy stored for this medium at this theta, or theta outside the table";
-const NO_PATH_SAMPLE: &CStr =
-    c"no sample: the table was baked without theta sampling, or stores no energy for this medium";
+/// The failure of a lookup at θ outside the table (evaluation, effective albedo).
+fn theta_outside() -> Failure {
+    Failure::fixed(
+        BSSRDF_ERROR_OUT_OF_RANGE,
+        c"theta is outside the table's theta axis (baked tables: [0, pi/2] radians) or NaN",
+    )
+}
+
+/// The failure of a draw with nothing to sample.
+fn no_sample() -> Failure {
+    Failure::fixed(
+        BSSRDF_ERROR_NO_SAMPLE,
+        c"no sample: no energy stored for this medium at this theta, or theta outside the table",
+    )
+}
+
+/// The failure of a path draw with nothing to sample.
+fn no_path_sample() -> Failure {
+    Failure::fixed(
+        BSSRDF_ERROR_NO_SAMPLE,
+        c"no sample: the table was baked without theta sampling, or stores no energy for this medium",
+    )
+}
 
 /// S_p(r, φ; θ) in mm⁻², stored in `*out_value` (see [`ChannelLookup::eval`]): θ in radians
 /// before refraction, r in mm, φ in radians with 0 forward. `BSSRDF_ERROR_OUT_OF_RANGE` for θ
@@ -607,9 +624,7 @@ pub unsafe extern "C" fn bssrdf_channel_eval(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_value, c"out_value is NULL") }?;
-        *out = lookup
-            .eval(theta, r_mm, phi)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_OUT_OF_RANGE, THETA_OUTSIDE))?;
+        *out = lookup.eval(theta, r_mm, phi).ok_or_else(theta_outside)?;
         Ok(())
     })
 }
@@ -656,7 +671,7 @@ pub unsafe extern "C" fn bssrdf_channel_sample(
         let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
         *out = lookup
             .sample(theta, u_r, u_phi)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_NO_SAMPLE, NO_SAMPLE))?
+            .ok_or_else(no_sample)?
             .into();
         Ok(())
     })
@@ -681,10 +696,7 @@ pub unsafe extern "C" fn bssrdf_channel_sample_path(
         let u = *unsafe { input(u.cast::<[f64; 4]>(), c"u is NULL") }?;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
-        *out = lookup
-            .sample_path(u)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_NO_SAMPLE, NO_PATH_SAMPLE))?
-            .into();
+        *out = lookup.sample_path(u).ok_or_else(no_path_sample)?.into();
         Ok(())
     })
 }
@@ -725,9 +737,7 @@ pub unsafe extern "C" fn bssrdf_channel_effective_albedo(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_albedo, c"out_albedo is NULL") }?;
-        *out = lookup
-            .effective_albedo(theta)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_OUT_OF_RANGE, THETA_OUTSIDE))?;
+        *out = lookup.effective_albedo(theta).ok_or_else(theta_outside)?;
         Ok(())
     })
 }

@@ -64,6 +64,26 @@ fn medium_failure(table: usize, e: Error) -> Failure {
     Failure::inline(code, format_args!("medium on table {table}: {e}"))
 }
 
+/// The body of a lookup with the medium given per call and one output: the output checked,
+/// then the medium found and checked, then `lookup` on it into `*out`.
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out` is NULL or writable.
+#[inline(always)]
+unsafe fn per_call<T>(
+    (library, table, rho_prime, sigma_t_prime): (*const bssrdf_library, usize, f64, f64),
+    (out, name): (*mut T, &'static CStr),
+    lookup: impl FnOnce(MediumRef<'_>) -> Result<T, Failure>,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let out = unsafe { output(out, name) }?;
+        // SAFETY: the caller's contract.
+        *out = lookup(unsafe { medium(library, table, rho_prime, sigma_t_prime) }?)?;
+        Ok(())
+    })
+}
+
 /// S_p(r, φ; θ) in mm⁻² of the medium (`rho_prime`, `sigma_t_prime` in mm⁻¹) on table `table`,
 /// stored in `*out_value`: [`bssrdf_channel_eval`] without a handle.
 ///
@@ -81,16 +101,10 @@ pub unsafe extern "C" fn bssrdf_table_eval(
     phi: f64,
     out_value: *mut f64,
 ) -> c_int {
-    guard(|| {
-        // SAFETY: the function's contract.
-        let out = unsafe { output(out_value, c"out_value is NULL") }?;
-        // SAFETY: the function's contract.
-        let medium = unsafe { medium(library, table, rho_prime, sigma_t_prime) }?;
-        *out = medium
-            .eval(theta, r_mm, phi)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_OUT_OF_RANGE, THETA_OUTSIDE))?;
-        Ok(())
-    })
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let eval = |m: MediumRef| m.eval(theta, r_mm, phi).ok_or_else(theta_outside);
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_value, c"out_value is NULL"), eval) }
 }
 
 /// Density per mm² of [`bssrdf_table_sample`] at (r, φ) (0 where it cannot sample), stored in
@@ -110,13 +124,10 @@ pub unsafe extern "C" fn bssrdf_table_pdf(
     phi: f64,
     out_pdf: *mut f64,
 ) -> c_int {
-    guard(|| {
-        // SAFETY: the function's contract.
-        let out = unsafe { output(out_pdf, c"out_pdf is NULL") }?;
-        // SAFETY: the function's contract.
-        *out = unsafe { medium(library, table, rho_prime, sigma_t_prime) }?.pdf(theta, r_mm, phi);
-        Ok(())
-    })
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let pdf = |m: MediumRef| Ok(m.pdf(theta, r_mm, phi));
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_pdf, c"out_pdf is NULL"), pdf) }
 }
 
 /// Draws the exit point for incidence θ from two uniforms into `*out_sample`:
@@ -136,17 +147,10 @@ pub unsafe extern "C" fn bssrdf_table_sample(
     u_phi: f64,
     out_sample: *mut bssrdf_sample,
 ) -> c_int {
-    guard(|| {
-        // SAFETY: the function's contract.
-        let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
-        // SAFETY: the function's contract.
-        let medium = unsafe { medium(library, table, rho_prime, sigma_t_prime) }?;
-        *out = medium
-            .sample(theta, u_r, u_phi)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_NO_SAMPLE, NO_SAMPLE))?
-            .into();
-        Ok(())
-    })
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let sample = |m: MediumRef| Ok(m.sample(theta, u_r, u_phi).ok_or_else(no_sample)?.into());
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_sample, c"out_sample is NULL"), sample) }
 }
 
 /// The path-tracing draw from the four uniforms `u[0..4]` into `*out_sample`:
@@ -164,19 +168,14 @@ pub unsafe extern "C" fn bssrdf_table_sample_path(
     u: *const f64,
     out_sample: *mut bssrdf_path_sample,
 ) -> c_int {
-    guard(|| {
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let sample_path = |m: MediumRef| {
         // SAFETY: the contract: 4 readable doubles, and [f64; 4] has the alignment of f64.
         let u = *unsafe { input(u.cast::<[f64; 4]>(), c"u is NULL") }?;
-        // SAFETY: the function's contract.
-        let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
-        // SAFETY: the function's contract.
-        let medium = unsafe { medium(library, table, rho_prime, sigma_t_prime) }?;
-        *out = medium
-            .sample_path(u)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_NO_SAMPLE, NO_PATH_SAMPLE))?
-            .into();
-        Ok(())
-    })
+        Ok(m.sample_path(u).ok_or_else(no_path_sample)?.into())
+    };
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_sample, c"out_sample is NULL"), sample_path) }
 }
 
 /// Density of θ in [`bssrdf_table_sample_path`], per radian (0 without θ sampling), stored in
@@ -194,13 +193,10 @@ pub unsafe extern "C" fn bssrdf_table_pdf_theta(
     theta: f64,
     out_pdf: *mut f64,
 ) -> c_int {
-    guard(|| {
-        // SAFETY: the function's contract.
-        let out = unsafe { output(out_pdf, c"out_pdf is NULL") }?;
-        // SAFETY: the function's contract.
-        *out = unsafe { medium(library, table, rho_prime, sigma_t_prime) }?.pdf_theta(theta);
-        Ok(())
-    })
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let pdf_theta = |m: MediumRef| Ok(m.pdf_theta(theta));
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_pdf, c"out_pdf is NULL"), pdf_theta) }
 }
 
 /// Effective albedo ρ_eff(θ) stored in `*out_albedo`: [`bssrdf_channel_effective_albedo`]
@@ -217,16 +213,10 @@ pub unsafe extern "C" fn bssrdf_table_effective_albedo(
     theta: f64,
     out_albedo: *mut f64,
 ) -> c_int {
-    guard(|| {
-        // SAFETY: the function's contract.
-        let out = unsafe { output(out_albedo, c"out_albedo is NULL") }?;
-        // SAFETY: the function's contract.
-        let medium = unsafe { medium(library, table, rho_prime, sigma_t_prime) }?;
-        *out = medium
-            .effective_albedo(theta)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_OUT_OF_RANGE, THETA_OUTSIDE))?;
-        Ok(())
-    })
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let albedo = |m: MediumRef| m.effective_albedo(theta).ok_or_else(theta_outside);
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_albedo, c"out_albedo is NULL"), albedo) }
 }
 
 /// A batch's array argument: its pointer and its name, for the messages.
@@ -305,6 +295,34 @@ fn batch_failure(e: Error) -> Failure {
     Failure::inline(BSSRDF_ERROR_INVALID_ARGUMENT, format_args!("{e}"))
 }
 
+/// The inputs of [`bssrdf_table_eval_n`] and [`bssrdf_table_pdf_n`], as the header names them.
+const POINTS: [&str; 5] = ["rho_prime", "sigma_t_prime", "theta", "r_mm", "phi"];
+
+/// The inputs of [`bssrdf_table_sample_n`], as the header names them.
+const DRAWS: [&str; 5] = ["rho_prime", "sigma_t_prime", "theta", "u_r", "u_phi"];
+
+/// The body of a batch: the table found, the arrays checked ([`arrays`]; the inputs named by
+/// `names`), then `lookup` over them.
+///
+/// # Safety
+/// As [`arrays`], and `library` is NULL or an open handle.
+#[inline(always)]
+unsafe fn batch<const O: usize>(
+    (library, table, n): (*const bssrdf_library, usize, usize),
+    (inputs, names): ([*const f64; 5], [&'static str; 5]),
+    outputs: [Array<*mut f64>; O],
+    lookup: impl FnOnce(TableRef<'_>, [&[f64]; 5], [&mut [f64]; O]) -> bssrdf_runtime::Result<()>,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let view = unsafe { table_view(library, table) }?;
+        let inputs = std::array::from_fn(|k| (inputs[k], names[k]));
+        // SAFETY: the caller's contract.
+        let (inputs, outputs) = unsafe { arrays(n, inputs, outputs) }?;
+        lookup(view, inputs, outputs).map_err(batch_failure)
+    })
+}
+
 /// S_p in mm⁻² at `n` points into `out_value[0..n]`: point i is [`bssrdf_table_eval`] of the
 /// medium (`rho_prime[i]`, `sigma_t_prime[i]`) at (`theta[i]`, `r_mm[i]`, `phi[i]`), with
 /// the same bits, or 0 where that call would fail (medium or θ out of range).
@@ -325,22 +343,14 @@ pub unsafe extern "C" fn bssrdf_table_eval_n(
     phi: *const f64,
     out_value: *mut f64,
 ) -> c_int {
-    guard(|| {
-        // SAFETY: the function's contract.
-        let view = unsafe { table_view(library, table) }?;
-        let inputs = [
-            (rho_prime, "rho_prime"),
-            (sigma_t_prime, "sigma_t_prime"),
-            (theta, "theta"),
-            (r_mm, "r_mm"),
-            (phi, "phi"),
-        ];
-        // SAFETY: the function's contract.
-        let ([rho, sigma_t, theta, r_mm, phi], [out]) =
-            unsafe { arrays(n, inputs, [(out_value, "out_value")]) }?;
-        view.eval_n(rho, sigma_t, theta, r_mm, phi, out)
-            .map_err(batch_failure)
-    })
+    let inputs = [rho_prime, sigma_t_prime, theta, r_mm, phi];
+    let eval_n =
+        |view: TableRef, [rho, sigma_t, theta, r_mm, phi]: [&[f64]; 5], [out]: [&mut [f64]; 1]| {
+            view.eval_n(rho, sigma_t, theta, r_mm, phi, out)
+        };
+    let outputs = [(out_value, "out_value")];
+    // SAFETY: the function's contract.
+    unsafe { batch((library, table, n), (inputs, POINTS), outputs, eval_n) }
 }
 
 /// Density per mm² at `n` points into `out_pdf[0..n]`: point i is [`bssrdf_table_pdf`] of the
@@ -362,22 +372,20 @@ pub unsafe extern "C" fn bssrdf_table_pdf_n(
     phi: *const f64,
     out_pdf: *mut f64,
 ) -> c_int {
-    guard(|| {
-        // SAFETY: the function's contract.
-        let view = unsafe { table_view(library, table) }?;
-        let inputs = [
-            (rho_prime, "rho_prime"),
-            (sigma_t_prime, "sigma_t_prime"),
-            (theta, "theta"),
-            (r_mm, "r_mm"),
-            (phi, "phi"),
-        ];
-        // SAFETY: the function's contract.
-        let ([rho, sigma_t, theta, r_mm, phi], [out]) =
-            unsafe { arrays(n, inputs, [(out_pdf, "out_pdf")]) }?;
-        view.pdf_n(rho, sigma_t, theta, r_mm, phi, out)
-            .map_err(batch_failure)
-    })
+    let inputs = [rho_prime, sigma_t_prime, theta, r_mm, phi];
+    let pdf_n =
+        |view: TableRef, [rho, sigma_t, theta, r_mm, phi]: [&[f64]; 5], [out]: [&mut [f64]; 1]| {
+            view.pdf_n(rho, sigma_t, theta, r_mm, phi, out)
+        };
+    // SAFETY: the function's contract.
+    unsafe {
+        batch(
+            (library, table, n),
+            (inputs, POINTS),
+            [(out_pdf, "out_pdf")],
+            pdf_n,
+        )
+    }
 }
 
 /// `n` draws of the exit point into `out_r[0..n]` (mm), `out_phi` (radians) and `out_pdf`
@@ -403,24 +411,15 @@ pub unsafe extern "C" fn bssrdf_table_sample_n(
     out_phi: *mut f64,
     out_pdf: *mut f64,
 ) -> c_int {
-    guard(|| {
-        // SAFETY: the function's contract.
-        let view = unsafe { table_view(library, table) }?;
-        let inputs = [
-            (rho_prime, "rho_prime"),
-            (sigma_t_prime, "sigma_t_prime"),
-            (theta, "theta"),
-            (u_r, "u_r"),
-            (u_phi, "u_phi"),
-        ];
-        let outputs = [(out_r, "out_r"), (out_phi, "out_phi"), (out_pdf, "out_pdf")];
-        // SAFETY: the function's contract.
-        let ([rho, sigma_t, theta, u_r, u_phi], [r, phi, pdf]) =
-            unsafe { arrays(n, inputs, outputs) }?;
-        let out = SamplesMut { r, phi, pdf };
-        view.sample_n(rho, sigma_t, theta, u_r, u_phi, out)
-            .map_err(batch_failure)
-    })
+    let inputs = [rho_prime, sigma_t_prime, theta, u_r, u_phi];
+    let outputs = [(out_r, "out_r"), (out_phi, "out_phi"), (out_pdf, "out_pdf")];
+    let sample_n = |view: TableRef,
+                    [rho, sigma_t, theta, u_r, u_phi]: [&[f64]; 5],
+                    [r, phi, pdf]: [&mut [f64]; 3]| {
+        view.sample_n(rho, sigma_t, theta, u_r, u_phi, SamplesMut { r, phi, pdf })
+    };
+    // SAFETY: the function's contract.
+    unsafe { batch((library, table, n), (inputs, DRAWS), outputs, sample_n) }
 }
 
 #[cfg(test)]

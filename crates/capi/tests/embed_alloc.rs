@@ -85,28 +85,31 @@ fn rust_handle_lookups_and_clones_never_allocate() {
     assert_eq!(n, 0, "{n} allocations in 3000 rounds of lookups");
 }
 
+/// skin1 baked on a small grid into `dir`, and opened by C (the caller closes it).
+#[allow(unsafe_code)]
+fn skin1(dir: &std::path::Path) -> (bssrdf_zoo::embed::Library, *mut capi::bssrdf_library) {
+    let path = dir.join("skin.bssrdf");
+    let skin = materials::Library::builtin().get("skin1").unwrap().clone();
+    let rust = bake_library(&[&skin], Grid::ferrier(12, 5, 16)).unwrap();
+    rust.write(&path).unwrap();
+    let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+    let mut library = std::ptr::null_mut();
+    // SAFETY: a valid string and output.
+    let status = unsafe { capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library) };
+    assert_eq!(status, 0);
+    (rust, library)
+}
+
 #[test]
 #[allow(unsafe_code)]
 fn c_interface_lookups_never_allocate_even_when_they_fail() {
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("skin.bssrdf");
-    let skin = materials::Library::builtin().get("skin1").unwrap().clone();
-    bake_library(&[&skin], Grid::ferrier(12, 5, 16))
-        .unwrap()
-        .write(&path)
-        .unwrap();
-    let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
-    let mut library = std::ptr::null_mut();
+    let (_, library) = skin1(dir.path());
     let mut channel = std::ptr::null_mut();
-    // SAFETY: valid strings and outputs; the handles are released below, once.
-    unsafe {
-        assert_eq!(
-            capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library),
-            0
-        );
-        let status = capi::bssrdf_library_channel(library, c"skin1".as_ptr(), 1, &mut channel);
-        assert_eq!(status, 0);
-    }
+    // SAFETY: a live library, a valid string and output; the handle is released below, once.
+    let status =
+        unsafe { capi::bssrdf_library_channel(library, c"skin1".as_ptr(), 1, &mut channel) };
+    assert_eq!(status, 0);
     let mut rng = SplitMix64::new(4);
     let mut failures = 0;
     let n = allocations(|| {
@@ -164,15 +167,7 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
 fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
     const N: usize = 64;
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("skin.bssrdf");
-    let skin = materials::Library::builtin().get("skin1").unwrap().clone();
-    let rust = bake_library(&[&skin], Grid::ferrier(12, 5, 16)).unwrap();
-    rust.write(&path).unwrap();
-    let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
-    let mut library = std::ptr::null_mut();
-    // SAFETY: a valid string and output; the handle is closed below, once.
-    let status = unsafe { capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library) };
-    assert_eq!(status, 0);
+    let (rust, library) = skin1(dir.path());
     let view = rust.view(0).unwrap();
     let mut rng = SplitMix64::new(5);
     // Per-point media: ρ′ up to 1.1 (a tenth outside the table), σ′t down to 0 (vacuum), θ
@@ -195,55 +190,21 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
             .unwrap();
         let [rho, sigma_t, theta, r, phi, u_r, u_phi] =
             [&rho, &sigma_t, &theta, &r, &phi, &u_r, &u_phi].map(|a| a.as_ptr());
-        // SAFETY: a live library handle, arrays of N doubles, outputs apart from the inputs.
+        let out = out.as_mut_ptr();
+        let (dr, dphi, dpdf) = (dr.as_mut_ptr(), dphi.as_mut_ptr(), dpdf.as_mut_ptr());
+        // SAFETY: a live library handle, arrays of N doubles (or NULL, refused), outputs apart
+        // from the inputs.
         let statuses = unsafe {
+            let [eval_n, pdf_n] = [capi::bssrdf_table_eval_n, capi::bssrdf_table_pdf_n]
+                .map(|f| f(library, 0, N, rho, sigma_t, theta, r, phi, out));
+            let null = std::ptr::null();
             [
-                capi::bssrdf_table_eval_n(
-                    library,
-                    0,
-                    N,
-                    rho,
-                    sigma_t,
-                    theta,
-                    r,
-                    phi,
-                    out.as_mut_ptr(),
-                ),
-                capi::bssrdf_table_pdf_n(
-                    library,
-                    0,
-                    N,
-                    rho,
-                    sigma_t,
-                    theta,
-                    r,
-                    phi,
-                    out.as_mut_ptr(),
-                ),
+                eval_n,
+                pdf_n,
                 capi::bssrdf_table_sample_n(
-                    library,
-                    0,
-                    N,
-                    rho,
-                    sigma_t,
-                    theta,
-                    u_r,
-                    u_phi,
-                    dr.as_mut_ptr(),
-                    dphi.as_mut_ptr(),
-                    dpdf.as_mut_ptr(),
+                    library, 0, N, rho, sigma_t, theta, u_r, u_phi, dr, dphi, dpdf,
                 ),
-                capi::bssrdf_table_eval_n(
-                    library,
-                    0,
-                    N,
-                    rho,
-                    std::ptr::null(),
-                    theta,
-                    r,
-                    phi,
-                    out.as_mut_ptr(),
-                ),
+                capi::bssrdf_table_eval_n(library, 0, N, rho, null, theta, r, phi, out),
             ]
         };
         assert_eq!(statuses, [0, 0, 0, capi::BSSRDF_ERROR_NULL_POINTER]);
@@ -265,19 +226,8 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
                 Err(e) => sink += f64::from(u8::from(matches!(e, bssrdf_zoo::Error::Vacuum))),
             }
             let mut value = 0.0;
-            let mut sample = capi::bssrdf_sample {
-                r: 0.0,
-                phi: 0.0,
-                pdf: 0.0,
-            };
-            let mut path = capi::bssrdf_path_sample {
-                theta: 0.0,
-                r: 0.0,
-                phi: 0.0,
-                phi_prime: 0.0,
-                pdf_theta: 0.0,
-                pdf: 0.0,
-            };
+            let mut sample = capi::bssrdf_sample::default();
+            let mut path = capi::bssrdf_path_sample::default();
             // SAFETY: a live library handle and valid outputs (one NULL, refused).
             let statuses = unsafe {
                 [

@@ -165,6 +165,61 @@ pub struct Inputs {
     pub sigma_t: f64,
 }
 
+/// Points as a batch takes them, one array per argument: entry i of each from the i-th
+/// [`Inputs`] (its ρ′, σ′t, θ, r, φ and first two random numbers).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Columns {
+    pub rho: Vec<f64>,
+    pub sigma_t: Vec<f64>,
+    pub theta: Vec<f64>,
+    pub r: Vec<f64>,
+    pub phi: Vec<f64>,
+    pub u_r: Vec<f64>,
+    pub u_phi: Vec<f64>,
+}
+
+impl FromIterator<Inputs> for Columns {
+    fn from_iter<I: IntoIterator<Item = Inputs>>(points: I) -> Columns {
+        let mut c = Columns::default();
+        for x in points {
+            let columns = [
+                &mut c.rho,
+                &mut c.sigma_t,
+                &mut c.theta,
+                &mut c.r,
+                &mut c.phi,
+            ];
+            for (column, v) in columns
+                .into_iter()
+                .zip([x.rho, x.sigma_t, x.theta, x.r, x.phi])
+            {
+                column.push(v);
+            }
+            c.u_r.push(x.u[0]);
+            c.u_phi.push(x.u[1]);
+        }
+        c
+    }
+}
+
+/// A draw's output that no lookup writes (every field −7), to see that a failed lookup left
+/// its output alone.
+pub const UNTOUCHED_SAMPLE: bssrdf_sample = bssrdf_sample {
+    r: -7.0,
+    phi: -7.0,
+    pdf: -7.0,
+};
+
+/// A path draw's output that no lookup writes (every field −7).
+pub const UNTOUCHED_PATH: bssrdf_path_sample = bssrdf_path_sample {
+    theta: -7.0,
+    r: -7.0,
+    phi: -7.0,
+    phi_prime: -7.0,
+    pdf_theta: -7.0,
+    pdf: -7.0,
+};
+
 /// Inputs for a table from nine (selector, bits) pairs, each number near the table's own
 /// nodes now and then.
 pub fn inputs(view: &TableRef, selectors: [u8; 9], bits: [u64; 9]) -> Inputs {
@@ -546,11 +601,7 @@ unsafe fn check_per_call(
         got,
         rust.map(|h| h.effective_albedo(theta)),
     );
-    let mut s = bssrdf_sample {
-        r: -7.0,
-        phi: -7.0,
-        pdf: -7.0,
-    };
+    let mut s = UNTOUCHED_SAMPLE;
     let status =
         unsafe { bssrdf_table_sample(library, table, rho, sigma_t, theta, u[0], u[1], &mut s) };
     let drawn = rust.map(|h| h.sample(theta, u[0], u[1]));
@@ -569,14 +620,7 @@ unsafe fn check_per_call(
             assert_eq!((status, [s.r, s.phi, s.pdf]), (want, [-7.0; 3]), "{x:?}");
         }
     }
-    let mut p = bssrdf_path_sample {
-        theta: -7.0,
-        r: -7.0,
-        phi: -7.0,
-        phi_prime: -7.0,
-        pdf_theta: -7.0,
-        pdf: -7.0,
-    };
+    let mut p = UNTOUCHED_PATH;
     let status =
         unsafe { bssrdf_table_sample_path(library, table, rho, sigma_t, u.as_ptr(), &mut p) };
     let got = [p.theta, p.r, p.phi, p.phi_prime, p.pdf_theta, p.pdf];

@@ -183,6 +183,40 @@ static void run_batch(const bssrdf_library *library, size_t table, char kind) {
     }
 }
 
+/* The n fields of a draw, named by `names`, against `want`. */
+static void same_fields(int line, const char *what, const char *const *names, const double *got,
+                        const double *want, int n) {
+    int k;
+    for (k = 0; k < n; k++) {
+        char name[64];
+        sprintf(name, "%.40s %s", what, names[k]);
+        same_bits(line, name, got[k], want[k]);
+    }
+}
+
+/* A draw (r, phi, pdf) against `want`. */
+static void same_sample(int line, const char *what, bssrdf_sample s, const double *want) {
+    static const char *const names[3] = {"r", "phi", "pdf"};
+    double got[3];
+    got[0] = s.r;
+    got[1] = s.phi;
+    got[2] = s.pdf;
+    same_fields(line, what, names, got, want, 3);
+}
+
+/* A path draw (theta, r, phi, phi', pdf_theta, pdf) against `want`. */
+static void same_path(int line, const char *what, bssrdf_path_sample p, const double *want) {
+    static const char *const names[6] = {"theta", "r", "phi", "phi'", "pdf_theta", "pdf"};
+    double got[6];
+    got[0] = p.theta;
+    got[1] = p.r;
+    got[2] = p.phi;
+    got[3] = p.phi_prime;
+    got[4] = p.pdf_theta;
+    got[5] = p.pdf;
+    same_fields(line, what, names, got, want, 6);
+}
+
 /* Runs the expectations file once; `close_early` closes the library right after each
  * channel is made. */
 static void run(const char *library_path, const char *expectations, uint32_t flags,
@@ -288,12 +322,8 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
             if (status != BSSRDF_OK) {
                 v[3] = v[4] = v[5] = -7.0;
             }
-            same_bits(line, "sample r", s.r, v[3]);
-            same_bits(line, "sample phi", s.phi, v[4]);
-            same_bits(line, "sample pdf", s.pdf, v[5]);
-            same_bits(line, "table sample r", s2.r, v[3]);
-            same_bits(line, "table sample phi", s2.phi, v[4]);
-            same_bits(line, "table sample pdf", s2.pdf, v[5]);
+            same_sample(line, "sample", s, &v[3]);
+            same_sample(line, "table sample", s2, &v[3]);
         } else if (kind[0] == 'T') {
             bssrdf_path_sample p = {-7.0, -7.0, -7.0, -7.0, -7.0, -7.0};
             bssrdf_path_sample p2 = {-7.0, -7.0, -7.0, -7.0, -7.0, -7.0};
@@ -313,18 +343,8 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
                     v[k] = -7.0;
                 }
             }
-            same_bits(line, "path theta", p.theta, v[4]);
-            same_bits(line, "path r", p.r, v[5]);
-            same_bits(line, "path phi", p.phi, v[6]);
-            same_bits(line, "path phi'", p.phi_prime, v[7]);
-            same_bits(line, "path pdf_theta", p.pdf_theta, v[8]);
-            same_bits(line, "path pdf", p.pdf, v[9]);
-            same_bits(line, "table path theta", p2.theta, v[4]);
-            same_bits(line, "table path r", p2.r, v[5]);
-            same_bits(line, "table path phi", p2.phi, v[6]);
-            same_bits(line, "table path phi'", p2.phi_prime, v[7]);
-            same_bits(line, "table path pdf_theta", p2.pdf_theta, v[8]);
-            same_bits(line, "table path pdf", p2.pdf, v[9]);
+            same_path(line, "path", p, &v[4]);
+            same_path(line, "table path", p2, &v[4]);
         } else if (kind[0] == 'Q' || kind[0] == 'A') {
             double out = -7.0, out2 = -7.0;
             int status2;

@@ -10,7 +10,7 @@ use std::ffi::{c_int, CStr, CString};
 use std::ptr::{null, null_mut};
 
 use bssrdf::*;
-use bssrdf_testkit::lookups::{check_capi, Inputs};
+use bssrdf_testkit::lookups::{check_capi, Columns, Inputs, UNTOUCHED_PATH, UNTOUCHED_SAMPLE};
 use bssrdf_zoo::embed::Library;
 use bssrdf_zoo::rng::SplitMix64;
 use bssrdf_zoo::table::{Grid, SamplesMut, TableRef};
@@ -112,36 +112,14 @@ fn per_call_lookups_equal_the_channel_handles_bit_for_bit() {
     }
 }
 
-/// The inputs of a batch: `n` points of [`point`], some outside the domain.
-struct Batch {
-    rho: Vec<f64>,
-    sigma_t: Vec<f64>,
-    theta: Vec<f64>,
-    r: Vec<f64>,
-    phi: Vec<f64>,
-    u_r: Vec<f64>,
-    u_phi: Vec<f64>,
-}
-
-impl Batch {
-    fn new(n: usize, rng: &mut SplitMix64) -> Batch {
-        let points: Vec<Inputs> = (0..n).map(|_| point(rng)).collect();
-        let column = |f: fn(&Inputs) -> f64| points.iter().map(f).collect();
-        Batch {
-            rho: column(|x| x.rho),
-            sigma_t: column(|x| x.sigma_t),
-            theta: column(|x| x.theta),
-            r: column(|x| x.r),
-            phi: column(|x| x.phi),
-            u_r: column(|x| x.u[0]),
-            u_phi: column(|x| x.u[1]),
-        }
-    }
+/// A batch of `n` points of [`point`], some outside the domain.
+fn batch(n: usize, rng: &mut SplitMix64) -> Columns {
+    (0..n).map(|_| point(rng)).collect()
 }
 
 /// Each point of the Rust batches of `view`, and of the C batches on table `table` of `c`,
 /// against the single calls.
-fn check_batches(view: &TableRef, c: *const bssrdf_library, table: usize, b: &Batch) {
+fn check_batches(view: &TableRef, c: *const bssrdf_library, table: usize, b: &Columns) {
     let n = b.rho.len();
     let mut value = vec![-7.0; n];
     let mut pdf = vec![-7.0; n];
@@ -177,52 +155,38 @@ fn check_batches(view: &TableRef, c: *const bssrdf_library, table: usize, b: &Ba
     for v in [&mut value, &mut pdf, &mut r, &mut phi, &mut s_pdf] {
         v.fill(-7.0);
     }
-    let (rho, sigma_t) = (b.rho.as_ptr(), b.sigma_t.as_ptr());
+    let [rho, sigma_t, theta, r_mm, phi_in, u_r, u_phi] =
+        [&b.rho, &b.sigma_t, &b.theta, &b.r, &b.phi, &b.u_r, &b.u_phi].map(|v| v.as_ptr());
     // SAFETY: a live library handle; every array holds n doubles, the outputs writable and
     // apart from the inputs.
     unsafe {
-        let (theta, r_mm, phi_in) = (b.theta.as_ptr(), b.r.as_ptr(), b.phi.as_ptr());
-        let status = bssrdf_table_eval_n(
-            c,
-            table,
-            n,
-            rho,
-            sigma_t,
-            theta,
-            r_mm,
-            phi_in,
-            value.as_mut_ptr(),
-        );
-        assert_eq!(status, BSSRDF_OK);
-        let status = bssrdf_table_pdf_n(
-            c,
-            table,
-            n,
-            rho,
-            sigma_t,
-            theta,
-            r_mm,
-            phi_in,
-            pdf.as_mut_ptr(),
-        );
-        assert_eq!(status, BSSRDF_OK);
-        let status = bssrdf_table_sample_n(
-            c,
-            table,
-            n,
-            rho,
-            sigma_t,
-            theta,
-            b.u_r.as_ptr(),
-            b.u_phi.as_ptr(),
-            r.as_mut_ptr(),
-            phi.as_mut_ptr(),
-            s_pdf.as_mut_ptr(),
-        );
+        for (batch, out) in [
+            (bssrdf_table_eval_n as BatchFn, value.as_mut_ptr()),
+            (bssrdf_table_pdf_n, pdf.as_mut_ptr()),
+        ] {
+            let status = batch(c, table, n, rho, sigma_t, theta, r_mm, phi_in, out);
+            assert_eq!(status, BSSRDF_OK);
+        }
+        let (r, phi, s_pdf) = (r.as_mut_ptr(), phi.as_mut_ptr(), s_pdf.as_mut_ptr());
+        let status =
+            bssrdf_table_sample_n(c, table, n, rho, sigma_t, theta, u_r, u_phi, r, phi, s_pdf);
         assert_eq!(status, BSSRDF_OK);
     }
     check(&value, &pdf, [&r, &phi, &s_pdf]);
 }
+
+/// `bssrdf_table_eval_n` and `bssrdf_table_pdf_n`.
+type BatchFn = unsafe extern "C" fn(
+    *const bssrdf_library,
+    usize,
+    usize,
+    *const f64,
+    *const f64,
+    *const f64,
+    *const f64,
+    *const f64,
+    *mut f64,
+) -> c_int;
 
 #[test]
 fn every_point_of_a_batch_is_the_single_call_bit_for_bit() {
@@ -233,7 +197,7 @@ fn every_point_of_a_batch_is_the_single_call_bit_for_bit() {
         let view = rust.view(table).unwrap();
         // Lengths around the batch code's groups of points, and a long batch
         for n in [0, 1, 2, 3, 4, 5, 7, 8, 9, 63, 64, 65, 2 * ROUNDS] {
-            check_batches(&view, c, table, &Batch::new(n, &mut rng));
+            check_batches(&view, c, table, &batch(n, &mut rng));
         }
     }
     // SAFETY: closed once.
@@ -278,11 +242,7 @@ fn per_call_failures_name_the_value_and_leave_the_output() {
     let dir = tempfile::tempdir().unwrap();
     let (_, c) = open(dir.path(), BSSRDF_OPEN_MAP);
     let mut value = -7.0;
-    let mut sample = bssrdf_sample {
-        r: -7.0,
-        phi: -7.0,
-        pdf: -7.0,
-    };
+    let mut sample = UNTOUCHED_SAMPLE;
     let u = [0.5; 4];
     // SAFETY: a live library handle (or NULL where the test says so) and valid outputs.
     unsafe {
@@ -333,20 +293,13 @@ fn per_call_failures_name_the_value_and_leave_the_output() {
             BSSRDF_ERROR_NO_SAMPLE,
             &["no sample"],
         );
-        let mut path = bssrdf_path_sample {
-            theta: -7.0,
-            r: -7.0,
-            phi: -7.0,
-            phi_prime: -7.0,
-            pdf_theta: -7.0,
-            pdf: -7.0,
-        };
+        let mut path = UNTOUCHED_PATH;
         fails(
             bssrdf_table_sample_path(c, 1, 0.0, 2.0, u.as_ptr(), &mut path),
             BSSRDF_ERROR_NO_SAMPLE,
             &["no sample"],
         );
-        assert_eq!(path.pdf, -7.0);
+        assert_eq!(path, UNTOUCHED_PATH);
         let null_pointer = BSSRDF_ERROR_NULL_POINTER;
         fails(
             bssrdf_table_eval(null(), 0, 0.5, 2.0, 0.3, 0.5, 0.0, out),
@@ -391,7 +344,7 @@ fn per_call_failures_name_the_value_and_leave_the_output() {
         bssrdf_library_close(c);
     }
     assert_eq!(value, -7.0, "outputs untouched on failure");
-    assert_eq!([sample.r, sample.phi, sample.pdf], [-7.0; 3]);
+    assert_eq!(sample, UNTOUCHED_SAMPLE);
 }
 
 #[test]

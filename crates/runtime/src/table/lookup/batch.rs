@@ -53,15 +53,9 @@ impl TableRef<'_> {
         out: &mut [f64],
     ) -> crate::Result<()> {
         let inputs = [rho_prime, sigma_t_prime, theta, r_mm, phi];
-        let [rho_prime, sigma_t_prime, theta, r_mm, phi] = lengths(INPUTS_EVAL, inputs, out.len())?;
-        for (i, out) in out.iter_mut().enumerate() {
-            *out = self
-                .medium(rho_prime[i], sigma_t_prime[i])
-                .ok()
-                .and_then(|m| m.eval(theta[i], r_mm[i], phi[i]))
-                .unwrap_or(0.0);
-        }
-        Ok(())
+        self.values_n(inputs, out, |m, theta, r_mm, phi| {
+            m.eval(theta, r_mm, phi).unwrap_or(0.0)
+        })
     }
 
     /// The density per mm² of [`TableRef::sample_n`] at N points: point i is
@@ -78,11 +72,23 @@ impl TableRef<'_> {
         out: &mut [f64],
     ) -> crate::Result<()> {
         let inputs = [rho_prime, sigma_t_prime, theta, r_mm, phi];
+        self.values_n(inputs, out, |m, theta, r_mm, phi| m.pdf(theta, r_mm, phi))
+    }
+
+    /// The loop of [`TableRef::eval_n`] and [`TableRef::pdf_n`]: `value` of each point's
+    /// medium at its (θ, r_mm, φ), or 0 where the medium is refused.
+    #[inline(always)]
+    fn values_n(
+        &self,
+        inputs: [&[f64]; 5],
+        out: &mut [f64],
+        value: impl Fn(MediumRef<'_>, f64, f64, f64) -> f64,
+    ) -> crate::Result<()> {
         let [rho_prime, sigma_t_prime, theta, r_mm, phi] = lengths(INPUTS_EVAL, inputs, out.len())?;
         for (i, out) in out.iter_mut().enumerate() {
             *out = self
                 .medium(rho_prime[i], sigma_t_prime[i])
-                .map_or(0.0, |m| m.pdf(theta[i], r_mm[i], phi[i]));
+                .map_or(0.0, |m| value(m, theta[i], r_mm[i], phi[i]));
         }
         Ok(())
     }

@@ -28,6 +28,7 @@ impl<'a> World<'a> {
         Ok(Self::prevalidated(table, sigma_t_prime))
     }
     /// [`World::new`] for a σ′t already checked by it.
+    #[inline]
     pub(crate) fn prevalidated(table: TableRef<'a>, sigma_t_prime: f64) -> Self {
         Self {
             table,
@@ -35,6 +36,7 @@ impl<'a> World<'a> {
         }
     }
     /// S in mm⁻² at r in mm.
+    #[inline]
     pub fn eval(&self, rho: f64, theta: f64, r_mm: f64, phi: f64) -> Option<f64> {
         let st = self.sigma_t_prime;
         Some(st * st * self.table.eval(rho, theta, st * r_mm, phi)?)
@@ -73,6 +75,7 @@ impl<'a> World<'a> {
         (pdf > 0.0).then_some(PathSample { r, pdf, ..p })
     }
     /// Density per mm² of [`World::sample`].
+    #[inline]
     pub fn pdf(&self, rho: f64, theta: f64, r_mm: f64, phi: f64) -> f64 {
         let st = self.sigma_t_prime;
         st * st * self.table.pdf(rho, theta, st * r_mm, phi)
