@@ -3,6 +3,11 @@
 //! different (textured) media. Every point gives the bits of the single lookup of
 //! [`MediumRef`] at the same arguments; a point outside the domain gives 0 (a failed draw
 //! (0, 0, 0)) instead of an error, and the rest of the batch goes on.
+//!
+//! Each point runs the single lookup, so its bits are the single lookup's by construction. A
+//! batch saves what a call adds to a lookup (the C boundary, finding the table's arrays), not
+//! arithmetic: a point costs what a lookup through a `TableRef` made once costs
+//! (docs/performance.md, "Media per call and batches", with what was measured to go further).
 
 use super::*;
 
