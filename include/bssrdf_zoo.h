@@ -2,7 +2,10 @@
  * bssrdf_zoo.h: the C interface of bssrdf-zoo, tabulated BSSRDFs for rendering.
  *
  * Open a library file made by `bssrdf bake`, make one lookup handle per medium and colour
- * channel, then evaluate and sample S_p(r, phi; theta) at render time.
+ * channel, then evaluate and sample S_p(r, phi; theta) at render time. Or, for media that
+ * change from point to point (textures) or per wavelength, give the medium's rho' and
+ * sigma_t' with every call (bssrdf_table_*) or with every point of a batch (bssrdf_table_*_n):
+ * one table serves every medium of its eta.
  *
  * Build and link: `cargo build --release -p bssrdf-capi` makes target/release/libbssrdf.a (static;
  * link also -lpthread -ldl -lm on Linux) and libbssrdf.so (shared). Declarations here are
@@ -29,6 +32,22 @@
  * unmapped when the last handle goes). Strings returned by the library (material names)
  * are owned by the library handle; status names are static.
  *
+ * Media per call: the bssrdf_table_* functions take the table's index and the medium's
+ * reduced albedo rho' (within the table's albedo rows) and reduced extinction sigma_t' (mm^-1,
+ * in [1e-9, 1e12]) with each lookup, check them as bssrdf_library_medium does (rho' outside
+ * the rows or NaN: BSSRDF_ERROR_OUT_OF_RANGE; sigma_t' outside its range or NaN:
+ * BSSRDF_ERROR_INVALID_ARGUMENT; the message names the value and its range), and return the
+ * bits of a channel handle made for the same medium. They allocate nothing, failing or not.
+ *
+ * Batches: bssrdf_table_eval_n, bssrdf_table_pdf_n and bssrdf_table_sample_n look up n points
+ * given as structures of arrays (one array of n doubles per argument, one per output), each
+ * point with its own medium, into output arrays. Point i gives the bits of the single call with
+ * the i-th values. A point outside the domain does not fail the batch: its value or density is
+ * 0 and its draw the failed draw r = phi = pdf = 0 (every successful draw has pdf > 0). The
+ * call fails, writing nothing, for a NULL library or array (even with n = 0), an array not
+ * aligned for a double, an output overlapping another array (inputs may overlap each other),
+ * n too large to address, or an unknown table.
+ *
  * Thread safety: handles are immutable. Any number of threads may call any function on the
  * same handle at the same time, except that closing or releasing a handle must not race with
  * any other use of that handle.
@@ -51,7 +70,8 @@ extern "C" {
 /* A pointer argument was NULL. */
 #define BSSRDF_ERROR_NULL_POINTER 1
 /* Unknown flag bits, a channel other than 0, 1, 2, a string that is not UTF-8, a medium with
- * sigma_t' outside [1e-9, 1e12] mm^-1 (or NaN). */
+ * sigma_t' outside [1e-9, 1e12] mm^-1 (or NaN), a batch's array misaligned or overlapping
+ * an output, or n too large. */
 #define BSSRDF_ERROR_INVALID_ARGUMENT 2
 /* The operating system refused to open, map or read the file. */
 #define BSSRDF_ERROR_IO 3
@@ -60,7 +80,8 @@ extern "C" {
 /* No material of that name, or no table or material of that index. */
 #define BSSRDF_ERROR_NOT_FOUND 5
 /* theta outside the table's theta axis (or NaN) in a lookup, or a medium's rho' outside the
- * table's albedo rows when a channel is made. Tables are never extrapolated. */
+ * table's albedo rows (or NaN) when a channel is made or in a per-call lookup. Tables are
+ * never extrapolated. */
 #define BSSRDF_ERROR_OUT_OF_RANGE 6
 /* Nothing to sample: no energy stored (rho' = 0, light beyond the critical angle), theta
  * outside the table, or, for path sampling, a table baked without theta sampling. */
@@ -169,6 +190,65 @@ int bssrdf_channel_pdf_theta(const bssrdf_channel *channel, double theta, double
  * (dimensionless). BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table. */
 int bssrdf_channel_effective_albedo(const bssrdf_channel *channel, double theta,
                                     double *out_albedo);
+
+/* Lookups with the medium given per call, on table `table` of an open library: rho_prime is
+ * the reduced albedo sigma_s' / sigma_t', sigma_t_prime the reduced extinction in mm^-1. Each
+ * is the bssrdf_channel_* function of the same name for a channel made with
+ * bssrdf_library_medium(library, table, rho_prime, sigma_t_prime), with the same statuses and
+ * bits, plus BSSRDF_ERROR_NOT_FOUND for an unknown table and the medium's own statuses. */
+
+/* S_p(r, phi; theta) in mm^-2 (bssrdf_channel_eval). */
+int bssrdf_table_eval(const bssrdf_library *library, size_t table, double rho_prime,
+                      double sigma_t_prime, double theta, double r_mm, double phi,
+                      double *out_value);
+
+/* Density per mm^2 of bssrdf_table_sample at (r, phi) (bssrdf_channel_pdf). */
+int bssrdf_table_pdf(const bssrdf_library *library, size_t table, double rho_prime,
+                     double sigma_t_prime, double theta, double r_mm, double phi,
+                     double *out_pdf);
+
+/* Draws the exit point from two uniforms in [0, 1) (bssrdf_channel_sample). */
+int bssrdf_table_sample(const bssrdf_library *library, size_t table, double rho_prime,
+                        double sigma_t_prime, double theta, double u_r, double u_phi,
+                        bssrdf_sample *out_sample);
+
+/* The path-tracing draw from four uniforms u[0..3] (bssrdf_channel_sample_path). */
+int bssrdf_table_sample_path(const bssrdf_library *library, size_t table, double rho_prime,
+                             double sigma_t_prime, const double *u,
+                             bssrdf_path_sample *out_sample);
+
+/* Density of theta in bssrdf_table_sample_path, per radian (bssrdf_channel_pdf_theta);
+ * sigma_t_prime is checked but does not enter it. */
+int bssrdf_table_pdf_theta(const bssrdf_library *library, size_t table, double rho_prime,
+                           double sigma_t_prime, double theta, double *out_pdf);
+
+/* Effective albedo rho_eff(theta) (bssrdf_channel_effective_albedo); sigma_t_prime is checked
+ * but does not enter it. */
+int bssrdf_table_effective_albedo(const bssrdf_library *library, size_t table,
+                                  double rho_prime, double sigma_t_prime, double theta,
+                                  double *out_albedo);
+
+/* Batches of n points on table `table`, structures of arrays (see "Batches" above): arrays
+ * of n doubles, point i with its own medium (rho_prime[i], sigma_t_prime[i]).
+ * S_p in mm^-2 into out_value[i]: bssrdf_table_eval at point i, or 0 where it fails. */
+int bssrdf_table_eval_n(const bssrdf_library *library, size_t table, size_t n,
+                        const double *rho_prime, const double *sigma_t_prime,
+                        const double *theta, const double *r_mm, const double *phi,
+                        double *out_value);
+
+/* Density per mm^2 into out_pdf[i]: bssrdf_table_pdf at point i, or 0 where it fails. */
+int bssrdf_table_pdf_n(const bssrdf_library *library, size_t table, size_t n,
+                       const double *rho_prime, const double *sigma_t_prime,
+                       const double *theta, const double *r_mm, const double *phi,
+                       double *out_pdf);
+
+/* Draws into out_r[i] (mm), out_phi[i] (radians) and out_pdf[i] (mm^-2):
+ * bssrdf_table_sample at point i from the uniforms (u_r[i], u_phi[i]), or the failed draw
+ * r = phi = pdf = 0 where it fails (no energy, theta or the medium outside the table). */
+int bssrdf_table_sample_n(const bssrdf_library *library, size_t table, size_t n,
+                          const double *rho_prime, const double *sigma_t_prime,
+                          const double *theta, const double *u_r, const double *u_phi,
+                          double *out_r, double *out_phi, double *out_pdf);
 
 /* The message of the last failed call on this thread (UTF-8, NUL-terminated, "no error" if
  * none yet). Valid until the next failing call on this thread. Never NULL. */

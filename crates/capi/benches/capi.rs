@@ -3,27 +3,39 @@
 //! direct baseline), (2) the Rust handle `embed::ChannelLookup`, (3) the C interface's
 //! `extern "C"` functions called from Rust. Same mapped file (default grid, η = 1.33), same
 //! random points over 64 media of random ρ′ and σ′t, so the three differ only by their layers.
-//! Run: `cargo bench -p bssrdf-capi --bench capi`.
+//! Then the lookups with the medium given per call and the batches (`batch/…`): the same
+//! points one call each (`MediumRef`, `bssrdf_table_eval`, …) and as batches of structures of
+//! arrays, each point with its own medium (`TableRef::eval_n`, `bssrdf_table_eval_n`, …).
+//! Run: `cargo bench -p bssrdf-capi --bench capi` (`-- batch` for the batches alone).
 //!
 //! After criterion, a paired run prints the times and the ratios C / Rust handle and Rust
 //! handle / direct: the 4096 points in blocks of 512, each block timed 31 times per variant
 //! with the variants back to back (order alternating), each block's fastest time kept. On a
 //! shared machine whose load changes from millisecond to millisecond, these figures are far
 //! steadier than criterion's separate estimates, whose spread there exceeds the differences.
+//! The batches are timed the same way, a block being one batch call of 512 points against 512
+//! single calls, and held to their floors ([`EVAL_FLOOR_NS`], [`SAMPLE_FLOOR_NS`]): the
+//! benchmark fails, naming the figure, if a batch costs more per point.
 #![allow(unsafe_code)]
 
 use std::ptr::null_mut;
 use std::time::Instant;
 
 use bssrdf::{self as capi, bssrdf_channel};
+use bssrdf_testkit::lookups::{Columns, Inputs};
 use bssrdf_zoo::embed::{ChannelLookup, Library};
 use bssrdf_zoo::format::{self, Compression, LibraryBuilder, Verify};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::{bake, FileTable, Grid, GridPreset, TableRef, World};
-use criterion::{black_box, Criterion};
+use bssrdf_zoo::table::{bake, FileTable, Grid, GridPreset, SamplesMut, TableRef, World};
+use criterion::{black_box, Criterion, Throughput};
 
 const MEDIA: usize = 64;
+
+/// The most a batch evaluation may cost per point, ns, in the paired run.
+const EVAL_FLOOR_NS: f64 = 60.0;
+/// The most a batch draw of (r, φ) may cost per point, ns, in the paired run.
+const SAMPLE_FLOOR_NS: f64 = 250.0;
 
 /// The three ways to one table, and the points to look up.
 struct Fixture<'a> {
@@ -34,6 +46,11 @@ struct Fixture<'a> {
     /// (medium, [θ, r mm, φ]) where the table holds energy, as a renderer meets them.
     points: Vec<(usize, [f64; 3])>,
     uniforms: Vec<[f64; 4]>,
+    /// The Rust library of `handles`, for the lookups with the medium given per call.
+    library: Library,
+    /// The points as a batch takes them: point i with its medium's ρ′ and σ′t, and the
+    /// uniforms of its draw.
+    columns: Columns,
 }
 
 /// Bakes the default grid for η = 1.33 into `dir`.
@@ -61,8 +78,10 @@ impl<'a> Fixture<'a> {
 
         let mut rng = SplitMix64::new(1);
         let (mut direct, mut handles, mut channels) = (Vec::new(), Vec::new(), Vec::new());
+        let mut media = Vec::new();
         for _ in 0..MEDIA {
             let (rho, st) = (0.05 + 0.95 * rng.next_f64(), 0.5 + 4.0 * rng.next_f64());
+            media.push((rho, st));
             direct.push((rho, World::new(view, st).unwrap()));
             handles.push(library.table(0).unwrap().medium(rho, st).unwrap());
             let mut ch = null_mut();
@@ -71,7 +90,7 @@ impl<'a> Fixture<'a> {
             assert_eq!(status, 0);
             channels.push(ch);
         }
-        let points = (0..4096)
+        let points: Vec<(usize, [f64; 3])> = (0..4096)
             .map(|k| loop {
                 let m = k % MEDIA;
                 let theta = 1.5 * rng.next_f64();
@@ -80,7 +99,19 @@ impl<'a> Fixture<'a> {
                 }
             })
             .collect();
-        let uniforms = (0..4096).map(|_| [0; 4].map(|_| rng.next_f64())).collect();
+        let uniforms: Vec<[f64; 4]> = (0..4096).map(|_| [0; 4].map(|_| rng.next_f64())).collect();
+        let columns = points
+            .iter()
+            .enumerate()
+            .map(|(i, &(m, [theta, r, phi]))| Inputs {
+                rho: media[m].0,
+                theta,
+                r,
+                phi,
+                u: uniforms[(i + 1) % uniforms.len()],
+                sigma_t: media[m].1,
+            })
+            .collect();
         Fixture {
             direct,
             handles,
@@ -88,6 +119,8 @@ impl<'a> Fixture<'a> {
             c_library,
             points,
             uniforms,
+            library,
+            columns,
         }
     }
 
@@ -263,6 +296,20 @@ const BLOCK: usize = 512;
 /// times per variant, the variants back to back in alternating order; each block keeps its
 /// fastest time (the runs no other process interrupted), and the blocks are summed.
 fn interleaved(reps: usize, variants: &mut [&mut dyn FnMut(usize) -> f64]) -> Vec<f64> {
+    let mut blocks: Vec<Box<dyn FnMut(std::ops::Range<usize>) -> f64 + '_>> = variants
+        .iter_mut()
+        .map(|v| Box::new(move |block: std::ops::Range<usize>| block.map(&mut **v).sum()) as _)
+        .collect();
+    let mut blocks: Vec<&mut dyn FnMut(std::ops::Range<usize>) -> f64> =
+        blocks.iter_mut().map(|b| &mut **b as _).collect();
+    interleaved_blocks(reps, &mut blocks)
+}
+
+/// [`interleaved`] for variants that take a block of points at once (a batch).
+fn interleaved_blocks(
+    reps: usize,
+    variants: &mut [&mut dyn FnMut(std::ops::Range<usize>) -> f64],
+) -> Vec<f64> {
     let blocks = 4096 / BLOCK;
     // best[block][variant], ns for the whole block.
     let mut best = vec![vec![f64::INFINITY; variants.len()]; blocks];
@@ -277,9 +324,7 @@ fn interleaved(reps: usize, variants: &mut [&mut dyn FnMut(usize) -> f64]) -> Ve
                     variants.len() - 1 - k
                 };
                 let start = Instant::now();
-                for i in block * BLOCK..(block + 1) * BLOCK {
-                    sink += (variants[v])(i);
-                }
+                sink += (variants[v])(block * BLOCK..(block + 1) * BLOCK);
                 best[v] = best[v].min(start.elapsed().as_nanos() as f64);
             }
         }
@@ -386,6 +431,200 @@ fn paired(f: &Fixture) {
     report("sample_path", &["handle", "C"], &path);
 }
 
+impl Fixture<'_> {
+    /// One point per call with its medium (`MediumRef`, `bssrdf_table_*`), and batches over
+    /// the points of `range`, each a sum of the outputs (so none is optimised away).
+    fn rust_single(&self, what: Lookup, i: usize) -> f64 {
+        let c = &self.columns;
+        let view = self.library.view(0).unwrap();
+        let Ok(m) = view.medium(c.rho[i], c.sigma_t[i]) else {
+            return 0.0;
+        };
+        match what {
+            Lookup::Eval => m
+                .eval(black_box(c.theta[i]), c.r[i], c.phi[i])
+                .unwrap_or(0.0),
+            Lookup::Pdf => m.pdf(black_box(c.theta[i]), c.r[i], c.phi[i]),
+            Lookup::Sample => m
+                .sample(black_box(c.theta[i]), c.u_r[i], c.u_phi[i])
+                .map_or(0.0, |s| s.r),
+        }
+    }
+
+    fn c_single(&self, what: Lookup, i: usize) -> f64 {
+        let (c, lib) = (&self.columns, self.c_library);
+        let (rho, st, theta) = (c.rho[i], c.sigma_t[i], black_box(c.theta[i]));
+        let mut value = 0.0;
+        let mut s = capi::bssrdf_sample {
+            r: 0.0,
+            phi: 0.0,
+            pdf: 0.0,
+        };
+        // SAFETY: a live library and valid outputs.
+        let status = unsafe {
+            match what {
+                Lookup::Eval => {
+                    capi::bssrdf_table_eval(lib, 0, rho, st, theta, c.r[i], c.phi[i], &mut value)
+                }
+                Lookup::Pdf => {
+                    capi::bssrdf_table_pdf(lib, 0, rho, st, theta, c.r[i], c.phi[i], &mut value)
+                }
+                Lookup::Sample => {
+                    capi::bssrdf_table_sample(lib, 0, rho, st, theta, c.u_r[i], c.u_phi[i], &mut s)
+                }
+            }
+        };
+        value + s.r + f64::from(status)
+    }
+
+    fn rust_batch(&self, what: Lookup, range: std::ops::Range<usize>, out: &mut Outputs) -> f64 {
+        let c = &self.columns;
+        let view = self.library.view(0).unwrap();
+        let n = range.len();
+        let (rho, st, theta) = (
+            &c.rho[range.clone()],
+            &c.sigma_t[range.clone()],
+            &c.theta[range.clone()],
+        );
+        let (a, b) = match what {
+            Lookup::Sample => (&c.u_r[range.clone()], &c.u_phi[range]),
+            _ => (&c.r[range.clone()], &c.phi[range]),
+        };
+        match what {
+            Lookup::Eval => view.eval_n(rho, st, theta, a, b, &mut out.value[..n]),
+            Lookup::Pdf => view.pdf_n(rho, st, theta, a, b, &mut out.value[..n]),
+            Lookup::Sample => {
+                let draws = SamplesMut {
+                    r: &mut out.r[..n],
+                    phi: &mut out.phi[..n],
+                    pdf: &mut out.value[..n],
+                };
+                view.sample_n(rho, st, theta, a, b, draws)
+            }
+        }
+        .unwrap();
+        out.value[n - 1] + out.r[n - 1]
+    }
+
+    fn c_batch(&self, what: Lookup, range: std::ops::Range<usize>, out: &mut Outputs) -> f64 {
+        let (c, lib, n) = (&self.columns, self.c_library, range.len());
+        let at = |v: &[f64]| v[range.start..].as_ptr();
+        let (rho, st, theta) = (at(&c.rho), at(&c.sigma_t), at(&c.theta));
+        let (r, phi, value) = (at(&c.r), at(&c.phi), out.value.as_mut_ptr());
+        let (u_r, u_phi) = (at(&c.u_r), at(&c.u_phi));
+        let (draw_r, draw_phi) = (out.r.as_mut_ptr(), out.phi.as_mut_ptr());
+        // SAFETY: a live library; every array holds at least n doubles from its pointer, the
+        // outputs apart from the inputs.
+        let status = unsafe {
+            match what {
+                Lookup::Eval => capi::bssrdf_table_eval_n(lib, 0, n, rho, st, theta, r, phi, value),
+                Lookup::Pdf => capi::bssrdf_table_pdf_n(lib, 0, n, rho, st, theta, r, phi, value),
+                Lookup::Sample => capi::bssrdf_table_sample_n(
+                    lib, 0, n, rho, st, theta, u_r, u_phi, draw_r, draw_phi, value,
+                ),
+            }
+        };
+        assert_eq!(status, 0);
+        out.value[n - 1] + out.r[n - 1]
+    }
+}
+
+/// Which lookup a batch benchmark times.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Lookup {
+    Eval,
+    Pdf,
+    Sample,
+}
+
+/// The output arrays of a batch (`value` is the draws' density).
+struct Outputs {
+    value: Vec<f64>,
+    r: Vec<f64>,
+    phi: Vec<f64>,
+}
+
+impl Outputs {
+    fn new() -> Outputs {
+        Outputs {
+            value: vec![0.0; 4096],
+            r: vec![0.0; 4096],
+            phi: vec![0.0; 4096],
+        }
+    }
+}
+
+/// Criterion: one point per call with its medium, and batches of all 4096 points.
+fn bench_batches(c: &mut Criterion, f: &Fixture) {
+    let mut group = c.benchmark_group("batch");
+    let mut out = Outputs::new();
+    for (name, what) in [
+        ("eval", Lookup::Eval),
+        ("sample", Lookup::Sample),
+        ("pdf", Lookup::Pdf),
+    ] {
+        let mut i = 0usize;
+        let mut next = || {
+            i = (i + 1) % 4096;
+            i
+        };
+        group.throughput(Throughput::Elements(1));
+        group.bench_function(format!("{name}/single_rust"), |b| {
+            b.iter(|| f.rust_single(what, next()))
+        });
+        group.bench_function(format!("{name}/single_c"), |b| {
+            b.iter(|| f.c_single(what, next()))
+        });
+        group.throughput(Throughput::Elements(4096));
+        group.bench_function(format!("{name}/batch_rust_4096"), |b| {
+            b.iter(|| f.rust_batch(what, 0..4096, &mut out))
+        });
+        group.bench_function(format!("{name}/batch_c_4096"), |b| {
+            b.iter(|| f.c_batch(what, 0..4096, &mut out))
+        });
+    }
+    group.finish();
+}
+
+/// The paired run of the batches against single calls: ns per point of one C call per point,
+/// a C batch per block and a Rust batch per block, and the verdicts on the floors.
+fn paired_batches(f: &Fixture) -> Vec<String> {
+    let mut over = Vec::new();
+    for (name, what, floor) in [
+        ("eval", Lookup::Eval, Some(EVAL_FLOOR_NS)),
+        ("sample", Lookup::Sample, Some(SAMPLE_FLOOR_NS)),
+        ("pdf", Lookup::Pdf, None),
+    ] {
+        let (mut out_c, mut out_rust) = (Outputs::new(), Outputs::new());
+        let ns = interleaved_blocks(
+            31,
+            &mut [
+                &mut |block: std::ops::Range<usize>| block.map(|i| f.c_single(what, i)).sum(),
+                &mut |block| f.c_batch(what, block, &mut out_c),
+                &mut |block| f.rust_batch(what, block, &mut out_rust),
+            ],
+        );
+        let [single, c_batch, rust_batch] = [ns[0], ns[1], ns[2]];
+        let figures = format!(
+            "C batch {c_batch:.1} ns ({:.2}x), Rust batch {rust_batch:.1} ns ({:.2}x) per point",
+            c_batch / single,
+            rust_batch / single
+        );
+        let verdict = match floor {
+            Some(floor) if c_batch.max(rust_batch) > floor => {
+                over.push(format!(
+                    "batch {name}: {figures}, over the floor of {floor} ns"
+                ));
+                format!("OVER the floor of {floor} ns")
+            }
+            Some(floor) => format!("within the floor of {floor} ns"),
+            None => "no floor".to_owned(),
+        };
+        println!("paired batch {name}: single C call {single:.1} ns, {figures}; {verdict}");
+    }
+    over
+}
+
 fn main() {
     let dir = tempfile::tempdir().unwrap();
     let path = bench_file(dir.path());
@@ -394,6 +633,13 @@ fn main() {
     let fixture = Fixture::new(&path, table.view().unwrap());
     let mut criterion = Criterion::default().configure_from_args();
     bench(&mut criterion, &fixture);
+    bench_batches(&mut criterion, &fixture);
     paired(&fixture);
+    let over = paired_batches(&fixture);
     criterion.final_summary();
+    // The floors are a gate under `cargo bench` (`cargo test --benches` runs this once, as a
+    // smoke test, on whatever load the machine has)
+    if std::env::args().any(|a| a == "--bench") {
+        assert!(over.is_empty(), "batch floors missed:\n{}", over.join("\n"));
+    }
 }

@@ -13,6 +13,8 @@
 //!   gives `BSSRDF_ERROR_PANIC`. This needs `panic = "unwind"`, the default profile setting;
 //! - outputs are written only on success, except handle outputs, set to NULL on failure.
 //!
+//! The lookups with the medium given per call and the batches are in `crates/capi/src/media.rs`.
+//!
 //! Handles are opaque pointers to Rust values: `bssrdf_library` (from
 //! [`bssrdf_library_open`], freed by [`bssrdf_library_close`]) and `bssrdf_channel` (from
 //! [`bssrdf_library_channel`] or [`bssrdf_library_medium`], freed by
@@ -20,8 +22,7 @@
 //! library may be closed first. Both are immutable: any number of threads may use the same
 //! handle at once; only closing or releasing it must not race with its other uses.
 //!
-//! This module (with its submodule `reflectance`) and `format::map` are the only places with
-//! `unsafe` code. Here it is only
+//! This crate and `format::map` are the only places with `unsafe` code. Here it is only
 //! pointer reads and writes at the boundary, and `#[no_mangle]` (which the lint also counts).
 #![allow(unsafe_code)]
 // C names, as the header spells them.
@@ -29,12 +30,15 @@
 
 use std::cell::RefCell;
 use std::ffi::{c_char, c_int, CStr, CString};
+use std::fmt;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use bssrdf_runtime::embed::Rgb;
-use bssrdf_runtime::embed::{ChannelLookup, EmbedError, Library};
+use bssrdf_runtime::embed::{ChannelLookup, EmbedError, Library, PathSample, Sample};
 use bssrdf_runtime::format::FormatError;
 
+mod media;
+pub use media::*;
 // The diffuse reflectance's inverse and range (header section "Diffuse reflectance").
 mod reflectance;
 pub use reflectance::{bssrdf_library_invert_albedo, bssrdf_library_reflectance_range};
@@ -44,7 +48,8 @@ pub const BSSRDF_OK: c_int = 0;
 /// A pointer argument was NULL.
 pub const BSSRDF_ERROR_NULL_POINTER: c_int = 1;
 /// An argument is invalid: unknown flag bits, a channel other than 0, 1, 2, a string that is
-/// not UTF-8, a medium with σ′t not finite and in [1e-9, 1e12] mm⁻¹.
+/// not UTF-8, a medium with σ′t not finite and in [1e-9, 1e12] mm⁻¹, a batch's array
+/// misaligned or overlapping an output, or `n` too large.
 pub const BSSRDF_ERROR_INVALID_ARGUMENT: c_int = 2;
 /// The operating system refused to open, map or read the file.
 pub const BSSRDF_ERROR_IO: c_int = 3;
@@ -53,7 +58,8 @@ pub const BSSRDF_ERROR_FORMAT: c_int = 4;
 /// No material of that name, or no table of that index.
 pub const BSSRDF_ERROR_NOT_FOUND: c_int = 5;
 /// A value lies outside what the table covers: θ outside its θ axis (or NaN) in a lookup, or a
-/// medium's ρ′ outside its albedo rows when a channel is made. Tables are never extrapolated.
+/// medium's ρ′ outside its albedo rows (or NaN) when a channel is made or in a per-call
+/// lookup. Tables are never extrapolated.
 pub const BSSRDF_ERROR_OUT_OF_RANGE: c_int = 6;
 /// Sampling found nothing to sample: no energy stored there (ρ′ = 0, light beyond the critical
 /// angle), θ outside the table, or, for path sampling, a table baked without θ sampling.
@@ -81,7 +87,7 @@ pub struct bssrdf_channel {
 
 /// One draw of the exit point (see [`bssrdf_runtime::embed::Sample`]).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct bssrdf_sample {
     /// Exit distance, mm.
     pub r: f64,
@@ -93,7 +99,7 @@ pub struct bssrdf_sample {
 
 /// One path-tracing draw (see [`bssrdf_runtime::embed::PathSample`]).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct bssrdf_path_sample {
     /// Incidence before refraction, radians.
     pub theta: f64,
@@ -107,6 +113,29 @@ pub struct bssrdf_path_sample {
     pub pdf_theta: f64,
     /// Joint density pdf_theta · pdf(r, φ | θ) / (2π).
     pub pdf: f64,
+}
+
+impl From<Sample> for bssrdf_sample {
+    fn from(s: Sample) -> Self {
+        bssrdf_sample {
+            r: s.r,
+            phi: s.phi,
+            pdf: s.pdf,
+        }
+    }
+}
+
+impl From<PathSample> for bssrdf_path_sample {
+    fn from(p: PathSample) -> Self {
+        bssrdf_path_sample {
+            theta: p.theta,
+            r: p.r,
+            phi: p.phi,
+            phi_prime: p.phi_prime,
+            pdf_theta: p.pdf_theta,
+            pdf: p.pdf,
+        }
+    }
 }
 
 /// What a channel handle looks up: its medium and table.
@@ -123,14 +152,62 @@ pub struct bssrdf_channel_info {
     pub table: usize,
 }
 
-/// The last error of a thread: a fixed message (hot paths: no allocation) or a formatted one.
+/// The last error of a thread: a fixed message, one formatted into the thread's fixed buffer
+/// (the lookups': no allocation), or a formatted one (opening and making handles).
 enum Message {
     Static(&'static CStr),
+    Inline,
     Owned(CString),
 }
 
+/// Room for a lookup's message, its NUL included: it names a value or two and their range.
+const INLINE: usize = 240;
+
+/// A message formatted into a fixed buffer, cut at a character boundary if it is longer, and
+/// NUL-terminated by [`Inline::terminate`]. Rust messages hold no NUL.
+struct Inline {
+    bytes: [u8; INLINE],
+    len: usize,
+}
+
+impl fmt::Write for Inline {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        let mut take = s.len().min(INLINE - 1 - self.len);
+        while !s.is_char_boundary(take) {
+            take -= 1;
+        }
+        self.bytes[self.len..self.len + take].copy_from_slice(&s.as_bytes()[..take]);
+        self.len += take;
+        Ok(())
+    }
+}
+
+impl Inline {
+    /// Replaces the text by `message`, NUL-terminated.
+    fn set(&mut self, message: fmt::Arguments<'_>) {
+        self.len = 0;
+        // `Inline` never fails; a `Display` that does leaves the text written so far.
+        let _ = fmt::write(self, message);
+        self.bytes[self.len] = 0;
+    }
+}
+
+/// A thread's last error, and the buffer of its inline messages.
+struct LastError {
+    message: Message,
+    inline: Inline,
+}
+
 thread_local! {
-    static LAST_ERROR: RefCell<Message> = const { RefCell::new(Message::Static(c"no error")) };
+    static LAST_ERROR: RefCell<LastError> = const {
+        RefCell::new(LastError {
+            message: Message::Static(c"no error"),
+            inline: Inline {
+                bytes: [0; INLINE],
+                len: 0,
+            },
+        })
+    };
 }
 
 /// A failed call: its status code and message.
@@ -156,6 +233,23 @@ impl Failure {
             .collect();
         let message = CString::new(bytes).map_or(Message::Static(c"error"), Message::Owned);
         Failure { code, message }
+    }
+
+    /// A failure whose message is formatted without allocating, straight into the thread's
+    /// buffer ([`Inline`]), which [`guard`] then makes the last error: for the lookup paths,
+    /// which never allocate, failing or not.
+    #[cold]
+    fn inline(code: c_int, message: fmt::Arguments<'_>) -> Failure {
+        // `try_with`: during thread teardown the slot may be gone; the code still tells.
+        let _ = LAST_ERROR.try_with(|slot| {
+            if let Ok(mut slot) = slot.try_borrow_mut() {
+                slot.inline.set(message);
+            }
+        });
+        Failure {
+            code,
+            message: Message::Inline,
+        }
     }
 
     fn null(name: &'static CStr) -> Failure {
@@ -192,7 +286,7 @@ fn guard(body: impl FnOnce() -> Result<(), Failure>) -> c_int {
     // `try_with`: during thread teardown the slot may be gone; the code still tells the caller.
     let _ = LAST_ERROR.try_with(|slot| {
         if let Ok(mut slot) = slot.try_borrow_mut() {
-            *slot = failure.message;
+            slot.message = failure.message;
         }
     });
     failure.code
@@ -490,8 +584,29 @@ pub unsafe extern "C" fn bssrdf_channel_get_info(
     })
 }
 
-const THETA_OUTSIDE: &CStr =
-    c"theta is outside the table's theta axis (baked tables: [0, pi/2] radians) or NaN";
+/// The failure of a lookup at θ outside the table (evaluation, effective albedo).
+fn theta_outside() -> Failure {
+    Failure::fixed(
+        BSSRDF_ERROR_OUT_OF_RANGE,
+        c"theta is outside the table's theta axis (baked tables: [0, pi/2] radians) or NaN",
+    )
+}
+
+/// The failure of a draw with nothing to sample.
+fn no_sample() -> Failure {
+    Failure::fixed(
+        BSSRDF_ERROR_NO_SAMPLE,
+        c"no sample: no energy stored for this medium at this theta, or theta outside the table",
+    )
+}
+
+/// The failure of a path draw with nothing to sample.
+fn no_path_sample() -> Failure {
+    Failure::fixed(
+        BSSRDF_ERROR_NO_SAMPLE,
+        c"no sample: the table was baked without theta sampling, or stores no energy for this medium",
+    )
+}
 
 /// S_p(r, φ; θ) in mm⁻², stored in `*out_value` (see [`ChannelLookup::eval`]): θ in radians
 /// before refraction, r in mm, φ in radians with 0 forward. `BSSRDF_ERROR_OUT_OF_RANGE` for θ
@@ -512,9 +627,7 @@ pub unsafe extern "C" fn bssrdf_channel_eval(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_value, c"out_value is NULL") }?;
-        *out = lookup
-            .eval(theta, r_mm, phi)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_OUT_OF_RANGE, THETA_OUTSIDE))?;
+        *out = lookup.eval(theta, r_mm, phi).ok_or_else(theta_outside)?;
         Ok(())
     })
 }
@@ -559,15 +672,10 @@ pub unsafe extern "C" fn bssrdf_channel_sample(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
-        let s = lookup.sample(theta, u_r, u_phi).ok_or(Failure::fixed(
-            BSSRDF_ERROR_NO_SAMPLE,
-            c"no sample: no energy stored for this medium at this theta, or theta outside the table",
-        ))?;
-        *out = bssrdf_sample {
-            r: s.r,
-            phi: s.phi,
-            pdf: s.pdf,
-        };
+        *out = lookup
+            .sample(theta, u_r, u_phi)
+            .ok_or_else(no_sample)?
+            .into();
         Ok(())
     })
 }
@@ -591,18 +699,7 @@ pub unsafe extern "C" fn bssrdf_channel_sample_path(
         let u = *unsafe { input(u.cast::<[f64; 4]>(), c"u is NULL") }?;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
-        let p = lookup.sample_path(u).ok_or(Failure::fixed(
-            BSSRDF_ERROR_NO_SAMPLE,
-            c"no sample: the table was baked without theta sampling, or stores no energy for this medium",
-        ))?;
-        *out = bssrdf_path_sample {
-            theta: p.theta,
-            r: p.r,
-            phi: p.phi,
-            phi_prime: p.phi_prime,
-            pdf_theta: p.pdf_theta,
-            pdf: p.pdf,
-        };
+        *out = lookup.sample_path(u).ok_or_else(no_path_sample)?.into();
         Ok(())
     })
 }
@@ -643,9 +740,7 @@ pub unsafe extern "C" fn bssrdf_channel_effective_albedo(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_albedo, c"out_albedo is NULL") }?;
-        *out = lookup
-            .effective_albedo(theta)
-            .ok_or(Failure::fixed(BSSRDF_ERROR_OUT_OF_RANGE, THETA_OUTSIDE))?;
+        *out = lookup.effective_albedo(theta).ok_or_else(theta_outside)?;
         Ok(())
     })
 }
@@ -656,11 +751,16 @@ pub unsafe extern "C" fn bssrdf_channel_effective_albedo(
 pub extern "C" fn bssrdf_last_error_message() -> *const c_char {
     catch_unwind(|| {
         LAST_ERROR
-            .try_with(|slot| match &*slot.borrow() {
-                // The pointer outlives the borrow: the CString is replaced, and so freed, only
-                // by a later failing call on this thread, which the contract rules out.
-                Message::Static(s) => s.as_ptr(),
-                Message::Owned(s) => s.as_ptr(),
+            .try_with(|slot| {
+                let slot = slot.borrow();
+                // The pointer outlives the borrow: the CString is replaced, and so freed, and
+                // the buffer rewritten, only by a later failing call on this thread, which the
+                // contract rules out.
+                match &slot.message {
+                    Message::Static(s) => s.as_ptr(),
+                    Message::Inline => slot.inline.bytes.as_ptr().cast(),
+                    Message::Owned(s) => s.as_ptr(),
+                }
             })
             .unwrap_or(c"error message unavailable during thread teardown".as_ptr())
     })

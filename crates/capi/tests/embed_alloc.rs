@@ -10,7 +10,7 @@ use bssrdf as capi;
 use bssrdf_zoo::embed::bake_library;
 use bssrdf_zoo::materials::{self, Rgb};
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::Grid;
+use bssrdf_zoo::table::{Grid, SamplesMut};
 
 struct Counting;
 
@@ -85,35 +85,31 @@ fn rust_handle_lookups_and_clones_never_allocate() {
     assert_eq!(n, 0, "{n} allocations in 3000 rounds of lookups");
 }
 
-/// skin1 on a small grid, written to `dir` and opened through the C interface: its path and
-/// the library handle (the caller closes it).
+/// skin1 baked on a small grid into `dir`, and opened by C (the caller closes it).
 #[allow(unsafe_code)]
-fn skin_file(dir: &std::path::Path) -> (std::path::PathBuf, *mut capi::bssrdf_library) {
+fn skin1(dir: &std::path::Path) -> (bssrdf_zoo::embed::Library, *mut capi::bssrdf_library) {
     let path = dir.join("skin.bssrdf");
     let skin = materials::Library::builtin().get("skin1").unwrap().clone();
-    bake_library(&[&skin], Grid::ferrier(12, 5, 16))
-        .unwrap()
-        .write(&path)
-        .unwrap();
+    let rust = bake_library(&[&skin], Grid::ferrier(12, 5, 16)).unwrap();
+    rust.write(&path).unwrap();
     let c_path = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
     let mut library = std::ptr::null_mut();
     // SAFETY: a valid string and output.
     let status = unsafe { capi::bssrdf_library_open(c_path.as_ptr(), 0, &mut library) };
     assert_eq!(status, 0);
-    (path, library)
+    (rust, library)
 }
 
 #[test]
 #[allow(unsafe_code)]
 fn c_interface_lookups_never_allocate_even_when_they_fail() {
     let dir = tempfile::tempdir().unwrap();
-    let (_, library) = skin_file(dir.path());
+    let (_, library) = skin1(dir.path());
     let mut channel = std::ptr::null_mut();
-    // SAFETY: a live library, a valid string and output; the handles are released below, once.
-    unsafe {
-        let status = capi::bssrdf_library_channel(library, c"skin1".as_ptr(), 1, &mut channel);
-        assert_eq!(status, 0);
-    }
+    // SAFETY: a live library, a valid string and output; the handle is released below, once.
+    let status =
+        unsafe { capi::bssrdf_library_channel(library, c"skin1".as_ptr(), 1, &mut channel) };
+    assert_eq!(status, 0);
     let mut rng = SplitMix64::new(4);
     let mut failures = 0;
     let n = allocations(|| {
@@ -169,11 +165,8 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
 #[allow(unsafe_code)]
 fn reflectance_inversions_that_succeed_never_allocate() {
     let dir = tempfile::tempdir().unwrap();
-    let (path, library) = skin_file(dir.path());
-    let table = bssrdf_zoo::embed::Library::read(&path)
-        .unwrap()
-        .table(0)
-        .unwrap();
+    let (rust, library) = skin1(dir.path());
+    let table = rust.table(0).unwrap();
     let mut rng = SplitMix64::new(5);
     let mut sink = 0.0;
     let n = allocations(|| {
@@ -200,4 +193,136 @@ fn reflectance_inversions_that_succeed_never_allocate() {
     unsafe { capi::bssrdf_library_close(library) };
     assert!(sink.is_finite() && sink > 0.0);
     assert_eq!(n, 0, "{n} allocations in 3000 rounds of inversions");
+}
+
+/// Lookups with the medium given per call and batches, from Rust and through C: none
+/// allocates, not even a failing one, whose message names the value (C formats it into a
+/// fixed buffer).
+#[test]
+#[allow(unsafe_code)]
+fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
+    const N: usize = 64;
+    let dir = tempfile::tempdir().unwrap();
+    let (rust, library) = skin1(dir.path());
+    let view = rust.view(0).unwrap();
+    let mut rng = SplitMix64::new(5);
+    // Per-point media: ρ′ up to 1.1 (a tenth outside the table), σ′t down to 0 (vacuum), θ
+    // beyond 90°
+    let mut column = |scale: f64| -> [f64; N] { std::array::from_fn(|_| scale * rng.next_f64()) };
+    let (rho, sigma_t, theta) = (column(1.1), column(3.0), column(1.7));
+    let (r, phi, u_r, u_phi) = (column(3.0), column(3.0), column(1.0), column(1.0));
+    let (mut out, mut draw_r, mut draw_phi, mut draw_pdf) =
+        ([0.0; N], [0.0; N], [0.0; N], [0.0; N]);
+    // The Rust and C batches over the points, and a C batch refused (a NULL array)
+    let batches = |library, out: &mut [f64; N], [dr, dphi, dpdf]: [&mut [f64; N]; 3]| {
+        view.eval_n(&rho, &sigma_t, &theta, &r, &phi, out).unwrap();
+        view.pdf_n(&rho, &sigma_t, &theta, &r, &phi, out).unwrap();
+        let draws = SamplesMut {
+            r: dr,
+            phi: dphi,
+            pdf: dpdf,
+        };
+        view.sample_n(&rho, &sigma_t, &theta, &u_r, &u_phi, draws)
+            .unwrap();
+        let [rho, sigma_t, theta, r, phi, u_r, u_phi] =
+            [&rho, &sigma_t, &theta, &r, &phi, &u_r, &u_phi].map(|a| a.as_ptr());
+        let out = out.as_mut_ptr();
+        let (dr, dphi, dpdf) = (dr.as_mut_ptr(), dphi.as_mut_ptr(), dpdf.as_mut_ptr());
+        // SAFETY: a live library handle, arrays of N doubles (or NULL, refused), outputs apart
+        // from the inputs.
+        let statuses = unsafe {
+            let [eval_n, pdf_n] = [capi::bssrdf_table_eval_n, capi::bssrdf_table_pdf_n]
+                .map(|f| f(library, 0, N, rho, sigma_t, theta, r, phi, out));
+            let null = std::ptr::null();
+            [
+                eval_n,
+                pdf_n,
+                capi::bssrdf_table_sample_n(
+                    library, 0, N, rho, sigma_t, theta, u_r, u_phi, dr, dphi, dpdf,
+                ),
+                capi::bssrdf_table_eval_n(library, 0, N, rho, null, theta, r, phi, out),
+            ]
+        };
+        assert_eq!(statuses, [0, 0, 0, capi::BSSRDF_ERROR_NULL_POINTER]);
+    };
+    let mut failures = 0;
+    let mut sink = 0.0;
+    let n = allocations(|| {
+        for round in 0..3000 {
+            let k = round % N;
+            let (rho, sigma_t, theta) = (rho[k], sigma_t[k], theta[k]);
+            let u = [u_r[k], u_phi[k], u_r[N - 1 - k], u_phi[N - 1 - k]];
+            match view.medium(rho, sigma_t) {
+                Ok(m) => {
+                    sink += m.eval(theta, r[k], phi[k]).unwrap_or(0.0) + m.pdf(theta, r[k], phi[k]);
+                    sink += m.sample(theta, u[0], u[1]).map_or(0.0, |s| s.r);
+                    sink += m.sample_path(u).map_or(0.0, |s| s.pdf) + m.pdf_theta(theta);
+                    sink += m.effective_albedo(theta).unwrap_or(0.0);
+                }
+                Err(e) => sink += f64::from(u8::from(matches!(e, bssrdf_zoo::Error::Vacuum))),
+            }
+            let mut value = 0.0;
+            let mut sample = capi::bssrdf_sample::default();
+            let mut path = capi::bssrdf_path_sample::default();
+            // SAFETY: a live library handle and valid outputs (one NULL, refused).
+            let statuses = unsafe {
+                [
+                    capi::bssrdf_table_eval(
+                        library, 0, rho, sigma_t, theta, r[k], phi[k], &mut value,
+                    ),
+                    capi::bssrdf_table_pdf(
+                        library, 0, rho, sigma_t, theta, r[k], phi[k], &mut value,
+                    ),
+                    capi::bssrdf_table_sample(
+                        library,
+                        0,
+                        rho,
+                        sigma_t,
+                        theta,
+                        u[0],
+                        u[1],
+                        &mut sample,
+                    ),
+                    capi::bssrdf_table_sample_path(library, 0, rho, sigma_t, u.as_ptr(), &mut path),
+                    capi::bssrdf_table_pdf_theta(library, 0, rho, sigma_t, theta, &mut value),
+                    capi::bssrdf_table_effective_albedo(
+                        library, 0, rho, sigma_t, theta, &mut value,
+                    ),
+                    capi::bssrdf_table_eval(
+                        library, 3, rho, sigma_t, theta, r[k], phi[k], &mut value,
+                    ),
+                    capi::bssrdf_table_eval(
+                        library,
+                        0,
+                        rho,
+                        sigma_t,
+                        theta,
+                        r[k],
+                        phi[k],
+                        std::ptr::null_mut(),
+                    ),
+                ]
+            };
+            failures += statuses.iter().filter(|&&s| s != 0).count();
+            std::hint::black_box((value, sample, path));
+            if k == 0 {
+                batches(
+                    library,
+                    &mut out,
+                    [&mut draw_r, &mut draw_phi, &mut draw_pdf],
+                );
+            }
+        }
+    });
+    std::hint::black_box(sink);
+    // SAFETY: opened above, closed once.
+    unsafe { capi::bssrdf_library_close(library) };
+    assert!(
+        failures > 3000,
+        "the failure paths ran ({failures} failures)"
+    );
+    assert_eq!(
+        n, 0,
+        "{n} allocations in 3000 rounds of per-call and batch lookups"
+    );
 }

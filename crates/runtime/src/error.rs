@@ -22,7 +22,7 @@ pub enum Error {
     #[error(transparent)]
     Table(#[from] TableError),
     /// A value is outside the range the quantity allows.
-    #[error("{name} = {} is outside [{}, {}]", number(*value), number(*min), number(*max))]
+    #[error("{name} = {} is outside [{}, {}]", Number(*value), Number(*min), Number(*max))]
     OutOfRange {
         name: &'static str,
         value: f64,
@@ -47,6 +47,17 @@ pub enum Error {
         value: u64,
         min: u64,
         max: u64,
+    },
+    /// A reduced albedo ρ′ lies outside the albedo rows a table keeps (or is NaN): a table is
+    /// never extrapolated (a scene bake keeps only some rows).
+    #[error("reduced albedo rho' = {} is outside [{}, {}], the table's albedo rows (never extrapolated)", Number(*rho), Number(*min), Number(*max))]
+    AlbedoOutsideTable { rho: f64, min: f64, max: f64 },
+    /// An array of a batch of lookups has another length than the batch's output.
+    #[error("{name} holds {len} values; the batch has {expected} points (the output's length)")]
+    BatchLength {
+        name: &'static str,
+        len: usize,
+        expected: usize,
     },
     /// Two values that must agree do not (e.g. a shared table baked for another η).
     #[error("{name} = {found} does not match the required {expected}")]
@@ -74,7 +85,7 @@ pub enum TableError {
     #[error("a table axis is not strictly increasing and finite")]
     Axes,
     /// The relative index of refraction is outside the models' domain.
-    #[error("eta = {} is outside [{}, {}]", number(*value), number(*min), number(*max))]
+    #[error("eta = {} is outside [{}, {}]", Number(*value), Number(*min), Number(*max))]
     Eta { value: f64, min: f64, max: f64 },
     /// A value is NaN or infinite.
     #[error("{name}[{index}] = {value} is not finite")]
@@ -88,13 +99,38 @@ pub enum TableError {
 /// A number as a message shows it: plain where that is short (0.75, 2.5, 300), in exponent form
 /// where it is not (1e-9, 1e308 rather than 309 digits).
 pub fn number(x: f64) -> String {
-    let plain = x.to_string();
-    let exponent = format!("{x:e}");
-    if plain.len() <= exponent.len() {
-        plain
-    } else {
-        exponent
+    Number(x).to_string()
+}
+
+/// [`number`] as a `Display` that allocates nothing, so that the messages of the errors above
+/// can be written into a fixed buffer (the C interface does, on its lookup paths).
+#[derive(Debug, Clone, Copy)]
+pub struct Number(pub f64);
+
+impl std::fmt::Display for Number {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if length(format_args!("{x}")) <= length(format_args!("{x:e}")) {
+            write!(f, "{x}")
+        } else {
+            write!(f, "{x:e}")
+        }
     }
+}
+
+/// The length in bytes of formatted text, counted without storing it.
+fn length(text: std::fmt::Arguments<'_>) -> usize {
+    struct Count(usize);
+    impl std::fmt::Write for Count {
+        fn write_str(&mut self, s: &str) -> std::fmt::Result {
+            self.0 += s.len();
+            Ok(())
+        }
+    }
+    let mut count = Count(0);
+    // Counting never fails.
+    let _ = std::fmt::Write::write_fmt(&mut count, text);
+    count.0
 }
 
 /// Result with the library's error type.

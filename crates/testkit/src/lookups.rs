@@ -5,7 +5,8 @@
 //!   model documents it; table lookups are finite);
 //! - a draw is either `None` (no sample) or a valid point, inside the support, whose density
 //!   is the one `pdf` gives there;
-//! - through the C interface, the statuses and values of the Rust handle, bit for bit.
+//! - through the C interface, the statuses and values of the Rust handle, bit for bit, with a
+//!   channel handle, with the medium given per call and in a batch.
 //!
 //! Inputs come from (selector, bits) pairs ([`number`]): special values (NaN, ±∞, ±0,
 //! subnormals, huge), any f64 bit pattern, the table's own nodes nudged by a few ulps, or a
@@ -163,6 +164,61 @@ pub struct Inputs {
     /// Reduced extinction σ′t, mm⁻¹, for the world-unit handles.
     pub sigma_t: f64,
 }
+
+/// Points as a batch takes them, one array per argument: entry i of each from the i-th
+/// [`Inputs`] (its ρ′, σ′t, θ, r, φ and first two random numbers).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Columns {
+    pub rho: Vec<f64>,
+    pub sigma_t: Vec<f64>,
+    pub theta: Vec<f64>,
+    pub r: Vec<f64>,
+    pub phi: Vec<f64>,
+    pub u_r: Vec<f64>,
+    pub u_phi: Vec<f64>,
+}
+
+impl FromIterator<Inputs> for Columns {
+    fn from_iter<I: IntoIterator<Item = Inputs>>(points: I) -> Columns {
+        let mut c = Columns::default();
+        for x in points {
+            let columns = [
+                &mut c.rho,
+                &mut c.sigma_t,
+                &mut c.theta,
+                &mut c.r,
+                &mut c.phi,
+            ];
+            for (column, v) in columns
+                .into_iter()
+                .zip([x.rho, x.sigma_t, x.theta, x.r, x.phi])
+            {
+                column.push(v);
+            }
+            c.u_r.push(x.u[0]);
+            c.u_phi.push(x.u[1]);
+        }
+        c
+    }
+}
+
+/// A draw's output that no lookup writes (every field −7), to see that a failed lookup left
+/// its output alone.
+pub const UNTOUCHED_SAMPLE: bssrdf_sample = bssrdf_sample {
+    r: -7.0,
+    phi: -7.0,
+    pdf: -7.0,
+};
+
+/// A path draw's output that no lookup writes (every field −7).
+pub const UNTOUCHED_PATH: bssrdf_path_sample = bssrdf_path_sample {
+    theta: -7.0,
+    r: -7.0,
+    phi: -7.0,
+    phi_prime: -7.0,
+    pdf_theta: -7.0,
+    pdf: -7.0,
+};
 
 /// Inputs for a table from nine (selector, bits) pairs, each number near the table's own
 /// nodes now and then.
@@ -425,6 +481,8 @@ pub unsafe fn check_capi(
     let mut channel = std::ptr::null_mut();
     // SAFETY: the caller's handle; a valid output.
     let status = unsafe { bssrdf_library_medium(library, table, x.rho, sigma_t, &mut channel) };
+    // SAFETY: the caller's contract.
+    unsafe { check_per_call(library, table, rust, status, x) };
     let Some(rust) = rust else {
         assert!(
             status != BSSRDF_OK && channel.is_null(),
@@ -489,6 +547,145 @@ pub unsafe fn check_capi(
     );
     // SAFETY: made above, released once.
     unsafe { bssrdf_channel_release(channel) };
+}
+
+/// The C lookups with the medium given per call (`bssrdf_table_*`) and in batches of one
+/// point at `x`: per call, the statuses and bits of the Rust handle `rust`, or, where
+/// `bssrdf_library_medium` refused the medium with status `refused`, that status and the
+/// outputs untouched; in a batch, the handle's value, density and draw, or 0 and the failed
+/// draw (0, 0, 0) where the single call fails.
+///
+/// # Safety
+/// As [`check_capi`].
+unsafe fn check_per_call(
+    library: *const bssrdf_library,
+    table: usize,
+    rust: Option<&ChannelLookup>,
+    refused: std::ffi::c_int,
+    x: &Inputs,
+) {
+    let Inputs {
+        rho,
+        theta,
+        r,
+        phi,
+        u,
+        sigma_t,
+    } = *x;
+    // The status and bits of a call with one output, -7 untouched
+    let one = |call: &dyn Fn(*mut f64) -> std::ffi::c_int| {
+        let mut value = -7.0;
+        let status = call(&mut value);
+        (status, (status == BSSRDF_OK).then_some(value.to_bits()))
+    };
+    let expect =
+        |what: &str, got: (std::ffi::c_int, Option<u64>), want: Option<Option<f64>>| match want {
+            None => assert_eq!(got, (refused, None), "{what} of a refused medium at {x:?}"),
+            Some(v) => assert_eq!(got.1, v.map(f64::to_bits), "{what} at {x:?}"),
+        };
+    // SAFETY (every call below): the caller's library handle and valid outputs.
+    let got =
+        one(&|out| unsafe { bssrdf_table_eval(library, table, rho, sigma_t, theta, r, phi, out) });
+    expect("eval", got, rust.map(|h| h.eval(theta, r, phi)));
+    let got =
+        one(&|out| unsafe { bssrdf_table_pdf(library, table, rho, sigma_t, theta, r, phi, out) });
+    expect("pdf", got, rust.map(|h| Some(h.pdf(theta, r, phi))));
+    let got =
+        one(&|out| unsafe { bssrdf_table_pdf_theta(library, table, rho, sigma_t, theta, out) });
+    expect("pdf_theta", got, rust.map(|h| Some(h.pdf_theta(theta))));
+    let got = one(&|out| unsafe {
+        bssrdf_table_effective_albedo(library, table, rho, sigma_t, theta, out)
+    });
+    expect(
+        "effective_albedo",
+        got,
+        rust.map(|h| h.effective_albedo(theta)),
+    );
+    let mut s = UNTOUCHED_SAMPLE;
+    let status =
+        unsafe { bssrdf_table_sample(library, table, rho, sigma_t, theta, u[0], u[1], &mut s) };
+    let drawn = rust.map(|h| h.sample(theta, u[0], u[1]));
+    match drawn {
+        Some(Some(d)) => assert_eq!(
+            (status, [s.r, s.phi, s.pdf].map(f64::to_bits)),
+            (BSSRDF_OK, [d.r, d.phi, d.pdf].map(f64::to_bits)),
+            "sample at {x:?}"
+        ),
+        _ => {
+            let want = if rust.is_some() {
+                BSSRDF_ERROR_NO_SAMPLE
+            } else {
+                refused
+            };
+            assert_eq!((status, [s.r, s.phi, s.pdf]), (want, [-7.0; 3]), "{x:?}");
+        }
+    }
+    let mut p = UNTOUCHED_PATH;
+    let status =
+        unsafe { bssrdf_table_sample_path(library, table, rho, sigma_t, u.as_ptr(), &mut p) };
+    let got = [p.theta, p.r, p.phi, p.phi_prime, p.pdf_theta, p.pdf];
+    match rust.map(|h| h.sample_path(u)) {
+        Some(Some(d)) => {
+            let want = [d.theta, d.r, d.phi, d.phi_prime, d.pdf_theta, d.pdf];
+            assert_eq!(
+                (status, got.map(f64::to_bits)),
+                (BSSRDF_OK, want.map(f64::to_bits)),
+                "sample_path at {x:?}"
+            );
+        }
+        _ => {
+            let want = if rust.is_some() {
+                BSSRDF_ERROR_NO_SAMPLE
+            } else {
+                refused
+            };
+            assert_eq!((status, got), (want, [-7.0; 6]), "{x:?}");
+        }
+    }
+    // A batch of this one point
+    let (mut value, mut pdf) = (-7.0, -7.0);
+    let (mut out_r, mut out_phi, mut out_pdf) = (-7.0, -7.0, -7.0);
+    let status = unsafe {
+        bssrdf_table_eval_n(
+            library, table, 1, &rho, &sigma_t, &theta, &r, &phi, &mut value,
+        )
+    };
+    assert_eq!(status, BSSRDF_OK);
+    let want = rust.and_then(|h| h.eval(theta, r, phi)).unwrap_or(0.0);
+    assert_eq!(value.to_bits(), want.to_bits(), "eval_n at {x:?}");
+    let status = unsafe {
+        bssrdf_table_pdf_n(
+            library, table, 1, &rho, &sigma_t, &theta, &r, &phi, &mut pdf,
+        )
+    };
+    assert_eq!(status, BSSRDF_OK);
+    let want = rust.map_or(0.0, |h| h.pdf(theta, r, phi));
+    assert_eq!(pdf.to_bits(), want.to_bits(), "pdf_n at {x:?}");
+    let status = unsafe {
+        bssrdf_table_sample_n(
+            library,
+            table,
+            1,
+            &rho,
+            &sigma_t,
+            &theta,
+            &u[0],
+            &u[1],
+            &mut out_r,
+            &mut out_phi,
+            &mut out_pdf,
+        )
+    };
+    assert_eq!(status, BSSRDF_OK);
+    let want = match drawn {
+        Some(Some(d)) => [d.r, d.phi, d.pdf],
+        _ => [0.0; 3],
+    };
+    assert_eq!(
+        [out_r, out_phi, out_pdf].map(f64::to_bits),
+        want.map(f64::to_bits),
+        "sample_n at {x:?}"
+    );
 }
 
 /// A model of the zoo at (θ, r, φ, u) of `x`: `eval` and `pdf` ≥ 0 and not NaN, finite except

@@ -9,7 +9,9 @@
 //! after each build and run the copies in alternation, keeping each one's minimum.
 //! `RHO=LO,HI` draws ρ′ uniformly in [LO, HI) instead, to time one part of the albedo axis
 //! (the ends take their own path, `table::albedo`, "The ends of the axis"). `ETA=1.2` bakes at
-//! that η instead (below 1.33 a two-lobe table, `table::Lobes`).
+//! that η instead (below 1.33 a two-lobe table, `table::Lobes`). `REPEAT=1` times the first
+//! point over and over (the random numbers of the draws still change): every cache warm and
+//! every branch predicted, what is left is the lookup's own arithmetic.
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::rng::SplitMix64;
@@ -52,6 +54,11 @@ fn main() {
                 .collect()
         }
         Err(_) => lookup_points(&view, &mut rng),
+    };
+    let points = if std::env::var("REPEAT").is_ok_and(|v| v == "1") {
+        vec![points[0]; points.len()]
+    } else {
+        points
     };
     let us: Vec<[f64; 2]> = (0..4096)
         .map(|_| [rng.next_f64(), rng.next_f64()])

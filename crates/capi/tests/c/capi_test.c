@@ -16,9 +16,17 @@
  *   T u0 u1 u2 u3 status theta r phi phi' pdf_theta pdf   bssrdf_channel_sample_path
  *   Q theta status pdf_theta             bssrdf_channel_pdf_theta
  *   A theta status albedo                bssrdf_channel_effective_albedo
+ *   X table rho' sigma_t' status         a medium the per-call lookups refuse
  * Values after a failing status are written as 0 and not compared; outputs must then be
- * untouched. The whole file is run for both open modes, the second time with the library
- * closed as soon as each channel is made (channels keep the file open).
+ * untouched. Every channel lookup (E P S T Q A) is also made with the medium given per call
+ * (bssrdf_table_*, the channel's rho', sigma_t' and table from its I line), which must give
+ * the same status and bits; an X medium must fail every per-call lookup with its status. At
+ * the end of each run, the points of every E, P and S line and of every X medium (on a table
+ * of the file) go through the batch functions (bssrdf_table_*_n), table by table, and each
+ * point must give the bits of its line, or 0 (a draw: 0, 0, 0) where the line's status is a
+ * failure. The whole file is run for both open modes, the second time with the library
+ * closed as soon as each channel is made (channels keep the file open; the per-call lookups
+ * reopen it).
  *
  * The diffuse reflectance's functions read a file of their own (section "Diffuse
  * reflectance" below).
@@ -34,6 +42,39 @@
 
 static int failures = 0;
 static long checks = 0;
+
+/* The points of the batches: kind 'E', 'P' or 'S', the table, the medium, the arguments and
+ * the expected outputs (0 where the single call fails). */
+#define MAX_POINTS 4096
+typedef struct point {
+    char kind;
+    size_t table;
+    double rho, sigma_t, theta, a, b;
+    double want[3];
+} point;
+static point points[MAX_POINTS];
+static size_t point_count = 0;
+
+static void add_point(char kind, size_t table, double rho, double sigma_t, const double *args,
+                      int ok, const double *want) {
+    point *p = &points[point_count];
+    int k;
+    if (point_count == MAX_POINTS) {
+        fprintf(stderr, "more than %d batch points\n", MAX_POINTS);
+        exit(2);
+    }
+    point_count++;
+    p->kind = kind;
+    p->table = table;
+    p->rho = rho;
+    p->sigma_t = sigma_t;
+    p->theta = args[0];
+    p->a = args[1];
+    p->b = args[2];
+    for (k = 0; k < 3; k++) {
+        p->want[k] = ok ? want[k] : 0.0;
+    }
+}
 
 static void fail(int line, const char *what) {
     fprintf(stderr, "line %d: %s\n", line, what);
@@ -82,6 +123,103 @@ static void same_status(int line, const char *what, int got, int want) {
     }
 }
 
+/* Statuses of the per-call lookups of a medium (0 where a status of the line is expected),
+ * each compared with `want`. */
+static void per_call_fails(int line, const bssrdf_library *library, size_t table, double rho,
+                           double sigma_t, int want) {
+    double out = -7.0, u[4] = {0.5, 0.5, 0.5, 0.5};
+    bssrdf_sample s = {-7.0, -7.0, -7.0};
+    bssrdf_path_sample p = {-7.0, -7.0, -7.0, -7.0, -7.0, -7.0};
+    same_status(line, "table eval", bssrdf_table_eval(library, table, rho, sigma_t, 0.3, 0.5, 0.0, &out), want);
+    same_status(line, "table pdf", bssrdf_table_pdf(library, table, rho, sigma_t, 0.3, 0.5, 0.0, &out), want);
+    same_status(line, "table sample",
+                bssrdf_table_sample(library, table, rho, sigma_t, 0.3, 0.5, 0.5, &s), want);
+    same_status(line, "table sample_path",
+                bssrdf_table_sample_path(library, table, rho, sigma_t, u, &p), want);
+    same_status(line, "table pdf_theta",
+                bssrdf_table_pdf_theta(library, table, rho, sigma_t, 0.3, &out), want);
+    same_status(line, "table effective_albedo",
+                bssrdf_table_effective_albedo(library, table, rho, sigma_t, 0.3, &out), want);
+    same_bits(line, "untouched", out, -7.0);
+    same_bits(line, "untouched sample", s.pdf, -7.0);
+    same_bits(line, "untouched path", p.pdf, -7.0);
+}
+
+/* The batch points of table `table` of one kind, through the batch function, against their
+ * lines. */
+static void run_batch(const bssrdf_library *library, size_t table, char kind) {
+    static double rho[MAX_POINTS], sigma_t[MAX_POINTS], theta[MAX_POINTS], a[MAX_POINTS],
+        b[MAX_POINTS], out[3][MAX_POINTS];
+    size_t n = 0, k;
+    int j, status;
+    for (k = 0; k < point_count; k++) {
+        const point *p = &points[k];
+        if (p->kind == kind && p->table == table) {
+            rho[n] = p->rho;
+            sigma_t[n] = p->sigma_t;
+            theta[n] = p->theta;
+            a[n] = p->a;
+            b[n] = p->b;
+            out[0][n] = out[1][n] = out[2][n] = -7.0;
+            n++;
+        }
+    }
+    if (kind == 'E') {
+        status = bssrdf_table_eval_n(library, table, n, rho, sigma_t, theta, a, b, out[0]);
+    } else if (kind == 'P') {
+        status = bssrdf_table_pdf_n(library, table, n, rho, sigma_t, theta, a, b, out[0]);
+    } else {
+        status = bssrdf_table_sample_n(library, table, n, rho, sigma_t, theta, a, b, out[0],
+                                       out[1], out[2]);
+    }
+    same_status(0, "batch", status, BSSRDF_OK);
+    n = 0;
+    for (k = 0; k < point_count; k++) {
+        const point *p = &points[k];
+        if (p->kind == kind && p->table == table) {
+            for (j = 0; j < (kind == 'S' ? 3 : 1); j++) {
+                same_bits((int)k, kind == 'E' ? "eval_n" : kind == 'P' ? "pdf_n" : "sample_n",
+                          out[j][n], p->want[j]);
+            }
+            n++;
+        }
+    }
+}
+
+/* The n fields of a draw, named by `names`, against `want`. */
+static void same_fields(int line, const char *what, const char *const *names, const double *got,
+                        const double *want, int n) {
+    int k;
+    for (k = 0; k < n; k++) {
+        char name[64];
+        sprintf(name, "%.40s %s", what, names[k]);
+        same_bits(line, name, got[k], want[k]);
+    }
+}
+
+/* A draw (r, phi, pdf) against `want`. */
+static void same_sample(int line, const char *what, bssrdf_sample s, const double *want) {
+    static const char *const names[3] = {"r", "phi", "pdf"};
+    double got[3];
+    got[0] = s.r;
+    got[1] = s.phi;
+    got[2] = s.pdf;
+    same_fields(line, what, names, got, want, 3);
+}
+
+/* A path draw (theta, r, phi, phi', pdf_theta, pdf) against `want`. */
+static void same_path(int line, const char *what, bssrdf_path_sample p, const double *want) {
+    static const char *const names[6] = {"theta", "r", "phi", "phi'", "pdf_theta", "pdf"};
+    double got[6];
+    got[0] = p.theta;
+    got[1] = p.r;
+    got[2] = p.phi;
+    got[3] = p.phi_prime;
+    got[4] = p.pdf_theta;
+    got[5] = p.pdf;
+    same_fields(line, what, names, got, want, 6);
+}
+
 /* Runs the expectations file once; `close_early` closes the library right after each
  * channel is made. */
 static void run(const char *library_path, const char *expectations, uint32_t flags,
@@ -89,12 +227,15 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
     FILE *f = fopen(expectations, "r");
     bssrdf_library *library = NULL;
     bssrdf_channel *channel = NULL;
+    bssrdf_channel_info info = {0.0, 0.0, 0.0, 0};
     char kind[4];
     int line = 0;
+    size_t tables = 0, t;
     if (f == NULL) {
         perror(expectations);
         exit(2);
     }
+    point_count = 0;
     while (fscanf(f, "%3s", kind) == 1) {
         double v[12];
         int status, want;
@@ -125,7 +266,6 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
                 library = NULL;
             }
         } else if (kind[0] == 'I') {
-            bssrdf_channel_info info;
             if (!read_doubles(f, v, 4)) {
                 break;
             }
@@ -134,31 +274,62 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
             same_bits(line, "sigma_t'", info.sigma_t_prime, v[1]);
             same_bits(line, "eta", info.eta, v[2]);
             same_bits(line, "table", (double)info.table, v[3]);
+        } else if (kind[0] == 'X') {
+            unsigned long table;
+            if (fscanf(f, "%lu", &table) != 1 || !read_doubles(f, v, 2) ||
+                fscanf(f, "%d", &want) != 1) {
+                break;
+            }
+            per_call_fails(line, library, table, v[0], v[1], want);
+            if (want != BSSRDF_ERROR_NOT_FOUND) {
+                double args[3] = {0.3, 0.5, 0.0}, none[3] = {0.0, 0.0, 0.0};
+                add_point('E', table, v[0], v[1], args, 0, none);
+                add_point('P', table, v[0], v[1], args, 0, none);
+                add_point('S', table, v[0], v[1], args, 0, none);
+            }
         } else if (kind[0] == 'E' || kind[0] == 'P') {
-            double out = -7.0;
+            double out = -7.0, out2 = -7.0;
+            int status2;
             if (!read_doubles(f, v, 3) || fscanf(f, "%d", &want) != 1 || !read_double(f, &v[3])) {
                 break;
             }
-            status = kind[0] == 'E' ? bssrdf_channel_eval(channel, v[0], v[1], v[2], &out)
-                                    : bssrdf_channel_pdf(channel, v[0], v[1], v[2], &out);
+            if (kind[0] == 'E') {
+                status = bssrdf_channel_eval(channel, v[0], v[1], v[2], &out);
+                status2 = bssrdf_table_eval(library, info.table, info.rho_prime,
+                                            info.sigma_t_prime, v[0], v[1], v[2], &out2);
+            } else {
+                status = bssrdf_channel_pdf(channel, v[0], v[1], v[2], &out);
+                status2 = bssrdf_table_pdf(library, info.table, info.rho_prime,
+                                           info.sigma_t_prime, v[0], v[1], v[2], &out2);
+            }
             same_status(line, kind[0] == 'E' ? "eval" : "pdf", status, want);
             same_bits(line, "value", out, status == BSSRDF_OK ? v[3] : -7.0);
+            same_status(line, kind[0] == 'E' ? "table eval" : "table pdf", status2, want);
+            same_bits(line, "table value", out2, status2 == BSSRDF_OK ? v[3] : -7.0);
+            add_point(kind[0], info.table, info.rho_prime, info.sigma_t_prime, v,
+                      want == BSSRDF_OK, &v[3]);
         } else if (kind[0] == 'S') {
-            bssrdf_sample s = {-7.0, -7.0, -7.0};
+            bssrdf_sample s = {-7.0, -7.0, -7.0}, s2 = {-7.0, -7.0, -7.0};
             if (!read_doubles(f, v, 3) || fscanf(f, "%d", &want) != 1 ||
                 !read_doubles(f, v + 3, 3)) {
                 break;
             }
+            add_point('S', info.table, info.rho_prime, info.sigma_t_prime, v, want == BSSRDF_OK,
+                      &v[3]);
             status = bssrdf_channel_sample(channel, v[0], v[1], v[2], &s);
             same_status(line, "sample", status, want);
+            same_status(line, "table sample",
+                        bssrdf_table_sample(library, info.table, info.rho_prime,
+                                            info.sigma_t_prime, v[0], v[1], v[2], &s2),
+                        want);
             if (status != BSSRDF_OK) {
                 v[3] = v[4] = v[5] = -7.0;
             }
-            same_bits(line, "sample r", s.r, v[3]);
-            same_bits(line, "sample phi", s.phi, v[4]);
-            same_bits(line, "sample pdf", s.pdf, v[5]);
+            same_sample(line, "sample", s, &v[3]);
+            same_sample(line, "table sample", s2, &v[3]);
         } else if (kind[0] == 'T') {
             bssrdf_path_sample p = {-7.0, -7.0, -7.0, -7.0, -7.0, -7.0};
+            bssrdf_path_sample p2 = {-7.0, -7.0, -7.0, -7.0, -7.0, -7.0};
             int k;
             if (!read_doubles(f, v, 4) || fscanf(f, "%d", &want) != 1 ||
                 !read_doubles(f, v + 4, 6)) {
@@ -166,26 +337,36 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
             }
             status = bssrdf_channel_sample_path(channel, v, &p);
             same_status(line, "sample_path", status, want);
+            same_status(line, "table sample_path",
+                        bssrdf_table_sample_path(library, info.table, info.rho_prime,
+                                                 info.sigma_t_prime, v, &p2),
+                        want);
             if (status != BSSRDF_OK) {
                 for (k = 4; k < 10; k++) {
                     v[k] = -7.0;
                 }
             }
-            same_bits(line, "path theta", p.theta, v[4]);
-            same_bits(line, "path r", p.r, v[5]);
-            same_bits(line, "path phi", p.phi, v[6]);
-            same_bits(line, "path phi'", p.phi_prime, v[7]);
-            same_bits(line, "path pdf_theta", p.pdf_theta, v[8]);
-            same_bits(line, "path pdf", p.pdf, v[9]);
+            same_path(line, "path", p, &v[4]);
+            same_path(line, "table path", p2, &v[4]);
         } else if (kind[0] == 'Q' || kind[0] == 'A') {
-            double out = -7.0;
+            double out = -7.0, out2 = -7.0;
+            int status2;
             if (!read_double(f, &v[0]) || fscanf(f, "%d", &want) != 1 || !read_double(f, &v[1])) {
                 break;
             }
-            status = kind[0] == 'Q' ? bssrdf_channel_pdf_theta(channel, v[0], &out)
-                                    : bssrdf_channel_effective_albedo(channel, v[0], &out);
+            if (kind[0] == 'Q') {
+                status = bssrdf_channel_pdf_theta(channel, v[0], &out);
+                status2 = bssrdf_table_pdf_theta(library, info.table, info.rho_prime,
+                                                 info.sigma_t_prime, v[0], &out2);
+            } else {
+                status = bssrdf_channel_effective_albedo(channel, v[0], &out);
+                status2 = bssrdf_table_effective_albedo(library, info.table, info.rho_prime,
+                                                        info.sigma_t_prime, v[0], &out2);
+            }
             same_status(line, kind[0] == 'Q' ? "pdf_theta" : "effective_albedo", status, want);
             same_bits(line, "value", out, status == BSSRDF_OK ? v[1] : -7.0);
+            same_status(line, "table lookup", status2, want);
+            same_bits(line, "table value", out2, status2 == BSSRDF_OK ? v[1] : -7.0);
         } else {
             fail(line, "unknown expectation kind");
             break;
@@ -195,6 +376,15 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
         fail(line, "malformed expectations file");
     }
     fclose(f);
+    if (library == NULL) {
+        same_status(line, "open", bssrdf_library_open(library_path, flags, &library), BSSRDF_OK);
+    }
+    same_status(line, "tables", bssrdf_library_table_count(library, &tables), BSSRDF_OK);
+    for (t = 0; t < tables; t++) {
+        run_batch(library, t, 'E');
+        run_batch(library, t, 'P');
+        run_batch(library, t, 'S');
+    }
     bssrdf_channel_release(channel);
     bssrdf_library_close(library);
 }
@@ -233,6 +423,28 @@ static void boundary_checks(const char *library_path) {
     same_status(0, "NULL channel", bssrdf_channel_eval(NULL, 0.1, 1.0, 0.0, &value),
                 BSSRDF_ERROR_NULL_POINTER);
     same_bits(0, "untouched output", value, -7.0);
+    {
+        double in[2] = {0.5, 0.5}, out[3] = {-7.0, -7.0, -7.0};
+        same_status(0, "NULL batch array",
+                    bssrdf_table_eval_n(library, 0, 2, in, in, NULL, in, in, out),
+                    BSSRDF_ERROR_NULL_POINTER);
+        if (strstr(bssrdf_last_error_message(), "theta is NULL") == NULL) {
+            fail(0, "the NULL message does not name the array");
+        }
+        same_status(0, "overlapping batch output",
+                    bssrdf_table_sample_n(library, 0, 2, in, in, in, in, in, out, out + 1,
+                                          in),
+                    BSSRDF_ERROR_INVALID_ARGUMENT);
+        same_bits(0, "untouched batch output", out[0], -7.0);
+        same_status(0, "batch of none", bssrdf_table_pdf_n(library, 0, 0, in, in, in, in, in, out),
+                    BSSRDF_OK);
+        same_status(0, "medium out of range",
+                    bssrdf_table_eval(library, 0, 1.5, 2.0, 0.1, 1.0, 0.0, &value),
+                    BSSRDF_ERROR_OUT_OF_RANGE);
+        if (strstr(bssrdf_last_error_message(), "rho' = 1.5") == NULL) {
+            fail(0, "the medium's message does not name the value");
+        }
+    }
     bssrdf_channel_release(channel);
     bssrdf_library_close(library);
     bssrdf_channel_release(NULL);
@@ -250,8 +462,12 @@ static const any_function every_function[] = {
     (any_function)bssrdf_channel_get_info,       (any_function)bssrdf_channel_eval,
     (any_function)bssrdf_channel_pdf,            (any_function)bssrdf_channel_sample,
     (any_function)bssrdf_channel_sample_path,    (any_function)bssrdf_channel_pdf_theta,
-    (any_function)bssrdf_channel_effective_albedo, (any_function)bssrdf_last_error_message,
-    (any_function)bssrdf_status_name,
+    (any_function)bssrdf_channel_effective_albedo, (any_function)bssrdf_table_eval,
+    (any_function)bssrdf_table_pdf,              (any_function)bssrdf_table_sample,
+    (any_function)bssrdf_table_sample_path,      (any_function)bssrdf_table_pdf_theta,
+    (any_function)bssrdf_table_effective_albedo, (any_function)bssrdf_table_eval_n,
+    (any_function)bssrdf_table_pdf_n,            (any_function)bssrdf_table_sample_n,
+    (any_function)bssrdf_last_error_message,     (any_function)bssrdf_status_name,
 };
 
 /* ---- Diffuse reflectance: bssrdf_library_reflectance_range, bssrdf_library_invert_albedo.

@@ -4,6 +4,7 @@ mod arbitrary_inputs;
 mod c_program;
 mod fixture;
 mod header;
+mod media;
 mod reflectance;
 mod rust;
 mod threads;

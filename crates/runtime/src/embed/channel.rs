@@ -1,7 +1,7 @@
 //! The per-medium lookup handle: S_p, sampling and densities in world units.
 
 use super::TableLookup;
-use crate::table::World;
+use crate::table::MediumRef;
 
 /// The draws of a handle, in world units (mm, mm⁻²).
 pub use crate::table::{PathSample, Sample};
@@ -116,14 +116,7 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn eval(&self, theta: f64, r_mm: f64, phi: f64) -> Option<f64> {
-        let st = self.sigma_t_prime;
-        Some(
-            st * st
-                * self
-                    .table
-                    .view_with(false)
-                    .eval(self.rho, theta, st * r_mm, phi)?,
-        )
+        self.lookup(false).eval(theta, r_mm, phi)
     }
 
     /// Density per mm² of [`ChannelLookup::sample`] at (r, φ): 0 where it cannot sample.
@@ -140,12 +133,7 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn pdf(&self, theta: f64, r_mm: f64, phi: f64) -> f64 {
-        let st = self.sigma_t_prime;
-        st * st
-            * self
-                .table
-                .view_with(false)
-                .pdf(self.rho, theta, st * r_mm, phi)
+        self.lookup(false).pdf(theta, r_mm, phi)
     }
 
     /// Draws the exit point (r in mm, φ) for incidence θ from two uniforms in [0, 1), with its
@@ -165,8 +153,7 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn sample(&self, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let world = World::prevalidated(self.table.view_with(false), self.sigma_t_prime);
-        world.sample(self.rho, theta, u_r, u_phi)
+        self.lookup(false).sample(theta, u_r, u_phi)
     }
 
     /// The path-tracing draw from four uniforms: θ from ρ_eff(ρ′, ·), then (r, φ) given θ, then
@@ -186,8 +173,7 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn sample_path(&self, u: [f64; 4]) -> Option<PathSample> {
-        let world = World::prevalidated(self.table.view(), self.sigma_t_prime);
-        world.sample_path(self.rho, u)
+        self.lookup(true).sample_path(u)
     }
 
     /// Density of θ in [`ChannelLookup::sample_path`], per radian (0 without θ sampling).
@@ -203,7 +189,7 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn pdf_theta(&self, theta: f64) -> f64 {
-        self.table.view().pdf_theta(self.rho, theta)
+        self.lookup(true).pdf_theta(theta)
     }
 
     /// Effective albedo ρ_eff(θ) = ∫∫ S dA: the multiply scattered power leaving the surface per
@@ -221,8 +207,18 @@ impl ChannelLookup {
     /// ```
     #[inline]
     pub fn effective_albedo(&self, theta: f64) -> Option<f64> {
-        self.table
-            .view_with(false)
-            .effective_albedo(self.rho, theta)
+        self.lookup(false).effective_albedo(theta)
+    }
+
+    /// The medium's lookups on its table's view, with or without the θ-sampling CDF (only
+    /// `sample_path` and `pdf_theta` read it): every lookup of the handle goes through
+    /// [`MediumRef`], so a handle and a per-call medium give the same bits.
+    #[inline]
+    fn lookup(&self, theta_cdf: bool) -> MediumRef<'_> {
+        MediumRef::prevalidated(
+            self.table.view_with(theta_cdf),
+            self.rho,
+            self.sigma_t_prime,
+        )
     }
 }

@@ -33,6 +33,23 @@ struct Prepared {
     harmonics: Option<usize>,
 }
 
+impl Inner {
+    /// The view of table `index` (< `tables.len()`), with or without the θ-sampling CDF.
+    #[inline]
+    fn view(&self, index: usize, theta_cdf: bool) -> TableRef<'_> {
+        let (p, file) = (&self.tables[index], &self.file);
+        TableRef::prevalidated(
+            p.eta,
+            p.c_e,
+            &p.axes,
+            floats(file, p.params),
+            floats(file, p.radial_cdf),
+            p.theta_cdf.filter(|_| theta_cdf).map(|t| floats(file, t)),
+        )
+        .prevalidated_harmonics(p.harmonics.map(|h| floats(file, h)))
+    }
+}
+
 /// An opened library file, every table validated and prepared for lookups.
 ///
 /// Cheap to clone (one `Arc`) and `Send + Sync`; handles made from it keep it alive.
@@ -231,6 +248,34 @@ impl Library {
         }
     }
 
+    /// Table `index`'s lookups in reduced units, borrowed from the library: what
+    /// [`TableLookup::view`] gives, without making a handle (no reference to count), for media
+    /// given per call ([`TableRef::medium`]) and batches ([`TableRef::eval_n`]). O(1), allocates
+    /// nothing; [`EmbedError::NoTable`] for an index past the end.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// // Per shading point, a textured medium: ρ′ and σ′t (mm⁻¹) from its textures
+    /// let (rho_prime, sigma_t_prime) = (0.93, 1.7);
+    /// let medium = library.view(0)?.medium(rho_prime, sigma_t_prime)?;
+    /// assert!(medium.eval(0.5, 0.2, 0.0).unwrap() > 0.0); // mm⁻²
+    /// assert!(library.view(1).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn view(&self, index: usize) -> Result<TableRef<'_>, EmbedError> {
+        if index < self.inner.tables.len() {
+            Ok(self.inner.view(index, true))
+        } else {
+            Err(EmbedError::NoTable {
+                index,
+                count: self.inner.tables.len(),
+            })
+        }
+    }
+
     /// Every table, in file order.
     ///
     /// ```
@@ -401,16 +446,7 @@ impl TableLookup {
     /// it, so the other lookups skip locating it (one section fewer per call).
     #[inline]
     pub(super) fn view_with(&self, theta_cdf: bool) -> TableRef<'_> {
-        let (p, file) = (self.prepared(), &self.inner.file);
-        TableRef::prevalidated(
-            p.eta,
-            p.c_e,
-            &p.axes,
-            floats(file, p.params),
-            floats(file, p.radial_cdf),
-            p.theta_cdf.filter(|_| theta_cdf).map(|t| floats(file, t)),
-        )
-        .prevalidated_harmonics(p.harmonics.map(|h| floats(file, h)))
+        self.inner.view(self.index, theta_cdf)
     }
 
     /// A handle for a medium of reduced albedo ρ′ = σ′s/σ′t and reduced extinction σ′t (mm⁻¹)

@@ -20,13 +20,15 @@ use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc, TwoLobe};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 mod albedo_ends;
+mod batch;
 mod sample;
 #[cfg(test)]
 mod tests;
 mod two_lobe;
 mod world;
 
-pub use world::{reduced_to_mm, World};
+pub use batch::SamplesMut;
+pub use world::{reduced_to_mm, MediumRef, World};
 
 /// One draw of the exit point (algorithm 2), in the units of the lookup that drew it: reduced
 /// units from [`TableRef`] and the models (r in mean free paths, the density per mfp²), world
