@@ -124,6 +124,22 @@ pub fn entry_transmittance(theta: f64, eta: f64) -> f64 {
     numerator / (s * s) + numerator / (p * p)
 }
 
+/// The density of the exit direction that pairs with a table's exitance, per steradian:
+/// S_ω(θ_o) = (1 − F_r(cos θ_o; η)) / (π η² (1 − 2F₁(η))), a diffuse lobe shaped by the
+/// transmittance into the medium at the exit angle θ_o (outside, from the normal), normalised
+/// so that ∫ S_ω cos θ_o dω = 1 over the hemisphere. The exitance already holds the exit
+/// transmission (PBD's C_φ = (1 − 2F₁)/4), so this lobe only distributes it. The η² comes from
+/// reciprocity: the hemispherical transmittance from outside, 2∫(1 − F_r(μ; η))μ dμ, is η²
+/// times the one from inside, 1 − 2F₁ (F₁ is [`moment`]`(1, η)`, of the internal reflectance).
+/// 0 for `cos_o` outside (0, 1] or NaN, or `eta` outside (0, ∞).
+pub fn exit_direction_density(cos_o: f64, eta: f64) -> f64 {
+    if !(cos_o > 0.0 && cos_o <= 1.0) || !(eta > 0.0 && eta.is_finite()) {
+        return 0.0;
+    }
+    let inside = 1.0 - 2.0 * moment(1, eta);
+    transmittance(cos_o, eta) / (std::f64::consts::PI * eta * eta * inside)
+}
+
 /// Exact n-th hemispherical moment of the internal reflectance, F_n(η) = ∫₀¹ F_r(μ; 1/η) μⁿ dμ.
 ///
 /// For η > 1, light inside is totally reflected for μ < μ_c = √(1 − 1/η²); that part integrates
@@ -354,6 +370,28 @@ mod tests {
             (got / first_order - 1.0).abs() < 1e-9,
             "{got} {first_order}"
         );
+    }
+
+    #[test]
+    fn the_exit_direction_density_integrates_to_one_over_the_projected_hemisphere() {
+        // ∫ S_ω cos θ dω = 2π ∫₀¹ S_ω(μ) μ dμ, by a midpoint sum over μ of the Fresnel
+        // equations themselves (not the moment's substituted quadrature)
+        let n = 100_000;
+        for eta in [0.75, 0.9, 1.0, 1.2, 1.33, 1.5, 2.0, 2.5] {
+            let integral: f64 = (0..n)
+                .map(|i| {
+                    let mu = (i as f64 + 0.5) / n as f64;
+                    exit_direction_density(mu, eta) * mu
+                })
+                .sum::<f64>()
+                * std::f64::consts::TAU
+                / n as f64;
+            assert!((integral - 1.0).abs() < 1e-6, "eta {eta}: {integral}");
+        }
+        for bad in [0.0, -0.5, 1.5, f64::NAN] {
+            assert_eq!(exit_direction_density(bad, 1.33), 0.0);
+        }
+        assert_eq!(exit_direction_density(0.5, f64::NAN), 0.0);
     }
 
     #[test]
