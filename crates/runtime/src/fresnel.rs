@@ -133,7 +133,7 @@ pub fn entry_transmittance(theta: f64, eta: f64) -> f64 {
 /// times the one from inside, 1 − 2F₁ (F₁ is [`moment`]`(1, η)`, of the internal reflectance).
 /// 0 for `cos_o` outside (0, 1] or NaN, or `eta` outside (0, ∞).
 pub fn exit_direction_density(cos_o: f64, eta: f64) -> f64 {
-    if !(cos_o > 0.0 && cos_o <= 1.0) || !(eta > 0.0 && eta.is_finite()) {
+    if !(cos_o > 0.0 && cos_o <= 1.0 && eta > 0.0 && eta.is_finite()) {
         return 0.0;
     }
     let inside = 1.0 - 2.0 * moment(1, eta);

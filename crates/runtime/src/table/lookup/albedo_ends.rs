@@ -23,7 +23,8 @@
 //! its own ρ′ and the window's radius nodes: an evaluation here costs about 1.5–1.9 times one
 //! elsewhere (docs/performance.md).
 
-use super::{axpy12, Blend, Cell, Lobe, TableRef, PARAMS_PER_NODE};
+use super::blend::axpy12;
+use super::{Blend, Cell, Lobe, TableRef, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
 use crate::gwc::cap_lobe;
 use crate::table::albedo::{far_field, sigma_tr, EndWeights};

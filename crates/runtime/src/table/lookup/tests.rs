@@ -5,6 +5,7 @@
 //! window) and in f64 (energies and the radial CDF). The values are arbitrary: the blend does
 //! not care what they mean.
 
+use super::blend::Lane;
 use super::*;
 use crate::fresnel::Moments;
 use crate::table::{AngularTable, Axes};
