@@ -360,7 +360,7 @@ fn build_example(cc: &str, name: &str) -> (tempfile::TempDir, PathBuf, PathBuf) 
 #[cfg_attr(miri, ignore = "Miri runs no C compiler")]
 fn the_c_example_builds_and_runs() {
     let Some(cc) = compiler() else { return };
-    let (dir, exe, path) = build_example(&cc, "capi_example");
+    let (_dir, exe, path) = build_example(&cc, "capi_example");
     let out = Command::new(&exe).arg(&path).arg("skin1").output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
