@@ -105,7 +105,7 @@ fn the_angular_factor_averages_to_one_and_times_s_bar_gives_eval() {
 /// Draws per case of the unbiasedness test.
 const DRAWS: usize = 200_000;
 /// Standard errors allowed: |Z| > 4 has probability 6.3e-5 per case for a normal mean (the
-/// mean of 2·10⁵ draws of a bounded weight is normal to far better than that), 1.3e-3 over
+/// mean of 2·10⁵ draws of a bounded weight is normal to far better than that), 1.5e-3 over
 /// the 24 cases; the seed is fixed, so the test is deterministic.
 const Z: f64 = 4.0;
 /// Allowance for the full-table-value estimator: its mean is ∫ E_eval dr, which differs from
