@@ -108,6 +108,12 @@ typedef struct bssrdf_sample {
     double pdf; /* density per mm^2 of the exit plane */
 } bssrdf_sample;
 
+/* One draw of the exit distance alone, for separable renderers. */
+typedef struct bssrdf_radial_sample {
+    double r;   /* exit distance, mm */
+    double pdf; /* density per mm of the distance */
+} bssrdf_radial_sample;
+
 /* One path-tracing draw (Ferrier 2016, section 7.1, algorithm 3). */
 typedef struct bssrdf_path_sample {
     double theta;     /* incidence before refraction, radians */
@@ -227,6 +233,28 @@ int bssrdf_table_pdf_theta(const bssrdf_library *library, size_t table, double r
 int bssrdf_table_effective_albedo(const bssrdf_library *library, size_t table,
                                   double rho_prime, double sigma_t_prime, double theta,
                                   double *out_albedo);
+
+/* For separable renderers (docs/embedding.md, "Separable renderers"): r drawn alone, phi by
+ * the renderer (uniform), the point weighted by w = rho_eff(theta) * angular_factor, whose mean
+ * is rho_eff(theta) exactly; or by w = S * 2 pi r / pdf_r with S from bssrdf_table_eval.
+ * The exit distance r in mm from one uniform u in [0, 1), with its density per mm: the radial
+ * step of bssrdf_table_sample (the same u gives the same r). BSSRDF_ERROR_NO_SAMPLE where
+ * bssrdf_table_sample fails with it. */
+int bssrdf_table_sample_radius(const bssrdf_library *library, size_t table, double rho_prime,
+                               double sigma_t_prime, double theta, double u,
+                               bssrdf_radial_sample *out_sample);
+
+/* Density per mm of bssrdf_table_sample_radius at r_mm (0 where it cannot sample). */
+int bssrdf_table_pdf_radius(const bssrdf_library *library, size_t table, double rho_prime,
+                            double sigma_t_prime, double theta, double r_mm, double *out_pdf);
+
+/* The angular factor S(r, phi; theta) / S_bar(r; theta), dimensionless, >= 0, with
+ * S_bar = (1 / 2 pi) * integral of S over phi: bssrdf_table_eval = S_bar * factor, and the
+ * factor averages to 1 over phi. 0 outside the radial support; BSSRDF_ERROR_OUT_OF_RANGE for
+ * theta outside the table. */
+int bssrdf_table_angular_factor(const bssrdf_library *library, size_t table, double rho_prime,
+                                double sigma_t_prime, double theta, double r_mm, double phi,
+                                double *out_factor);
 
 /* Batches of n points on table `table`, structures of arrays (see "Batches" above): arrays
  * of n doubles, point i with its own medium (rho_prime[i], sigma_t_prime[i]).

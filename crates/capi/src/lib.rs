@@ -99,6 +99,16 @@ pub struct bssrdf_sample {
     pub pdf: f64,
 }
 
+/// One draw of the exit distance alone (see [`bssrdf_runtime::table::RadialSample`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct bssrdf_radial_sample {
+    /// Exit distance, mm.
+    pub r: f64,
+    /// Density per mm of the distance.
+    pub pdf: f64,
+}
+
 /// One path-tracing draw (see [`bssrdf_runtime::embed::PathSample`]).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -124,6 +134,12 @@ impl From<Sample> for bssrdf_sample {
             phi: s.phi,
             pdf: s.pdf,
         }
+    }
+}
+
+impl From<bssrdf_runtime::table::RadialSample> for bssrdf_radial_sample {
+    fn from(s: bssrdf_runtime::table::RadialSample) -> Self {
+        bssrdf_radial_sample { r: s.r, pdf: s.pdf }
     }
 }
 

@@ -219,6 +219,74 @@ pub unsafe extern "C" fn bssrdf_table_effective_albedo(
     unsafe { per_call(medium, (out_albedo, c"out_albedo is NULL"), albedo) }
 }
 
+/// Draws the exit distance for incidence θ from one uniform `u` into `*out_sample` (r in mm,
+/// density per mm): the radial step of [`bssrdf_table_sample`] (the same `u` gives the same r),
+/// for separable renderers ([`MediumRef::sample_radius`]). `BSSRDF_ERROR_NO_SAMPLE` where
+/// `bssrdf_table_sample` fails with it.
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_sample` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_table_sample_radius(
+    library: *const bssrdf_library,
+    table: usize,
+    rho_prime: f64,
+    sigma_t_prime: f64,
+    theta: f64,
+    u: f64,
+    out_sample: *mut bssrdf_radial_sample,
+) -> c_int {
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let sample = |m: MediumRef| Ok(m.sample_radius(theta, u).ok_or_else(no_sample)?.into());
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_sample, c"out_sample is NULL"), sample) }
+}
+
+/// Density per mm of [`bssrdf_table_sample_radius`] at `r_mm` (0 where it cannot sample),
+/// stored in `*out_pdf` ([`MediumRef::pdf_radius`]).
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_pdf` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_table_pdf_radius(
+    library: *const bssrdf_library,
+    table: usize,
+    rho_prime: f64,
+    sigma_t_prime: f64,
+    theta: f64,
+    r_mm: f64,
+    out_pdf: *mut f64,
+) -> c_int {
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let pdf = |m: MediumRef| Ok(m.pdf_radius(theta, r_mm));
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_pdf, c"out_pdf is NULL"), pdf) }
+}
+
+/// The angular factor S(r, φ; θ)/S̄(r; θ), dimensionless, stored in `*out_factor`
+/// ([`MediumRef::angular_factor`]): [`bssrdf_table_eval`] = S̄·factor with
+/// S̄ = (1/2π) ∫ S dφ; `BSSRDF_ERROR_OUT_OF_RANGE` for θ outside the table.
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_factor` is NULL or writable.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn bssrdf_table_angular_factor(
+    library: *const bssrdf_library,
+    table: usize,
+    rho_prime: f64,
+    sigma_t_prime: f64,
+    theta: f64,
+    r_mm: f64,
+    phi: f64,
+    out_factor: *mut f64,
+) -> c_int {
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let factor = |m: MediumRef| m.angular_factor(theta, r_mm, phi).ok_or_else(theta_outside);
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, (out_factor, c"out_factor is NULL"), factor) }
+}
+
 /// A batch's array argument: its pointer and its name, for the messages.
 type Array<P> = (P, &'static str);
 

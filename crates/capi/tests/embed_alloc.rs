@@ -258,12 +258,17 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
                     sink += m.sample(theta, u[0], u[1]).map_or(0.0, |s| s.r);
                     sink += m.sample_path(u).map_or(0.0, |s| s.pdf) + m.pdf_theta(theta);
                     sink += m.effective_albedo(theta).unwrap_or(0.0);
+                    // The separable renderers' lookups
+                    sink += m.sample_radius(theta, u[0]).map_or(0.0, |s| s.pdf);
+                    sink += m.pdf_radius(theta, r[k]);
+                    sink += m.angular_factor(theta, r[k], phi[k]).unwrap_or(0.0);
                 }
                 Err(e) => sink += f64::from(u8::from(matches!(e, bssrdf_zoo::Error::Vacuum))),
             }
             let mut value = 0.0;
             let mut sample = capi::bssrdf_sample::default();
             let mut path = capi::bssrdf_path_sample::default();
+            let mut radial = capi::bssrdf_radial_sample::default();
             // SAFETY: a live library handle and valid outputs (one NULL, refused).
             let statuses = unsafe {
                 [
@@ -288,6 +293,21 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
                     capi::bssrdf_table_effective_albedo(
                         library, 0, rho, sigma_t, theta, &mut value,
                     ),
+                    capi::bssrdf_table_sample_radius(
+                        library,
+                        0,
+                        rho,
+                        sigma_t,
+                        theta,
+                        u[0],
+                        &mut radial,
+                    ),
+                    capi::bssrdf_table_pdf_radius(
+                        library, 0, rho, sigma_t, theta, r[k], &mut value,
+                    ),
+                    capi::bssrdf_table_angular_factor(
+                        library, 0, rho, sigma_t, theta, r[k], phi[k], &mut value,
+                    ),
                     capi::bssrdf_table_eval(
                         library, 3, rho, sigma_t, theta, r[k], phi[k], &mut value,
                     ),
@@ -304,7 +324,7 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
                 ]
             };
             failures += statuses.iter().filter(|&&s| s != 0).count();
-            std::hint::black_box((value, sample, path));
+            std::hint::black_box((value, sample, path, radial));
             if k == 0 {
                 batches(
                     library,

@@ -17,6 +17,9 @@
  *   Q theta status pdf_theta             bssrdf_channel_pdf_theta
  *   A theta status albedo                bssrdf_channel_effective_albedo
  *   X table rho' sigma_t' status         a medium the per-call lookups refuse
+ *   D theta u status r pdf               bssrdf_table_sample_radius (current channel's medium)
+ *   W theta r status pdf                 bssrdf_table_pdf_radius (current channel's medium)
+ *   K theta r phi status factor          bssrdf_table_angular_factor (current channel's medium)
  * Values after a failing status are written as 0 and not compared; outputs must then be
  * untouched. Every channel lookup (E P S T Q A) is also made with the medium given per call
  * (bssrdf_table_*, the channel's rho', sigma_t' and table from its I line), which must give
@@ -130,6 +133,7 @@ static void per_call_fails(int line, const bssrdf_library *library, size_t table
     double out = -7.0, u[4] = {0.5, 0.5, 0.5, 0.5};
     bssrdf_sample s = {-7.0, -7.0, -7.0};
     bssrdf_path_sample p = {-7.0, -7.0, -7.0, -7.0, -7.0, -7.0};
+    bssrdf_radial_sample d = {-7.0, -7.0};
     same_status(line, "table eval", bssrdf_table_eval(library, table, rho, sigma_t, 0.3, 0.5, 0.0, &out), want);
     same_status(line, "table pdf", bssrdf_table_pdf(library, table, rho, sigma_t, 0.3, 0.5, 0.0, &out), want);
     same_status(line, "table sample",
@@ -140,7 +144,15 @@ static void per_call_fails(int line, const bssrdf_library *library, size_t table
                 bssrdf_table_pdf_theta(library, table, rho, sigma_t, 0.3, &out), want);
     same_status(line, "table effective_albedo",
                 bssrdf_table_effective_albedo(library, table, rho, sigma_t, 0.3, &out), want);
+    same_status(line, "table sample_radius",
+                bssrdf_table_sample_radius(library, table, rho, sigma_t, 0.3, 0.5, &d), want);
+    same_status(line, "table pdf_radius",
+                bssrdf_table_pdf_radius(library, table, rho, sigma_t, 0.3, 0.5, &out), want);
+    same_status(line, "table angular_factor",
+                bssrdf_table_angular_factor(library, table, rho, sigma_t, 0.3, 0.5, 0.0, &out),
+                want);
     same_bits(line, "untouched", out, -7.0);
+    same_bits(line, "untouched radial", d.pdf, -7.0);
     same_bits(line, "untouched sample", s.pdf, -7.0);
     same_bits(line, "untouched path", p.pdf, -7.0);
 }
@@ -367,6 +379,34 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
             same_bits(line, "value", out, status == BSSRDF_OK ? v[1] : -7.0);
             same_status(line, "table lookup", status2, want);
             same_bits(line, "table value", out2, status2 == BSSRDF_OK ? v[1] : -7.0);
+        } else if (kind[0] == 'D') {
+            bssrdf_radial_sample d = {-7.0, -7.0};
+            if (!read_doubles(f, v, 2) || fscanf(f, "%d", &want) != 1 ||
+                !read_doubles(f, v + 2, 2)) {
+                break;
+            }
+            status = bssrdf_table_sample_radius(library, info.table, info.rho_prime,
+                                                info.sigma_t_prime, v[0], v[1], &d);
+            same_status(line, "table sample_radius", status, want);
+            same_bits(line, "radial r", d.r, status == BSSRDF_OK ? v[2] : -7.0);
+            same_bits(line, "radial pdf", d.pdf, status == BSSRDF_OK ? v[3] : -7.0);
+        } else if (kind[0] == 'W' || kind[0] == 'K') {
+            int n_args = kind[0] == 'W' ? 2 : 3;
+            double out = -7.0;
+            if (!read_doubles(f, v, n_args) || fscanf(f, "%d", &want) != 1 ||
+                !read_double(f, &v[n_args])) {
+                break;
+            }
+            if (kind[0] == 'W') {
+                status = bssrdf_table_pdf_radius(library, info.table, info.rho_prime,
+                                                 info.sigma_t_prime, v[0], v[1], &out);
+            } else {
+                status = bssrdf_table_angular_factor(library, info.table, info.rho_prime,
+                                                     info.sigma_t_prime, v[0], v[1], v[2], &out);
+            }
+            same_status(line, kind[0] == 'W' ? "table pdf_radius" : "table angular_factor",
+                        status, want);
+            same_bits(line, "value", out, status == BSSRDF_OK ? v[n_args] : -7.0);
         } else {
             fail(line, "unknown expectation kind");
             break;
@@ -467,6 +507,8 @@ static const any_function every_function[] = {
     (any_function)bssrdf_table_sample_path,      (any_function)bssrdf_table_pdf_theta,
     (any_function)bssrdf_table_effective_albedo, (any_function)bssrdf_table_eval_n,
     (any_function)bssrdf_table_pdf_n,            (any_function)bssrdf_table_sample_n,
+    (any_function)bssrdf_table_sample_radius,    (any_function)bssrdf_table_pdf_radius,
+    (any_function)bssrdf_table_angular_factor,
     (any_function)bssrdf_last_error_message,     (any_function)bssrdf_status_name,
 };
 

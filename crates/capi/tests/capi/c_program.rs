@@ -1,4 +1,5 @@
-//! The C interface from a C program: `crates/capi/tests/c/capi_test.c` and `examples/c/capi_example.c`
+//! The C interface from a C program: `crates/capi/tests/c/capi_test.c`, `examples/c/capi_example.c`
+//! and `examples/c/separable_step.c`
 //! are compiled with the system C compiler (`$CC`, else `cc`) against `include/bssrdf_zoo.h`
 //! with `-Wall -Wextra -Werror -pedantic`, linked with `libbssrdf.a`, and run on a
 //! library baked here. The test writes the values the Rust API computes into a file; the C
@@ -223,6 +224,8 @@ fn expectations(library: &Library) -> String {
     for m in library.materials() {
         for rgb in Rgb::ALL {
             let h: ChannelLookup = library.channel(&m.name, rgb).unwrap();
+            let view = library.view(h.table().index()).unwrap();
+            let medium = view.medium(h.rho_prime(), h.sigma_t_prime()).unwrap();
             writeln!(text, "M {} {} {BSSRDF_OK}", m.name, rgb.index()).unwrap();
             let table = h.table().index() as f64;
             let info = [h.rho_prime(), h.sigma_t_prime(), h.table().eta(), table];
@@ -270,6 +273,17 @@ fn expectations(library: &Library) -> String {
                 let albedo = h.effective_albedo(theta).map(|v| vec![v]);
                 let status = line_values(BSSRDF_ERROR_OUT_OF_RANGE, albedo, 1);
                 writeln!(text, "A {} {status}", hex(theta)).unwrap();
+                // The separable renderers' lookups (per call only), at the same points
+                let draw = medium.sample_radius(theta, u[0]).map(|d| vec![d.r, d.pdf]);
+                let status = line_values(BSSRDF_ERROR_NO_SAMPLE, draw, 2);
+                writeln!(text, "D {} {} {status}", hex(theta), hex(u[0])).unwrap();
+                let pdf_r = medium.pdf_radius(theta, r);
+                let args = [theta, r].map(hex).join(" ");
+                writeln!(text, "W {args} {BSSRDF_OK} {}", hex(pdf_r)).unwrap();
+                let factor = medium.angular_factor(theta, r, phi).map(|v| vec![v]);
+                let status = line_values(BSSRDF_ERROR_OUT_OF_RANGE, factor, 1);
+                let args = [theta, r, phi].map(hex).join(" ");
+                writeln!(text, "K {args} {status}").unwrap();
             }
         }
     }
@@ -298,7 +312,7 @@ fn run_capi_test(cc: &str, sanitize: bool) {
         String::from_utf8_lossy(&out.stderr),
     );
     assert!(out.status.success(), "capi_test failed:\n{stderr}{stdout}");
-    // 2 runs × (6 channels × (8 + 150 × 19 checks through the handle, as many per call, and
+    // 2 runs × (6 channels × (8 + 150 × 25 checks through the handle, as many per call, and
     // 150 × 5 in the batches) + channel requests and refused media): tens of thousands.
     let checks: u64 = stdout
         .trim()
@@ -332,14 +346,21 @@ fn the_c_program_is_clean_under_address_and_undefined_behaviour_sanitizers() {
     run_capi_test(&cc, true);
 }
 
+/// `examples/c/{name}.c` compiled into a temporary folder, with the library file baked there:
+/// the folder (kept alive by the caller), the executable and the library file.
+fn build_example(cc: &str, name: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, path) = bake(dir.path());
+    let exe = dir.path().join(name);
+    compile(cc, &format!("../../examples/c/{name}.c"), &exe, false);
+    (dir, exe, path)
+}
+
 #[test]
 #[cfg_attr(miri, ignore = "Miri runs no C compiler")]
 fn the_c_example_builds_and_runs() {
     let Some(cc) = compiler() else { return };
-    let dir = tempfile::tempdir().unwrap();
-    let (_, path) = bake(dir.path());
-    let exe = dir.path().join("capi_example");
-    compile(&cc, "../../examples/c/capi_example.c", &exe, false);
+    let (_dir, exe, path) = build_example(&cc, "capi_example");
     let out = Command::new(&exe).arg(&path).arg("skin1").output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
@@ -363,4 +384,58 @@ fn the_c_example_builds_and_runs() {
         stderr.contains("BSSRDF_ERROR_NOT_FOUND") && stderr.contains("\"milk\""),
         "{stderr}"
     );
+}
+
+/// Standard errors allowed between the separable step's mean weight and ρ_eff(θ): |Z| > 4 has
+/// probability 6.3e-5 per case for a normal mean (10⁵ draws of a bounded weight), 5e-4 over the
+/// 8 checks; the example's seed is fixed, so the test is deterministic.
+const STEP_Z: f64 = 4.0;
+/// Allowance for the full-table-value weight, whose mean is the integral of the evaluated S:
+/// ρ_eff to the gap between evaluation's log-energy interpolation along r and the samplers'
+/// spline (about 5e-5 of ρ_eff, crates/zoo/tests/table/separable.rs), about 1 % below the
+/// first nonzero albedo node (coke's green channel, ρ′ = 5e-4), where evaluation weighs the
+/// table's rows per radius node.
+const STEP_EVAL_GAP: [f64; 2] = [5e-4, 2e-2];
+
+#[test]
+#[cfg_attr(miri, ignore = "Miri runs no C compiler")]
+fn the_separable_step_example_estimates_the_effective_albedo() {
+    let Some(cc) = compiler() else { return };
+    let (_dir, exe, path) = build_example(&cc, "separable_step");
+    // Normal, oblique and grazing incidence, on both tables (skin1 η 1.3, coke η 1.33)
+    for (material, theta, gap) in [
+        ("skin1", "0", STEP_EVAL_GAP[0]),
+        ("skin1", "60", STEP_EVAL_GAP[0]),
+        ("skin1", "89", STEP_EVAL_GAP[0]),
+        ("coke", "80", STEP_EVAL_GAP[1]),
+    ] {
+        let out = Command::new(&exe)
+            .args([path.to_str().unwrap(), material, theta, "100000"])
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}{stdout}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        eprint!("{stdout}");
+        let mut results = 0;
+        for line in stdout.lines().filter_map(|l| l.strip_prefix("result ")) {
+            let fields: Vec<&str> = line.split(' ').collect();
+            let [kind, rho_eff, mean, error] = fields[..] else {
+                panic!("malformed result line {line:?}");
+            };
+            let [rho_eff, mean, error] = [rho_eff, mean, error].map(|x| x.parse::<f64>().unwrap());
+            let gap = if kind == "full" { gap } else { 0.0 };
+            // (at θ = 0 the separable weights are all ρ_eff: the sum's rounding, n·ε)
+            let allowed = STEP_Z * error + (gap + 1e5 * f64::EPSILON) * rho_eff;
+            assert!(
+                rho_eff > 0.0 && (mean - rho_eff).abs() <= allowed,
+                "{material} θ {theta}°, {kind}: {mean} against ρ_eff {rho_eff}:\n{stdout}"
+            );
+            results += 1;
+        }
+        assert_eq!(results, 2, "{stdout}");
+    }
 }

@@ -13,4 +13,5 @@ mod gwc;
 mod lookup;
 mod pinned;
 mod reflectance;
+mod separable;
 mod subset;

@@ -24,12 +24,14 @@ mod albedo_ends;
 mod batch;
 mod blend;
 mod sample;
+mod separable;
 #[cfg(test)]
 mod tests;
 mod two_lobe;
 mod world;
 
 pub use batch::SamplesMut;
+pub use separable::RadialSample;
 pub use world::{reduced_to_mm, MediumRef, World};
 
 /// One draw of the exit point (algorithm 2), in the units of the lookup that drew it: reduced

@@ -14,7 +14,7 @@ impl TableRef<'_> {
     }
 
     pub(super) fn sample_slice(&self, s: &Slice, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let radial = self.sample_radius(s, u_r)?;
+        let radial = self.radius_draw(s, u_r)?;
         let g = self.profile_at(s, radial.x)?;
         let (phi, pdf_phi) = g.sample_with_pdf(u_phi);
         let pdf = radial.pdf * pdf_phi / radial.x;
@@ -32,7 +32,7 @@ impl TableRef<'_> {
     /// that row's own CDF (one contiguous f32 row instead of 16 scattered ones): the blended
     /// CDF is a mixture of rows of nearby (ρ′, θ), so the guess is usually exact or one segment
     /// off, and the search reads the blended CDF at two or three nodes instead of bisecting 64.
-    pub(super) fn sample_radius(&self, s: &Slice, u: f64) -> Option<crate::catmull_rom::Sample> {
+    pub(super) fn radius_draw(&self, s: &Slice, u: f64) -> Option<crate::catmull_rom::Sample> {
         let (_, _, n_r) = self.axes.dims();
         let n = s.len.min(16);
         let mut heaviest = 0;
@@ -70,18 +70,25 @@ impl TableRef<'_> {
         if r <= 0.0 || !r.is_finite() {
             return 0.0;
         }
-        let e = |k: usize| self.energies_around(s, k);
-        let cdf = |k: usize| self.cdf(s, k);
-        let pdf_r = self.axes.r().pdf_with(e, cdf, r);
+        let pdf_r = self.radial_pdf(s, r);
         match self.profile_at(s, r) {
             Some(g) if pdf_r > 0.0 => pdf_r * g.pdf(wrap_phi(phi)) / r,
             _ => 0.0,
         }
     }
 
+    /// Density per unit r of [`TableRef::radius_draw`] at r > 0: the radial factor of
+    /// [`TableRef::pdf_slice`].
+    #[inline(always)]
+    pub(super) fn radial_pdf(&self, s: &Slice, r: f64) -> f64 {
+        let e = |k: usize| self.energies_around(s, k);
+        let cdf = |k: usize| self.cdf(s, k);
+        self.axes.r().pdf_with(e, cdf, r)
+    }
+
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let radial = self.with_slice(rho, 0.0, |s| self.sample_radius(s, u_r))??;
+        let radial = self.with_slice(rho, 0.0, |s| self.radius_draw(s, u_r))??;
         let phi = uniform_azimuth(u_phi);
         Some(Sample {
             r: radial.x,

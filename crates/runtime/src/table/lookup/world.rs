@@ -17,8 +17,8 @@ pub fn reduced_to_mm(r: f64, sigma_t_prime: f64) -> f64 {
 /// r_reduced = σ′t r_mm and S_world = σ′t² S_reduced (an area density).
 #[derive(Debug, Clone, Copy)]
 pub struct World<'a> {
-    table: TableRef<'a>,
-    sigma_t_prime: f64,
+    pub(super) table: TableRef<'a>,
+    pub(super) sigma_t_prime: f64,
 }
 
 impl<'a> World<'a> {
@@ -112,8 +112,8 @@ impl<'a> World<'a> {
 /// ```
 #[derive(Debug, Clone, Copy)]
 pub struct MediumRef<'a> {
-    world: World<'a>,
-    rho: f64,
+    pub(super) world: World<'a>,
+    pub(super) rho: f64,
 }
 
 impl<'a> TableRef<'a> {
