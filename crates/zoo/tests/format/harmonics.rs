@@ -539,3 +539,30 @@ fn the_writer_sets_bit_2_exactly_when_a_table_has_harmonics() {
     assert_eq!(err.code(), "non-finite", "{err}");
     assert!(err.to_string().contains("gwc-harmonics[5]"), "{err}");
 }
+
+/// §4, bit 2: a reader "MUST read a file that sets it without one": every table one lobe.
+#[test]
+fn bit_2_without_a_harmonics_section_reads_every_table_as_one_lobe() {
+    let one_lobe = Raw::new(tiny_builder().to_bytes(Compression::None).unwrap()).sections();
+    assert!(one_lobe.iter().all(|s| s.kind != kind::HARMONICS));
+    let library = assert_accepted("bit 2, no harmonics", &build(2, HARMONICS, &one_lobe));
+    assert_eq!(library.required_features(), HARMONICS);
+    assert!(library.table(0).unwrap().harmonics().is_none());
+}
+
+/// §4: "a feature bit means the same in a file of any minor": a 1.0 or 1.1 file that sets bit 2
+/// is read as a 1.2 file would be, with its harmonics; without the bit its harmonics section
+/// is still refused.
+#[test]
+fn bit_2_means_the_same_in_a_file_of_an_older_minor() {
+    for minor in [0, 1] {
+        let case = format!("minor {minor} with bit 2");
+        let library = assert_accepted(&case, &build(minor, HARMONICS, &tiny_two_lobes_sections()));
+        assert_eq!(library.version(), (1, minor));
+        let harmonics = library.table(0).unwrap().harmonics().unwrap();
+        assert_eq!(harmonics.len(), VALUES, "{case}");
+        let undeclared = build(minor, 0, &tiny_two_lobes_sections());
+        let case = format!("minor {minor} without bit 2");
+        assert_rejected(&case, &undeclared, "harmonics-not-declared", "section 9");
+    }
+}
