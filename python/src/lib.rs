@@ -12,11 +12,13 @@
 //! | `models` | `model_eval` (`bssrdf_zoo.models.eval`), `model_names` |
 //! | `walk` | `walk` and its result `Walk` |
 //! | `errors` | the library's errors as Python exceptions, `FormatError` |
+//! | `bench` | `_loop_eval`, the Rust loop `python/benches` times the package against |
 //!
 //! Values are the Rust API's bit for bit: every lookup is one call of the runtime at each point
 //! (`python/tests/` compares them with the `bssrdf` command's).
 
 mod bake;
+mod bench;
 mod errors;
 mod library;
 mod models;
@@ -55,5 +57,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(models::model_eval, m)?)?;
     m.add_function(wrap_pyfunction!(models::model_names, m)?)?;
     m.add_function(wrap_pyfunction!(walk::walk, m)?)?;
+    m.add_function(wrap_pyfunction!(bench::_loop_eval, m)?)?;
     Ok(())
 }

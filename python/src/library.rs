@@ -189,6 +189,14 @@ fn rgb(channel: &Bound<'_, PyAny>) -> PyResult<Rgb> {
     )))
 }
 
+/// RGB values as Python's tuple.
+fn triple<T: Copy>(v: [T; 3]) -> (T, T, T) {
+    (v[0], v[1], v[2])
+}
+
+/// Per-channel minima and maxima.
+type Triple2 = ((f64, f64, f64), (f64, f64, f64));
+
 /// A material record of a library: a named medium with RGB coefficients and the table each
 /// channel is looked up in.
 #[pyclass(frozen, module = "bssrdf_zoo")]
@@ -211,18 +219,18 @@ impl Material {
     }
     /// Scattering coefficient σs per RGB channel, mm⁻¹.
     #[getter]
-    fn sigma_s(&self) -> [f64; 3] {
-        self.record.sigma_s
+    fn sigma_s(&self) -> (f64, f64, f64) {
+        triple(self.record.sigma_s)
     }
     /// Absorption coefficient σa per RGB channel, mm⁻¹.
     #[getter]
-    fn sigma_a(&self) -> [f64; 3] {
-        self.record.sigma_a
+    fn sigma_a(&self) -> (f64, f64, f64) {
+        triple(self.record.sigma_a)
     }
     /// Henyey–Greenstein asymmetry g per RGB channel.
     #[getter]
-    fn g(&self) -> [f64; 3] {
-        self.record.g
+    fn g(&self) -> (f64, f64, f64) {
+        triple(self.record.g)
     }
     /// Relative index of refraction η.
     #[getter]
@@ -231,13 +239,15 @@ impl Material {
     }
     /// The index of the table each RGB channel is looked up in.
     #[getter]
-    fn tables(&self) -> [u32; 3] {
-        self.record.tables
+    fn tables(&self) -> (u32, u32, u32) {
+        triple(self.record.tables)
     }
     /// The reduced-albedo range a scene declared, ((min r, g, b), (max r, g, b)), or None.
     #[getter]
-    fn albedo_range(&self) -> Option<([f64; 3], [f64; 3])> {
-        self.record.albedo_range.map(|a| (a.min, a.max))
+    fn albedo_range(&self) -> Option<Triple2> {
+        self.record
+            .albedo_range
+            .map(|a| (triple(a.min), triple(a.max)))
     }
     /// The lookup handle of one colour channel (see `Library.channel`).
     fn channel(&self, channel: &Bound<'_, PyAny>) -> PyResult<Channel> {

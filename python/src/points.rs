@@ -5,8 +5,9 @@
 //! Every vectorised call of the package (table, channel and model lookups) goes through
 //! [`map`], so the loop lives here alone. The arguments become columns of f64 over the broadcast
 //! shape in C order: borrowed where an argument already is one (a C-contiguous float64 array of
-//! that shape), copied otherwise. Columns of equal length are what the runtime's batch calls
-//! take (structures of arrays), so a lookup can move to them without touching its callers.
+//! that shape), one value where it is a scalar, copied otherwise. Columns over the points are
+//! what the runtime's batch calls take (structures of arrays), so a lookup can move to them
+//! here without touching its callers.
 
 use ndarray::{ArrayViewD, IxDyn};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike, PyArrayMethods};
@@ -52,8 +53,12 @@ fn position(flat: usize, shape: &[usize]) -> String {
 
 /// An argument over the broadcast shape, in C order.
 enum Column<'a> {
+    /// The argument's own array: it has the broadcast shape and is C-contiguous.
     Borrowed(&'a [f64]),
+    /// The argument broadcast and copied.
     Copied(Vec<f64>),
+    /// One value for every point.
+    Scalar(f64),
 }
 
 impl<'a> Column<'a> {
@@ -63,18 +68,28 @@ impl<'a> Column<'a> {
                 return Column::Borrowed(slice);
             }
         }
-        // `shape` is the broadcast of this view's shape with the others', so this succeeds.
-        let copied = view
-            .broadcast(IxDyn(shape))
-            .map(|b| b.iter().copied().collect())
-            .unwrap_or_default();
+        if view.len() == 1 {
+            return Column::Scalar(view.iter().next().copied().unwrap_or_default());
+        }
+        let n = shape.iter().product();
+        // Row by row along the last axis: a row iterates with one stride, where an iterator
+        // over all of a dynamic-dimension view steps a multi-index per element (10 ns each).
+        // `shape` is the broadcast of this view's shape with the others', so `broadcast` succeeds.
+        let mut copied = Vec::with_capacity(n);
+        if let Some(b) = view.broadcast(IxDyn(shape)) {
+            for row in b.rows() {
+                copied.extend(row.iter().copied());
+            }
+        }
         Column::Copied(copied)
     }
 
-    fn as_slice(&self) -> &[f64] {
+    /// The values and the step between points: point i reads entry i × step.
+    fn values(&self) -> (&[f64], usize) {
         match self {
-            Column::Borrowed(s) => s,
-            Column::Copied(v) => v,
+            Column::Borrowed(s) => (s, 1),
+            Column::Copied(v) => (v, 1),
+            Column::Scalar(x) => (std::slice::from_ref(x), 0),
         }
     }
 }
@@ -106,12 +121,10 @@ pub fn map<'py, const N: usize, const M: usize>(
     let n: usize = shape.iter().product();
     let computed = py.detach(|| {
         let columns: [Column<'_>; N] = std::array::from_fn(|k| Column::new(&views[k], &shape));
-        let columns: [&[f64]; N] = std::array::from_fn(|k| columns[k].as_slice());
+        let columns: [(&[f64], usize); N] = std::array::from_fn(|k| columns[k].values());
         let mut out: [Vec<f64>; M] = std::array::from_fn(|_| Vec::with_capacity(n));
-        // Point i reads entry i of every column.
-        #[allow(clippy::needless_range_loop)]
         for i in 0..n {
-            let point = std::array::from_fn(|k| columns[k][i]);
+            let point = std::array::from_fn(|k| columns[k].0[i * columns[k].1]);
             match lookup(point) {
                 Ok(values) => {
                     for (column, value) in out.iter_mut().zip(values) {

@@ -6,6 +6,7 @@ use bssrdf_zoo::error::in_range;
 use bssrdf_zoo::table::{PathSample, Sample, TableRef, World};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyFloat;
 
 use crate::errors;
 use crate::library::Channel;
@@ -24,6 +25,25 @@ pub struct Table {
 }
 
 impl Table {
+    /// The table's lookups in reduced units.
+    pub(crate) fn view(&self) -> TableRef<'_> {
+        self.lookup.view()
+    }
+
+    /// The view, its domain and σ′t of a lookup: `sigma_t`, or 1 (reduced units).
+    fn units<'py>(
+        &self,
+        py: Python<'py>,
+        sigma_t: Option<Arg<'py>>,
+    ) -> PyResult<(TableRef<'_>, Domain, Arg<'py>)> {
+        let view = self.lookup.view();
+        let st = match sigma_t {
+            Some(st) => st,
+            None => PyFloat::new(py, 1.0).extract()?,
+        };
+        Ok((view, Domain::of(&view), st))
+    }
+
     /// Table `index` of `library`; ValueError if there is none.
     pub fn new(library: &embed::Library, index: usize) -> PyResult<Self> {
         Ok(Self {
@@ -89,17 +109,38 @@ impl Domain {
     }
 
     /// Refuses θ outside the θ axis (or NaN).
+    #[inline]
     pub fn theta(&self, theta: f64) -> Result<(), String> {
-        in_range("theta", theta, self.theta[0], self.theta[1])
-            .map(|_| ())
-            .map_err(|e| format!("{e}, the table's theta axis (radians)"))
+        Self::within(
+            "theta",
+            theta,
+            self.theta,
+            "the table's theta axis (radians)",
+        )
     }
 
     /// Refuses ρ′ outside the albedo rows (or NaN).
+    #[inline]
     pub fn rho(&self, rho: f64) -> Result<(), String> {
-        in_range("rho'", rho, self.rho[0], self.rho[1])
-            .map(|_| ())
-            .map_err(|e| format!("{e}, the albedo rows the table keeps"))
+        Self::within("rho'", rho, self.rho, "the albedo rows the table keeps")
+    }
+
+    /// `value` in `[lo, hi]`, else the library's message for it (`in_range`, out of line: the
+    /// comparison is on every point's path).
+    #[inline]
+    fn within(
+        name: &'static str,
+        value: f64,
+        [lo, hi]: [f64; 2],
+        what: &str,
+    ) -> Result<(), String> {
+        if (lo..=hi).contains(&value) {
+            return Ok(());
+        }
+        Err(match in_range(name, value, lo, hi) {
+            Ok(_) => format!("{name} = {value} is outside {what}"),
+            Err(e) => format!("{e}, {what}"),
+        })
     }
 
     /// Refuses (ρ′, θ) outside the table.
@@ -139,7 +180,11 @@ pub fn path_tuple([a, b, c, d, e, f]: [Bound<'_, PyAny>; 6]) -> Path6<'_> {
     (a, b, c, d, e, f)
 }
 
-/// The table in world units for σ′t, or the library's refusal of σ′t.
+/// The table in world units for σ′t, or the library's refusal of σ′t. Reduced units are
+/// σ′t = 1, where `World` changes no bit (its factors σ′t, σ′t² and its conversion of r are
+/// exact at 1): the lookups call the `TableRef` itself there, a call fewer per point
+/// (`python/tests` holds them to `World` at σ′t = 1 and to the `bssrdf` command).
+#[inline]
 fn world<'a>(view: TableRef<'a>, sigma_t: f64) -> Result<World<'a>, String> {
     World::new(view, sigma_t).map_err(|e| e.to_string())
 }
@@ -147,11 +192,6 @@ fn world<'a>(view: TableRef<'a>, sigma_t: f64) -> Result<World<'a>, String> {
 const EVAL_NAMES: [&str; 5] = ["rho", "theta", "r", "phi", "sigma_t"];
 const SAMPLE_NAMES: [&str; 5] = ["rho", "theta", "u1", "u2", "sigma_t"];
 const PATH_NAMES: [&str; 6] = ["rho", "u1", "u2", "u3", "u4", "sigma_t"];
-
-/// The first `N` names of `names`.
-fn first<const N: usize>(names: &[&'static str]) -> [&'static str; N] {
-    std::array::from_fn(|k| names[k])
-}
 
 #[pymethods]
 impl Table {
@@ -231,28 +271,16 @@ impl Table {
         phi: Arg<'py>,
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let view = self.lookup.view();
-        let domain = Domain::of(&view);
-        let [s] = match &sigma_t {
-            None => points::map(
-                py,
-                first(&EVAL_NAMES),
-                [&rho, &theta, &r, &phi],
-                |[rho, t, r, p]| {
-                    domain.point(rho, t)?;
-                    Ok([view.eval(rho, t, r, p).unwrap_or(0.0)])
-                },
-            )?,
-            Some(st) => points::map(
-                py,
-                EVAL_NAMES,
-                [&rho, &theta, &r, &phi, st],
-                |[rho, t, r, p, st]| {
-                    domain.point(rho, t)?;
-                    Ok([world(view, st)?.eval(rho, t, r, p).unwrap_or(0.0)])
-                },
-            )?,
-        };
+        let (view, domain, st) = self.units(py, sigma_t)?;
+        let args = [&rho, &theta, &r, &phi, &st];
+        let [s] = points::map(py, EVAL_NAMES, args, |[rho, t, r, p, st]| {
+            domain.point(rho, t)?;
+            let s = match st == 1.0 {
+                true => view.eval(rho, t, r, p),
+                false => world(view, st)?.eval(rho, t, r, p),
+            };
+            Ok([s.unwrap_or(0.0)])
+        })?;
         Ok(s)
     }
 
@@ -267,28 +295,15 @@ impl Table {
         phi: Arg<'py>,
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let view = self.lookup.view();
-        let domain = Domain::of(&view);
-        let [p] = match &sigma_t {
-            None => points::map(
-                py,
-                first(&EVAL_NAMES),
-                [&rho, &theta, &r, &phi],
-                |[rho, t, r, p]| {
-                    domain.point(rho, t)?;
-                    Ok([view.pdf(rho, t, r, p)])
-                },
-            )?,
-            Some(st) => points::map(
-                py,
-                EVAL_NAMES,
-                [&rho, &theta, &r, &phi, st],
-                |[rho, t, r, p, st]| {
-                    domain.point(rho, t)?;
-                    Ok([world(view, st)?.pdf(rho, t, r, p)])
-                },
-            )?,
-        };
+        let (view, domain, st) = self.units(py, sigma_t)?;
+        let args = [&rho, &theta, &r, &phi, &st];
+        let [p] = points::map(py, EVAL_NAMES, args, |[rho, t, r, p, st]| {
+            domain.point(rho, t)?;
+            Ok([match st == 1.0 {
+                true => view.pdf(rho, t, r, p),
+                false => world(view, st)?.pdf(rho, t, r, p),
+            }])
+        })?;
         Ok(p)
     }
 
@@ -305,28 +320,15 @@ impl Table {
         u2: Arg<'py>,
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<Sample3<'py>> {
-        let view = self.lookup.view();
-        let domain = Domain::of(&view);
-        let [r, phi, pdf] = match &sigma_t {
-            None => points::map(
-                py,
-                first(&SAMPLE_NAMES),
-                [&rho, &theta, &u1, &u2],
-                |[rho, t, u1, u2]| {
-                    domain.point(rho, t)?;
-                    Ok(sample_or_zero(view.sample(rho, t, u1, u2)))
-                },
-            )?,
-            Some(st) => points::map(
-                py,
-                SAMPLE_NAMES,
-                [&rho, &theta, &u1, &u2, st],
-                |[rho, t, u1, u2, st]| {
-                    domain.point(rho, t)?;
-                    Ok(sample_or_zero(world(view, st)?.sample(rho, t, u1, u2)))
-                },
-            )?,
-        };
+        let (view, domain, st) = self.units(py, sigma_t)?;
+        let args = [&rho, &theta, &u1, &u2, &st];
+        let [r, phi, pdf] = points::map(py, SAMPLE_NAMES, args, |[rho, t, u1, u2, st]| {
+            domain.point(rho, t)?;
+            Ok(sample_or_zero(match st == 1.0 {
+                true => view.sample(rho, t, u1, u2),
+                false => world(view, st)?.sample(rho, t, u1, u2),
+            }))
+        })?;
         Ok((r, phi, pdf))
     }
 
@@ -345,36 +347,21 @@ impl Table {
         u4: Arg<'py>,
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<Path6<'py>> {
-        let view = self.lookup.view();
+        let (view, domain, st) = self.units(py, sigma_t)?;
         if !view.has_theta_sampling() {
             return Err(PyValueError::new_err(format!(
                 "table {} was baked without theta sampling: no path-tracing draw",
                 self.lookup.index()
             )));
         }
-        let domain = Domain::of(&view);
-        let drawn = match &sigma_t {
-            None => points::map(
-                py,
-                first(&PATH_NAMES),
-                [&rho, &u1, &u2, &u3, &u4],
-                |[rho, a, b, c, d]| {
-                    domain.rho(rho)?;
-                    Ok(path_or_zero(view.sample_path(rho, [a, b, c, d])))
-                },
-            )?,
-            Some(st) => points::map(
-                py,
-                PATH_NAMES,
-                [&rho, &u1, &u2, &u3, &u4, st],
-                |[rho, a, b, c, d, st]| {
-                    domain.rho(rho)?;
-                    Ok(path_or_zero(
-                        world(view, st)?.sample_path(rho, [a, b, c, d]),
-                    ))
-                },
-            )?,
-        };
+        let args = [&rho, &u1, &u2, &u3, &u4, &st];
+        let drawn = points::map(py, PATH_NAMES, args, |[rho, a, b, c, d, st]| {
+            domain.rho(rho)?;
+            Ok(path_or_zero(match st == 1.0 {
+                true => view.sample_path(rho, [a, b, c, d]),
+                false => world(view, st)?.sample_path(rho, [a, b, c, d]),
+            }))
+        })?;
         Ok(path_tuple(drawn))
     }
 
