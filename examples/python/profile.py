@@ -35,9 +35,9 @@ except ImportError:
     plt = None
 
 if plt is None:
-    print("r (mm)     " + "  ".join(f"{name:>22}" for name in curves))
+    print("r (mm)     " + "  ".join(f"{name:>26}" for name in curves))
     for i in range(0, len(r), 20):
-        print(f"{r[i]:<10.4f} " + "  ".join(f"{s[i]:>22.6e}" for s in curves.values()))
+        print(f"{r[i]:<10.4f} " + "  ".join(f"{s[i]:>26.6e}" for s in curves.values()))
 else:
     fig, ax = plt.subplots(figsize=(6, 4))
     for name, s in curves.items():

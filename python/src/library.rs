@@ -288,6 +288,21 @@ pub struct Channel {
 }
 
 impl Channel {
+    /// `lookup` at every point (θ, r, φ) of `args`, each point refused for θ outside the table.
+    fn at_points<'py>(
+        &self,
+        py: Python<'py>,
+        args: [&Arg<'py>; 3],
+        lookup: impl Fn(&ChannelLookup, [f64; 3]) -> f64 + Send + Sync,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let domain = Domain::of(&self.lookup.table().view());
+        let [value] = points::map(py, ["theta", "r", "phi"], args, |point| {
+            domain.theta(point[0])?;
+            Ok([lookup(&self.lookup, point)])
+        })?;
+        Ok(value)
+    }
+
     /// The handle `lookup` on a table of `library`, for messages called `material` and `rgb`.
     pub fn new(
         library: &embed::Library,
@@ -331,12 +346,9 @@ impl Channel {
         r: Arg<'py>,
         phi: Arg<'py>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let domain = Domain::of(&self.lookup.table().view());
-        let [s] = points::map(py, ["theta", "r", "phi"], [&theta, &r, &phi], |[t, r, p]| {
-            domain.theta(t)?;
-            Ok([self.lookup.eval(t, r, p).unwrap_or(0.0)])
-        })?;
-        Ok(s)
+        self.at_points(py, [&theta, &r, &phi], |c, [t, r, p]| {
+            c.eval(t, r, p).unwrap_or(0.0)
+        })
     }
 
     /// Density per mm² of `sample` at (r, φ).
@@ -347,12 +359,7 @@ impl Channel {
         r: Arg<'py>,
         phi: Arg<'py>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let domain = Domain::of(&self.lookup.table().view());
-        let [p] = points::map(py, ["theta", "r", "phi"], [&theta, &r, &phi], |[t, r, p]| {
-            domain.theta(t)?;
-            Ok([self.lookup.pdf(t, r, p)])
-        })?;
-        Ok(p)
+        self.at_points(py, [&theta, &r, &phi], |c, [t, r, p]| c.pdf(t, r, p))
     }
 
     /// Draws the exit point from two uniforms: (r in mm, φ, pdf per mm²); a point with no draw

@@ -31,9 +31,15 @@ struct Built {
 }
 
 /// R(r, φ; θ) of model `name` at every point of the broadcast of ρ′, θ, r, φ: per reduced mfp²
-/// at r in reduced mfp, or with `sigma_t` (σ′t, mm⁻¹) per mm² at r in mm. The table models
-/// look up `table` (a `Table`, whose η and Fresnel moments they take), or a table baked once
-/// on `grid` at η; `mc` runs a walk of `photons` photons from `seed` per (ρ′, θ).
+/// at r in reduced mfp, or with `sigma_t` (σ′t, mm⁻¹) per mm² at r in mm.
+///
+/// `eta` defaults to the table's η for the table models given `table`, else 1.33; `moments` is
+/// "exact" (default; the table's with `table`), "pbrt", or for `dirpole` "authors". The table
+/// models (`table`, `perpendicular`) look up `table` or a table baked once at η on `grid`
+/// (counts (nρ, nθ, nr); default: the default grid). `mc` runs a walk of `photons` photons from
+/// `seed` for each (ρ′, θ), as `bssrdf eval --model mc` does. A model is built once for each
+/// run of points sharing its parameters. Where no light enters (η < 1 beyond the critical
+/// angle) every model gives 0.
 #[pyfunction]
 #[pyo3(signature = (name, rho, theta, r, phi, *, eta = None, g = 0.0, sigma_t = None, moments = None, table = None, grid = None, photons = 100_000, seed = 1))]
 #[allow(clippy::too_many_arguments)]

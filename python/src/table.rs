@@ -44,6 +44,24 @@ impl Table {
         Ok((view, Domain::of(&view), st))
     }
 
+    /// `lookup` at every point (ρ′, θ, r, φ) of `args` in the units of `sigma_t`, each point
+    /// refused outside the table.
+    fn at_points<'py>(
+        &self,
+        py: Python<'py>,
+        [rho, theta, r, phi]: [&Arg<'py>; 4],
+        sigma_t: Option<Arg<'py>>,
+        lookup: impl Fn(Units<'_>, [f64; 4]) -> f64 + Send + Sync,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (view, domain, st) = self.units(py, sigma_t)?;
+        let args = [rho, theta, r, phi, &st];
+        let [value] = points::map(py, EVAL_NAMES, args, |[rho, t, r, p, st]| {
+            domain.point(rho, t)?;
+            Ok([lookup(Units::new(view, st)?, [rho, t, r, p])])
+        })?;
+        Ok(value)
+    }
+
     /// Table `index` of `library`; ValueError if there is none.
     pub fn new(library: &embed::Library, index: usize) -> PyResult<Self> {
         Ok(Self {
@@ -180,13 +198,55 @@ pub fn path_tuple([a, b, c, d, e, f]: [Bound<'_, PyAny>; 6]) -> Path6<'_> {
     (a, b, c, d, e, f)
 }
 
-/// The table in world units for σ′t, or the library's refusal of σ′t. Reduced units are
-/// σ′t = 1, where `World` changes no bit (its factors σ′t, σ′t² and its conversion of r are
-/// exact at 1): the lookups call the `TableRef` itself there, a call fewer per point
-/// (`python/tests` holds them to `World` at σ′t = 1 and to the `bssrdf` command).
-#[inline]
-fn world<'a>(view: TableRef<'a>, sigma_t: f64) -> Result<World<'a>, String> {
-    World::new(view, sigma_t).map_err(|e| e.to_string())
+/// A table's lookups in reduced units, or in world units for σ′t (the runtime's `World`).
+/// Reduced units are σ′t = 1, where `World` changes no bit (its factors σ′t, σ′t² and its
+/// conversion of r are exact at 1): there the lookups call the `TableRef` itself, a call fewer
+/// per point (`python/tests` holds them to `World` at σ′t = 1 and to the `bssrdf` command).
+#[derive(Clone, Copy)]
+enum Units<'a> {
+    Reduced(TableRef<'a>),
+    World(World<'a>),
+}
+
+impl<'a> Units<'a> {
+    /// The lookups of `view` for σ′t, or the library's refusal of σ′t.
+    #[inline]
+    fn new(view: TableRef<'a>, sigma_t: f64) -> Result<Self, String> {
+        if sigma_t == 1.0 {
+            return Ok(Units::Reduced(view));
+        }
+        World::new(view, sigma_t)
+            .map(Units::World)
+            .map_err(|e| e.to_string())
+    }
+    #[inline]
+    fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
+        match self {
+            Units::Reduced(v) => v.eval(rho, theta, r, phi),
+            Units::World(w) => w.eval(rho, theta, r, phi),
+        }
+    }
+    #[inline]
+    fn pdf(&self, rho: f64, theta: f64, r: f64, phi: f64) -> f64 {
+        match self {
+            Units::Reduced(v) => v.pdf(rho, theta, r, phi),
+            Units::World(w) => w.pdf(rho, theta, r, phi),
+        }
+    }
+    #[inline]
+    fn sample(&self, rho: f64, theta: f64, u1: f64, u2: f64) -> Option<Sample> {
+        match self {
+            Units::Reduced(v) => v.sample(rho, theta, u1, u2),
+            Units::World(w) => w.sample(rho, theta, u1, u2),
+        }
+    }
+    #[inline]
+    fn sample_path(&self, rho: f64, u: [f64; 4]) -> Option<PathSample> {
+        match self {
+            Units::Reduced(v) => v.sample_path(rho, u),
+            Units::World(w) => w.sample_path(rho, u),
+        }
+    }
 }
 
 const EVAL_NAMES: [&str; 5] = ["rho", "theta", "r", "phi", "sigma_t"];
@@ -271,17 +331,12 @@ impl Table {
         phi: Arg<'py>,
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (view, domain, st) = self.units(py, sigma_t)?;
-        let args = [&rho, &theta, &r, &phi, &st];
-        let [s] = points::map(py, EVAL_NAMES, args, |[rho, t, r, p, st]| {
-            domain.point(rho, t)?;
-            let s = match st == 1.0 {
-                true => view.eval(rho, t, r, p),
-                false => world(view, st)?.eval(rho, t, r, p),
-            };
-            Ok([s.unwrap_or(0.0)])
-        })?;
-        Ok(s)
+        self.at_points(
+            py,
+            [&rho, &theta, &r, &phi],
+            sigma_t,
+            |units, [rho, t, r, p]| units.eval(rho, t, r, p).unwrap_or(0.0),
+        )
     }
 
     /// Density of `sample` at (r, φ), per reduced mfp² (or per mm² with `sigma_t`).
@@ -295,16 +350,12 @@ impl Table {
         phi: Arg<'py>,
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (view, domain, st) = self.units(py, sigma_t)?;
-        let args = [&rho, &theta, &r, &phi, &st];
-        let [p] = points::map(py, EVAL_NAMES, args, |[rho, t, r, p, st]| {
-            domain.point(rho, t)?;
-            Ok([match st == 1.0 {
-                true => view.pdf(rho, t, r, p),
-                false => world(view, st)?.pdf(rho, t, r, p),
-            }])
-        })?;
-        Ok(p)
+        self.at_points(
+            py,
+            [&rho, &theta, &r, &phi],
+            sigma_t,
+            |units, [rho, t, r, p]| units.pdf(rho, t, r, p),
+        )
     }
 
     /// Draws the exit point from two uniforms: (r, φ, pdf), in reduced units or with `sigma_t`
@@ -324,10 +375,7 @@ impl Table {
         let args = [&rho, &theta, &u1, &u2, &st];
         let [r, phi, pdf] = points::map(py, SAMPLE_NAMES, args, |[rho, t, u1, u2, st]| {
             domain.point(rho, t)?;
-            Ok(sample_or_zero(match st == 1.0 {
-                true => view.sample(rho, t, u1, u2),
-                false => world(view, st)?.sample(rho, t, u1, u2),
-            }))
+            Ok(sample_or_zero(Units::new(view, st)?.sample(rho, t, u1, u2)))
         })?;
         Ok((r, phi, pdf))
     }
@@ -357,10 +405,9 @@ impl Table {
         let args = [&rho, &u1, &u2, &u3, &u4, &st];
         let drawn = points::map(py, PATH_NAMES, args, |[rho, a, b, c, d, st]| {
             domain.rho(rho)?;
-            Ok(path_or_zero(match st == 1.0 {
-                true => view.sample_path(rho, [a, b, c, d]),
-                false => world(view, st)?.sample_path(rho, [a, b, c, d]),
-            }))
+            Ok(path_or_zero(
+                Units::new(view, st)?.sample_path(rho, [a, b, c, d]),
+            ))
         })?;
         Ok(path_tuple(drawn))
     }

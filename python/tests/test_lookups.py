@@ -45,6 +45,20 @@ def test_world_units_are_the_runtimes_formulas(table):
     assert table.eval(rho, theta, r_mm, phi, sigma_t=1.0).tobytes() == table.eval(rho, theta, r_mm, phi).tobytes()
 
 
+def test_reduced_units_are_world_units_at_unit_extinction(table):
+    """A medium of sigma_t' = 1 (ChannelLookup, through World) gives the reduced lookups' bits."""
+    medium = table.medium(0.7, 1.0)
+    rng = np.random.default_rng(11)
+    theta, r, phi = rng.uniform(0, 1.5, 400), rng.uniform(0, 30, 400), rng.uniform(-3, 3, 400)
+    assert medium.eval(theta, r, phi).tobytes() == table.eval(0.7, theta, r, phi).tobytes()
+    assert medium.pdf(theta, r, phi).tobytes() == table.pdf(0.7, theta, r, phi).tobytes()
+    u = rng.uniform(size=(4, 400))
+    for got, want in zip(medium.sample(theta, u[0], u[1]), table.sample(0.7, theta, u[0], u[1])):
+        assert got.tobytes() == want.tobytes()
+    for got, want in zip(medium.sample_path(*u), table.sample_path(0.7, *u)):
+        assert got.tobytes() == want.tobytes()
+
+
 def test_a_channel_is_its_medium_on_its_table(library, two_lobe_table):
     """ChannelLookup: bit for bit World at the material's rho' and sigma_t'."""
     skin = library.material("skin1")
