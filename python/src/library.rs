@@ -14,7 +14,9 @@ use pyo3::types::PyAny;
 
 use crate::errors;
 use crate::points::{self, Arg};
-use crate::table::{path_or_zero, path_tuple, sample_or_zero, Domain, Path6, Sample3, Table};
+use crate::table::{
+    path_or_zero, path_tracing, path_tuple, sample_or_zero, Domain, Path6, Sample3, Table,
+};
 
 /// A library file, opened and validated (structure, checksums, every value finite), with its
 /// tables and material records.
@@ -394,12 +396,7 @@ impl Channel {
         u3: Arg<'py>,
         u4: Arg<'py>,
     ) -> PyResult<Path6<'py>> {
-        if !self.lookup.table().view().has_theta_sampling() {
-            return Err(PyValueError::new_err(format!(
-                "table {} was baked without theta sampling: no path-tracing draw",
-                self.lookup.table().index()
-            )));
-        }
+        path_tracing(self.lookup.table())?;
         let names = ["u1", "u2", "u3", "u4"];
         let drawn = points::map(py, names, [&u1, &u2, &u3, &u4], |u| {
             Ok(path_or_zero(self.lookup.sample_path(u)))

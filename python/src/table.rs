@@ -168,6 +168,17 @@ impl Domain {
     }
 }
 
+/// Refuses the path-tracing draw on a table without the θ CDF it needs.
+pub fn path_tracing(table: &TableLookup) -> PyResult<()> {
+    if table.view().has_theta_sampling() {
+        return Ok(());
+    }
+    Err(PyValueError::new_err(format!(
+        "table {} was baked without theta sampling: no path-tracing draw",
+        table.index()
+    )))
+}
+
 /// (r, φ, pdf) of a draw, or zeros where there is none.
 pub fn sample_or_zero(s: Option<Sample>) -> [f64; 3] {
     s.map_or([0.0; 3], |s| [s.r, s.phi, s.pdf])
@@ -396,12 +407,7 @@ impl Table {
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<Path6<'py>> {
         let (view, domain, st) = self.units(py, sigma_t)?;
-        if !view.has_theta_sampling() {
-            return Err(PyValueError::new_err(format!(
-                "table {} was baked without theta sampling: no path-tracing draw",
-                self.lookup.index()
-            )));
-        }
+        path_tracing(&self.lookup)?;
         let args = [&rho, &u1, &u2, &u3, &u4, &st];
         let drawn = points::map(py, PATH_NAMES, args, |[rho, a, b, c, d, st]| {
             domain.rho(rho)?;
