@@ -1,0 +1,159 @@
+//! The package's one per-point loop: numpy arguments broadcast together by numpy's rules, a
+//! lookup run once per point with the GIL released, and the results back as arrays of the
+//! broadcast shape (a float where every argument was a scalar).
+//!
+//! Every vectorised call of the package (table, channel and model lookups) goes through
+//! [`map`], so the loop lives here alone. The arguments become columns of f64 over the broadcast
+//! shape in C order: borrowed where an argument already is one (a C-contiguous float64 array of
+//! that shape), one value where it is a scalar, copied otherwise. Columns over the points are
+//! what the runtime's batch calls take (structures of arrays), so a lookup can move to them
+//! here without touching its callers.
+
+use ndarray::{ArrayViewD, IxDyn};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLike, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyFloat;
+
+/// A numpy argument: any array-like, converted to float64 by numpy where it is not.
+pub type Arg<'py> = PyArrayLike<'py, f64, IxDyn, AllowTypeChange>;
+
+/// The broadcast shape of `shapes` by numpy's rules (dimensions aligned at the end, each equal
+/// or 1), or `None` if they do not broadcast.
+pub fn broadcast_shape(shapes: &[&[usize]]) -> Option<Vec<usize>> {
+    let ndim = shapes.iter().map(|s| s.len()).max().unwrap_or(0);
+    let mut shape = vec![1; ndim];
+    for s in shapes {
+        for (k, &d) in s.iter().rev().enumerate() {
+            let slot = &mut shape[ndim - 1 - k];
+            if *slot == 1 {
+                *slot = d;
+            } else if d != 1 && d != *slot {
+                return None;
+            }
+        }
+    }
+    Some(shape)
+}
+
+/// The position of the point at flat index `flat` in `shape` (C order), as Python prints it.
+fn position(flat: usize, shape: &[usize]) -> String {
+    let mut rest = flat;
+    let mut index = vec![0; shape.len()];
+    for (k, &d) in shape.iter().enumerate().rev() {
+        index[k] = rest % d.max(1);
+        rest /= d.max(1);
+    }
+    let parts: Vec<String> = index.iter().map(usize::to_string).collect();
+    match parts.len() {
+        1 => parts[0].clone(),
+        _ => format!("({})", parts.join(", ")),
+    }
+}
+
+/// An argument over the broadcast shape, in C order.
+enum Column<'a> {
+    /// The argument's own array: it has the broadcast shape and is C-contiguous.
+    Borrowed(&'a [f64]),
+    /// The argument broadcast and copied.
+    Copied(Vec<f64>),
+    /// One value for every point.
+    Scalar(f64),
+}
+
+impl<'a> Column<'a> {
+    fn new(view: &ArrayViewD<'a, f64>, shape: &[usize]) -> Self {
+        if view.shape() == shape {
+            if let Some(slice) = view.to_slice() {
+                return Column::Borrowed(slice);
+            }
+        }
+        if view.len() == 1 {
+            return Column::Scalar(view.iter().next().copied().unwrap_or_default());
+        }
+        let n = shape.iter().product();
+        // Row by row along the last axis: a row iterates with one stride, where an iterator
+        // over all of a dynamic-dimension view steps a multi-index per element (10 ns each).
+        // `shape` is the broadcast of this view's shape with the others', so `broadcast` succeeds.
+        let mut copied = Vec::with_capacity(n);
+        if let Some(b) = view.broadcast(IxDyn(shape)) {
+            for row in b.rows() {
+                copied.extend(row.iter().copied());
+            }
+        }
+        Column::Copied(copied)
+    }
+
+    /// The values and the step between points: point i reads entry i × step.
+    fn values(&self) -> (&[f64], usize) {
+        match self {
+            Column::Borrowed(s) => (s, 1),
+            Column::Copied(v) => (v, 1),
+            Column::Scalar(x) => (std::slice::from_ref(x), 0),
+        }
+    }
+}
+
+/// Runs `lookup` at every point of the broadcast of `args` (named `names` in messages) with
+/// the GIL released and returns its `M` results per point, each as an array of the broadcast
+/// shape, or as a float where every argument is a scalar. The first point the lookup refuses
+/// (its message, the library's) stops the loop and becomes a ValueError naming the point's
+/// index; arguments that do not broadcast are a ValueError naming their shapes.
+pub fn map<'py, const N: usize, const M: usize>(
+    py: Python<'py>,
+    names: [&str; N],
+    args: [&Arg<'py>; N],
+    mut lookup: impl FnMut([f64; N]) -> Result<[f64; M], String> + Send,
+) -> PyResult<[Bound<'py, PyAny>; M]> {
+    let views: [ArrayViewD<'_, f64>; N] = args.map(|a| a.as_array());
+    let shapes: Vec<&[usize]> = views.iter().map(|v| v.shape()).collect();
+    let Some(shape) = broadcast_shape(&shapes) else {
+        let described: Vec<String> = names
+            .iter()
+            .zip(&shapes)
+            .map(|(name, s)| format!("{name} {s:?}"))
+            .collect();
+        return Err(PyValueError::new_err(format!(
+            "the arguments do not broadcast to one shape: {}",
+            described.join(", ")
+        )));
+    };
+    let n: usize = shape.iter().product();
+    let computed = py.detach(|| {
+        let columns: [Column<'_>; N] = std::array::from_fn(|k| Column::new(&views[k], &shape));
+        let columns: [(&[f64], usize); N] = std::array::from_fn(|k| columns[k].values());
+        let mut out: [Vec<f64>; M] = std::array::from_fn(|_| Vec::with_capacity(n));
+        for i in 0..n {
+            let point = std::array::from_fn(|k| columns[k].0[i * columns[k].1]);
+            match lookup(point) {
+                Ok(values) => {
+                    for (column, value) in out.iter_mut().zip(values) {
+                        column.push(value);
+                    }
+                }
+                Err(message) => return Err((i, message)),
+            }
+        }
+        Ok(out)
+    });
+    let out = computed.map_err(|(i, message)| {
+        PyValueError::new_err(if shape.is_empty() {
+            message
+        } else {
+            format!("at index {}: {message}", position(i, &shape))
+        })
+    })?;
+    let mut arrays = Vec::with_capacity(M);
+    for column in out {
+        arrays.push(if shape.is_empty() {
+            PyFloat::new(py, column[0]).into_any()
+        } else {
+            PyArray1::from_vec(py, column)
+                .reshape(shape.clone())?
+                .into_any()
+        });
+    }
+    arrays
+        .try_into()
+        .map_err(|_| PyValueError::new_err("internal error: wrong number of results"))
+}

@@ -1,0 +1,107 @@
+"""Bakes in memory and to files, the model zoo at numpy points, the walk's arrays."""
+
+import threading
+import time
+import warnings
+
+import numpy as np
+import pytest
+
+import bssrdf_zoo as bz
+
+
+def quiet(call, *args, **kwargs):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return call(*args, **kwargs)
+
+
+def test_bake_returns_a_library_and_writes_the_same_file(tmp_path):
+    path = tmp_path / "two.bssrdf"
+    baked = quiet(bz.bake, [1.4, 1.33], grid=(8, 5, 12), path=path, threads=1)
+    assert [t.eta for t in baked.tables] == [1.33, 1.4]
+    assert baked.path is None or str(baked.path) == str(path)
+    opened = bz.Library.open(path)
+    assert opened.tables[1].params.tobytes() == baked.tables[1].params.tobytes()
+    assert opened.provenance["settings"]["grid"] == "custom"
+    written = tmp_path / "again.bssrdf"
+    opened.write(written)
+    assert written.read_bytes() == path.read_bytes()
+
+
+def test_bake_materials_by_name_coefficients_and_artists_parameters():
+    lib = quiet(
+        bz.bake_materials,
+        [
+            "marble",
+            {"name": "wax", "sigma_s": [2.0, 2.1, 2.2], "sigma_a": 0.01, "g": 0.5, "eta": 1.4, "source": "made up"},
+            {"name": "paint", "reflectance": [0.8, 0.5, 0.2], "mfp": [1.0, 0.5, 0.25], "eta": 1.4},
+        ],
+        (8, 5, 12),
+    )
+    names = [m.name for m in lib.materials]
+    assert names == ["marble", "wax", "paint"]
+    wax = lib.material("wax")
+    assert wax.sigma_a == (0.01, 0.01, 0.01) and wax.source == "made up" and wax.g == (0.5,) * 3
+    assert lib.channel("paint", "r").rho_prime > lib.channel("paint", "b").rho_prime
+    assert "marble" in bz.builtin_materials()
+
+
+def test_a_bake_above_the_checks_bound_warns():
+    with pytest.warns(UserWarning, match="above the bake check's bound"):
+        bz.bake(1.33, grid=(6, 4, 10))
+
+
+@pytest.mark.parametrize("name", bz.models.names())
+def test_every_model_evaluates_at_numpy_points(table, name):
+    theta = np.array([0.0, 0.5, 1.0])
+    kwargs = {"table": table} if name in ("table", "perpendicular") else {"eta": 1.33}
+    if name == "mc":
+        kwargs["photons"] = 2000
+    values = bz.models.eval(name, 0.8, theta[:, None], np.array([0.5, 1.0, 2.0]), 0.0, **kwargs)
+    assert values.shape == (3, 3)
+    assert np.all(np.isfinite(values)) and np.all(values >= 0)
+    world = bz.models.eval(name, 0.8, theta[:, None], np.array([0.5, 1.0, 2.0]) / 2.0, 0.0, sigma_t=2.0, **kwargs)
+    assert world.tobytes() == (2.0 * 2.0 * values).tobytes()
+
+
+def test_a_table_model_bakes_its_own_table_when_given_none():
+    assert bz.models.eval("table", 0.8, 0.3, 1.0, 0.0, eta=1.33, grid=(8, 5, 12)) > 0
+
+
+def test_walk_returns_bins_with_standard_errors():
+    w = bz.walk(0.9, g=0.5, eta=1.33, theta=0.6, photons=4000, seed=2, bins=(0.05, 30.0, 20, 12), threads=1)
+    assert w.r_edges.shape == (22,) and w.phi_edges.shape == (13,)
+    assert w.total.shape == w.total_stderr.shape == w.single.shape == (21, 12)
+    assert np.all(w.total_stderr >= 0)
+    binned = (w.total * np.diff(w.r_edges ** 2)[:, None] / 2 * np.diff(w.phi_edges)[None, :]).sum()
+    assert 0 < binned <= w.reflectance[0] + 1e-12
+    assert w.photons == 4000 and w.transmittance is None
+    again = bz.walk(0.9, g=0.5, eta=1.33, theta=0.6, photons=4000, seed=2, bins=(0.05, 30.0, 20, 12), threads=2)
+    assert again.total.tobytes() == w.total.tobytes()
+    slab = bz.walk(0.9, photons=2000, slab=1.0)
+    assert slab.transmittance[0] > 0
+
+
+def test_the_gil_is_released_during_lookups_and_bakes(table):
+    """Another Python thread runs while a lookup or a bake runs in the native code."""
+    rho = np.full(400_000, 0.8)
+
+    def ticks_during(work):
+        window, ticks = [], []
+
+        def run():
+            start = time.perf_counter()
+            work()
+            window.extend([start, time.perf_counter()])
+
+        worker = threading.Thread(target=run)
+        worker.start()
+        while worker.is_alive():
+            ticks.append(time.perf_counter())
+        worker.join()
+        start, end = window
+        return sum(start < t < end for t in ticks)
+
+    assert ticks_during(lambda: table.eval(rho, 0.5, 1.0, 0.0)) > 100
+    assert ticks_during(lambda: quiet(bz.bake, 1.33, grid=(16, 6, 16), threads=1)) > 100

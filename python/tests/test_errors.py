@@ -1,0 +1,65 @@
+"""Every refusal as a Python exception with the library's message."""
+
+import numpy as np
+import pytest
+
+import bssrdf_zoo as bz
+
+
+def test_files_the_system_refuses_are_os_errors(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no-such-file"):
+        bz.Library.open(tmp_path / "no-such-file.bssrdf")
+    with pytest.raises(OSError):
+        bz.Library.read(tmp_path)
+
+
+def test_every_invalid_conformance_vector_is_a_format_error(data_dir):
+    vectors = sorted((data_dir / "invalid").glob("*.bssrdf"))
+    assert vectors
+    for path in vectors:
+        for mmap in (True, False):
+            with pytest.raises(bz.FormatError) as caught:
+                bz.Library.open(path, mmap=mmap)
+            assert isinstance(caught.value, ValueError)
+            assert str(caught.value), path.name
+
+
+def test_bad_values_are_value_errors_naming_them(library, table):
+    with pytest.raises(ValueError, match=r"rho' = 1.5 is outside \[0, 1\]"):
+        table.eval(1.5, 0.5, 1.0, 0.0)
+    with pytest.raises(ValueError, match=r"at index \(1, 0\): theta = 2"):
+        table.eval(0.5, np.array([[0.5, 0.5], [2.0, 0.5]]), 1.0, 0.0)
+    with pytest.raises(ValueError, match="not a finite number"):
+        table.pdf(np.nan, 0.5, 1.0, 0.0)
+    with pytest.raises(ValueError, match="sigma_t"):
+        table.eval(0.5, 0.5, 1.0, 0.0, sigma_t=0.0)
+    with pytest.raises(ValueError, match="do not broadcast"):
+        table.eval([0.1, 0.2], [0.1, 0.2, 0.3], 1.0, 0.0)
+    with pytest.raises(ValueError, match="skin1"):
+        library.channel("marble", "r")
+    with pytest.raises(ValueError, match="channel"):
+        library.channel("skin1", "x")
+    with pytest.raises(ValueError, match="no table 9"):
+        library.table(9)
+    with pytest.raises(ValueError, match="unknown model"):
+        bz.models.eval("nope", 0.5, 0.5, 1.0, 0.0)
+    with pytest.raises(ValueError, match="theta"):
+        bz.models.eval("dipole", 0.5, 2.0, 1.0, 0.0)
+    with pytest.raises(ValueError, match="grid"):
+        bz.bake(1.33, grid="huge")
+    with pytest.raises(ValueError, match="eta"):
+        bz.bake(7.0, grid=(6, 4, 10))
+    with pytest.raises(ValueError, match="albedo"):
+        bz.walk(1.5, photons=10)
+    with pytest.raises(ValueError):
+        bz.bake_materials(["no-such-material"], grid=(6, 4, 10))
+
+
+def test_lookups_beyond_the_critical_angle_draw_nothing():
+    with pytest.warns(UserWarning):  # this grid misses the check's bound
+        table = bz.bake(0.8, grid=(6, 4, 10), theta_sampling=False).tables[0]
+    r, phi, pdf = table.sample(0.9, 1.4, 0.5, 0.5)
+    assert (r, phi, pdf) == (0.0, 0.0, 0.0)
+    assert table.eval(0.9, 1.4, 1.0, 0.0) == 0.0
+    with pytest.raises(ValueError, match="theta sampling"):
+        table.sample_path(0.9, 0.1, 0.2, 0.3, 0.4)

@@ -1,0 +1,61 @@
+"""Zero-copy, read-only views of a table's stored arrays."""
+
+import gc
+import os
+
+import numpy as np
+import pytest
+
+import bssrdf_zoo as bz
+
+
+def test_views_have_the_tables_shapes_and_values(table, two_lobe_table):
+    n_rho, n_theta, n_r = table.dims
+    assert table.params.shape == (n_rho, n_theta, n_r, 3) and table.params.dtype == np.float32
+    assert table.radial_cdf.shape == (n_rho, n_theta, n_r)
+    assert table.theta_cdf.shape == (n_rho, n_theta)
+    assert table.harmonics is None and not table.two_lobes
+    assert two_lobe_table.harmonics.shape == two_lobe_table.dims + (2,)
+    assert table.rho_nodes.shape == (n_rho,) and table.r_nodes.shape == (n_r,)
+    # At a node every stored value comes back exactly (docs/table.md): the last node of the
+    # radial CDF is the effective albedo there.
+    rho, theta = table.rho_nodes.astype(float), table.theta_nodes.astype(float)
+    looked_up = table.effective_albedo(rho[:, None], theta[None, :])
+    assert np.array_equal(looked_up, np.maximum(table.radial_cdf[:, :, -1].astype(float), 0))
+
+
+def test_views_are_read_only_and_stay_so(table):
+    view = table.params
+    assert not view.flags.writeable and not view.flags.owndata
+    with pytest.raises(ValueError):
+        view[0, 0, 0, 0] = 1.0
+    with pytest.raises(ValueError):
+        view.flags.writeable = True
+
+
+def test_views_share_the_files_memory(library_path):
+    library = bz.Library.open(library_path)
+    a, b = library.tables[0].params, library.tables[0].params
+    assert np.shares_memory(a, b)
+    if os.path.exists("/proc/self/maps"):
+        # The view's data lies in a mapping of the file itself.
+        address = a.ctypes.data
+        spans = [
+            [int(x, 16) for x in line.split()[0].split("-")]
+            for line in open("/proc/self/maps")
+            if line.rstrip().endswith(str(library_path))
+        ]
+        assert any(lo <= address < hi for lo, hi in spans)
+    read = bz.Library.read(library_path)
+    assert not read.is_mapped and library.is_mapped
+    assert np.array_equal(read.tables[0].params, a)
+
+
+def test_a_view_keeps_the_file_alive(library_path):
+    library = bz.Library.open(library_path)
+    view = library.tables[0].radial_cdf
+    expected = view.copy()
+    del library
+    gc.collect()
+    assert np.array_equal(view, expected)
+    assert view.base is not None
