@@ -154,7 +154,8 @@ impl Evaluator<'_> {
                 options.dirpole.fresnel = bssrdf_zoo::models::dirpole::DirpoleFresnel::AuthorsFits;
             }
             let model = bssrdf_zoo::models::build(kind, &params, &options)?;
-            return Ok(model.eval(theta, r_opt, phi) * scale * scale);
+            // σ′t² first, as `World` and the handles multiply, so the values agree bit for bit
+            return Ok(scale * scale * model.eval(theta, r_opt, phi));
         }
         let reduced = match (self.model, &self.table) {
             (ModelKind::Pbd, _) => Pbd::new(rho, self.boundary)?.eval(theta, r_opt, phi, self.rule),
@@ -167,7 +168,7 @@ impl Evaluator<'_> {
             (_, None) => return Err(CliError::input("the table models need a library FILE")),
             (_, Some(_)) => unreachable_model(self.model)?,
         };
-        Ok(reduced * scale * scale)
+        Ok(scale * scale * reduced)
     }
 }
 

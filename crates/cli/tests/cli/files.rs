@@ -199,6 +199,58 @@ fn eval_table_agrees_with_pbd_and_materials_use_millimetres() {
         &(2.0 * st).to_string(),
     ]);
     assert!((json["value"].as_f64().unwrap() / (st * st * reduced) - 1.0).abs() < 1e-6);
+    // and bit for bit what a renderer's channel handle gives, over points of a CSV (σ′t² S, in
+    // that order: (S σ′t) σ′t differs by an ulp at about a third of them)
+    let points: Vec<[f64; 3]> = (0..60)
+        .map(|k| {
+            let k = f64::from(k);
+            [
+                (k * 1.47) % 89.0,
+                0.05 + (k * 0.731) % 6.0,
+                (k * 37.0) % 360.0 - 180.0,
+            ]
+        })
+        .collect();
+    let csv: String = std::iter::once("theta_deg,r_mm,phi_deg\n".to_string())
+        .chain(
+            points
+                .iter()
+                .map(|p| format!("{},{},{}\n", p[0], p[1], p[2])),
+        )
+        .collect();
+    std::fs::write(dir.path().join("points.csv"), csv).unwrap();
+    let rows = ok(&bssrdf(
+        dir.path(),
+        &[
+            "eval",
+            "white-grapefruit-juice.bssrdf",
+            "--material",
+            "white-grapefruit-juice",
+            "--channel",
+            "b",
+            "--points",
+            "points.csv",
+            "--json",
+        ],
+    ));
+    let file = dir.path().join("white-grapefruit-juice.bssrdf");
+    let library = bssrdf_zoo::embed::Library::read(file).unwrap();
+    let blue = library
+        .channel("white-grapefruit-juice", bssrdf_zoo::embed::Rgb::Blue)
+        .unwrap();
+    let lines: Vec<&str> = rows.lines().collect();
+    assert_eq!(lines.len(), points.len());
+    for (line, p) in lines.iter().zip(&points) {
+        let row: serde_json::Value = serde_json::from_str(line).unwrap();
+        let phi = p[2].to_radians();
+        let handle = blue.eval(p[0].to_radians(), p[1], phi).unwrap();
+        let value = row["value"].as_f64().unwrap();
+        assert_eq!(
+            value.to_bits(),
+            handle.to_bits(),
+            "{p:?}: {value} against {handle}"
+        );
+    }
 }
 
 #[test]
