@@ -31,7 +31,7 @@ pub enum GridArg {
 /// `--lobes`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum LobesArg {
-    /// Two lobes for η in [1, 1.33), one elsewhere.
+    /// Two lobes below η = 1.33, one from it up.
     Auto,
     /// One lobe (the report's model).
     #[value(name = "1")]
@@ -90,10 +90,10 @@ pub struct BakeArgs {
     /// Fresnel moments of the boundary.
     #[arg(long, value_enum, default_value = "exact")]
     fresnel_moments: MomentsArg,
-    /// Wrapped Cauchy lobes of the angular profile: 2 for η in [1, 1.33), where one misses the
-    /// report's accuracy at grazing incidence, else 1 (auto). At η = 1.05–1.3 two are 28–47
-    /// times more accurate at 89°; on the default grid they keep the size (42 radii instead of
-    /// 64), on the others they take 1.5 times it; lookups take about 4 times as long
+    /// Wrapped Cauchy lobes of the angular profile: 2 below η = 1.33, where one misses the
+    /// report's accuracy at grazing incidence (or refraction), else 1 (auto). At η = 1.05–1.3 two
+    /// are 28–47 times more accurate at 89°; on the default grid they keep the size (42 radii
+    /// instead of 64), on the others they take 1.5 times it; lookups take about 4 times as long
     /// (docs/accuracy.md).
     #[arg(long, value_enum, default_value = "auto")]
     lobes: LobesArg,
@@ -235,8 +235,8 @@ impl Session {
                     super::show(result.eta),
                     super::show(r.rho[0]),
                     super::show(r.rho[1]),
-                    super::show(round3(r.theta_deg[0])),
-                    super::show(round3(r.theta_deg[1])),
+                    super::show_deg(r.theta_deg[0]),
+                    super::show_deg(r.theta_deg[1]),
                     100.0 * r.mean_rel_error,
                     r.points,
                     super::show(100.0 * result.bounds.mean_rel_error),
@@ -305,10 +305,6 @@ pub(super) fn bake_error(e: BakeError) -> CliError {
 }
 
 /// `x` rounded to 3 decimals, for band edges such as the critical angle 48.590329…°.
-fn round3(x: f64) -> f64 {
-    (x * 1000.0).round() / 1000.0
-}
-
 /// Refuses an output that is one of the bake's inputs (the scene, the material files).
 pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliError> {
     let mut inputs: Vec<(&str, &Path)> = Vec::new();

@@ -258,7 +258,11 @@ fn check_lines(accuracy: &serde_json::Value) -> Option<Vec<String>> {
             lines.push(format!(
                 "  {:>11} {:>11} {:>6} {:>8.3} {:>8.3} {:>8.3} {:>8.4}  {:>5} {:>8.3} {:>5}  {}",
                 format!("{}-{}", r.rho[0], r.rho[1]),
-                format!("{}-{}", r.theta_deg[0], r.theta_deg[1]),
+                format!(
+                    "{}-{}",
+                    super::show_deg(r.theta_deg[0]),
+                    super::show_deg(r.theta_deg[1])
+                ),
                 r.points,
                 100.0 * r.mean_rel_error,
                 100.0 * r.p99_rel_error,

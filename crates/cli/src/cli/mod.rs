@@ -112,7 +112,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     }
 }
 
-pub use values::{check_range, show};
+pub use values::{check_range, show, show_deg};
 
 /// Most threads a --threads may ask for: far more than any machine this runs on has cores,
 /// and few enough that spawning them cannot exhaust the system.

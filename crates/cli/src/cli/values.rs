@@ -12,6 +12,12 @@ pub fn show(v: f64) -> String {
     bssrdf_zoo::error::number(v)
 }
 
+/// An angle band's edge in degrees as messages and tables print it: to 3 decimals (the check's
+/// band below the critical angle ends at asin η less 10⁻⁶ of it, 64.15800307876565° at η = 0.9).
+pub fn show_deg(v: f64) -> String {
+    show((v * 1000.0).round() / 1000.0)
+}
+
 /// An azimuth in degrees as radians, reduced to [−180°, 180°] first: whole turns are exact in
 /// degrees but not after multiplying by π/180 (360° would become sin φ = −2.4e-16, not 0).
 pub fn azimuth_radians(phi_deg: f64) -> f64 {

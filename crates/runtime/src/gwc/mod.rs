@@ -39,7 +39,7 @@
 //! floors, and tables store them (format 1.1, required feature `signed-floor`).
 //!
 //! Near index matching one lobe is not enough at grazing incidence; [`TwoLobe`] adds a second
-//! (`gwc/two_lobe.rs`), which tables for η in [1, 1.33) store by default.
+//! (`gwc/two_lobe.rs`), which tables below η = 1.33 store by default.
 //!
 //! # Wrapped Cauchy density and distribution
 //!

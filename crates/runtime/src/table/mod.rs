@@ -17,7 +17,7 @@
 //! - the radial CDF ∫₀^r E dr′ of the Catmull-Rom spline through the stored E (for sampling r),
 //!   whose last node is the effective albedo ρ_eff(ρ′, θ);
 //! - optionally, for path tracing (algorithm 3), the CDF over θ of ρ_eff(ρ′, θ);
-//! - for a two-lobe table (`bssrdf_zoo::table::Lobes::Two`, by default for η in [1, 1.33)), the profile's third and
+//! - for a two-lobe table (`bssrdf_zoo::table::Lobes::Two`, by default below η = 1.33), the profile's third and
 //!   fourth harmonics times r, r·μ₃ and r·μ₄, beside (E, E_β, c) of the one lobe with its first
 //!   two: lookups interpolate the four harmonics and rebuild two lobes from them
 //!   ([`crate::gwc::TwoLobe::from_moments`], `lookup/two_lobe.rs`; docs/accuracy.md).

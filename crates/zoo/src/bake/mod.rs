@@ -236,7 +236,8 @@ impl Baker {
     }
 
     /// The grid whose albedo rows every table's rows index (a table's grid differs from it in
-    /// its radii only): a preset's one-lobe grid, or the custom grid.
+    /// its radii and, below η = 1, its angles only): a preset's one-lobe grid, or the custom
+    /// grid.
     pub fn albedo_grid(&self) -> Grid {
         match &self.grid {
             BakeGrid::Preset(preset) => Grid::preset(*preset),
@@ -252,7 +253,7 @@ impl Baker {
     /// The grid of the table this bake makes at η: the preset's for its lobes, or the custom one.
     pub fn grid_at(&self, eta: f64) -> Grid {
         match &self.grid {
-            BakeGrid::Preset(preset) => preset.grid(self.lobes_at(eta)),
+            BakeGrid::Preset(preset) => preset.grid(eta, self.lobes_at(eta)),
             BakeGrid::Custom(grid) => grid.clone(),
         }
     }
@@ -350,13 +351,14 @@ impl Baker {
         scene: Option<Value>,
         tables: &[BakedTable],
     ) -> Result<Provenance, BakeError> {
-        let (name, grid, two) = match &self.grid {
+        let (name, grid, two, refracted) = match &self.grid {
             BakeGrid::Preset(preset) => (
                 format!("{preset:?}").to_lowercase(),
                 Grid::preset(*preset),
-                preset.grid(Lobes::Two),
+                preset.grid(1.0, Lobes::Two),
+                Some(preset.refracted_nodes()),
             ),
-            BakeGrid::Custom(grid) => ("custom".to_string(), grid.clone(), grid.clone()),
+            BakeGrid::Custom(grid) => ("custom".to_string(), grid.clone(), grid.clone(), None),
         };
         let dims = |g: &Grid| [g.rho.len(), g.theta.len(), g.r.len()];
         let mut settings = json!({
@@ -372,7 +374,7 @@ impl Baker {
                 "also_where_the_fit_clamped": true,
             },
             "lobes": match self.lobes {
-                None => json!({"auto": {"two_from_eta": 1.0, "two_below_eta": table::TWO_LOBES_BELOW_ETA}}),
+                None => json!({"auto": {"two_below_eta": table::TWO_LOBES_BELOW_ETA}}),
                 Some(Lobes::One) => json!(1),
                 Some(Lobes::Two) => json!(2),
             },
@@ -381,6 +383,11 @@ impl Baker {
                 "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
             },
         });
+        if let Some(refracted) = refracted {
+            // A custom grid is baked as given at every η
+            settings["below_eta_1_theta_nodes"] =
+                json!({"refracted_deg": refracted, "then_deg": 90});
+        }
         if let (Some(scene), Some(map)) = (scene, settings.as_object_mut()) {
             map.insert("scene".into(), scene);
         }

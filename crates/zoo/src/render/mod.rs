@@ -341,7 +341,7 @@ impl Renderer {
         let table = match config.model {
             ModelKind::MonteCarlo => None,
             _ => {
-                let grid = config.grid.grid(crate::table::Lobes::for_eta(eta));
+                let grid = config.grid.grid(eta, crate::table::Lobes::for_eta(eta));
                 Some(bake(eta, moments, &grid, false)?.0)
             }
         };

@@ -76,10 +76,36 @@ impl GridPreset {
     /// protocol, and the bake's check passes. (Fewer angles or albedo rows instead: 6 angles put
     /// (0.5, 60°) at 0.12 %, above the report's 0.08 %; 64 albedo rows miss the far tails at
     /// ρ′ < 0.1 by up to 80 %.)
-    pub fn grid(self, lobes: Lobes) -> Grid {
-        match (self, lobes) {
+    ///
+    /// Below η = 1 the θ axis is [`Grid::below_critical`]'s, with [`GridPreset::refracted_nodes`].
+    pub fn grid(self, eta: f64, lobes: Lobes) -> Grid {
+        let grid = match (self, lobes) {
             (GridPreset::Default, Lobes::Two) => Grid::ferrier(100, 10, 42),
             _ => Grid::preset(self),
+        };
+        if eta < 1.0 {
+            grid.below_critical(eta, self.refracted_nodes())
+        } else {
+            grid
+        }
+    }
+
+    /// The refracted angles θ′ (degrees, from 0 to 90) of the θ nodes of this preset's tables
+    /// below η = 1 ([`Grid::below_critical`]): every 10° (15° on the coarse grid, 5° on the
+    /// fine) up to 60°, then closer towards grazing refraction, where the profile changes
+    /// fastest. Measured on the report's protocol at η = 0.9 and 0.75 (docs/accuracy.md,
+    /// "Below η = 1").
+    pub fn refracted_nodes(self) -> &'static [f64] {
+        match self {
+            GridPreset::Coarse => &[0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 78.0, 84.0, 88.0, 90.0],
+            GridPreset::Default => &[
+                0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 65.0, 70.0, 74.0, 78.0, 82.0, 85.0, 87.5,
+                89.0, 90.0,
+            ],
+            GridPreset::Fine => &[
+                0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0,
+                70.0, 74.0, 78.0, 82.0, 85.0, 87.5, 89.0, 90.0,
+            ],
         }
     }
 }
@@ -133,6 +159,47 @@ impl Grid {
     }
 }
 
+impl Grid {
+    /// This grid with the θ axis of a table below η = 1: a node at the incidence θ = asin(η sin θ′)
+    /// of each refracted angle θ′ of `refracted_deg` (from 0 to 90°), so that the last one is
+    /// the critical angle asin η, then one at 90°.
+    ///
+    /// Below η = 1 light refracts away from the normal and enters only below the critical
+    /// angle, where the refracted beam turns grazing (θ′ → 90°) and the transmittance falls to
+    /// 0 like a square root. Nodes uniform in θ leave the last lit interval (50°–60° at η = 0.9,
+    /// θ′ from 58° to 74°) too wide for the profile's change (7–10 % off at 55°), and every
+    /// node beyond the critical angle holds 0, which bends the spline below it. Nodes placed by
+    /// θ′ follow the beam instead; the node at 90°, beyond the critical angle, holds 0 like the
+    /// critical one, so the spline of the lit intervals does not depend on the unlit ones
+    /// (lookups beyond the critical angle are 0 whatever it gives there). Its node is the f32 at
+    /// or above asin η, so that every angle at which light enters lies below it.
+    pub fn below_critical(mut self, eta: f64, refracted_deg: &[f64]) -> Self {
+        let critical = eta.min(1.0).asin();
+        let mut theta: Vec<f64> = refracted_deg
+            .iter()
+            .map(|&t| {
+                if t >= 90.0 {
+                    // The f32 at or above the critical angle (nodes are stored as f32)
+                    let node = critical as f32;
+                    f64::from(if f64::from(node) < critical {
+                        node.next_up()
+                    } else {
+                        node
+                    })
+                } else {
+                    (eta * t.to_radians().sin()).asin()
+                }
+            })
+            .collect();
+        theta.push(0.5 * PI);
+        // Increasing after the rounding to f32 (close to η = 1 the critical node may round to
+        // the 90° one)
+        theta.dedup_by(|b, a| *b as f32 <= *a as f32);
+        self.theta = theta;
+        self
+    }
+}
+
 /// What a bake did: time, and how often each branch of the GWC fit was taken.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct BakeReport {
@@ -158,18 +225,17 @@ pub enum Lobes {
     Two,
 }
 
-/// Below this η (and from η = 1) a bake takes two lobes unless told otherwise
-/// ([`Lobes::for_eta`]): there one lobe misses the report's table-2 figures at 60° and 89°
-/// (docs/accuracy.md).
+/// Below this η a bake takes two lobes unless told otherwise ([`Lobes::for_eta`]): there one
+/// lobe misses the report's table-2 figures at 60° and 89° (docs/accuracy.md).
 pub const TWO_LOBES_BELOW_ETA: f64 = 1.33;
 
 impl Lobes {
-    /// The lobes a bake takes by default at η: two in [1, [`TWO_LOBES_BELOW_ETA`]), one
-    /// elsewhere. Below η = 1 two lobes measured worse (the bake's check at η = 0.75: region
-    /// means 20–24 % against 18–22 % with one, just below the critical angle, where neither
-    /// model holds) and cost 4 times the lookup time.
+    /// The lobes a bake takes by default at η: two below [`TWO_LOBES_BELOW_ETA`], one from it
+    /// up. Below η = 1, on the θ axis placed by the refracted angle ([`Grid::below_critical`]),
+    /// one lobe is 0.6–34 % off between 45° and the critical angle at η = 0.9, two 0.02–1.9 %
+    /// (docs/accuracy.md, "Below η = 1").
     pub fn for_eta(eta: f64) -> Self {
-        if (1.0..TWO_LOBES_BELOW_ETA).contains(&eta) {
+        if eta < TWO_LOBES_BELOW_ETA {
             Lobes::Two
         } else {
             Lobes::One

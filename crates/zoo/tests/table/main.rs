@@ -3,6 +3,7 @@
 
 mod arbitrary_inputs;
 mod artist;
+mod below_critical;
 mod catmull_rom;
 mod catmull_rom_even;
 mod check;
