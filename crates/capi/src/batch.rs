@@ -104,11 +104,11 @@ const DRAWS: [&str; 5] = ["rho_prime", "sigma_t_prime", "theta", "u_r", "u_phi"]
 /// # Safety
 /// As [`arrays`], and `library` is NULL or an open handle.
 #[inline(always)]
-unsafe fn batch<const I: usize, const O: usize>(
+unsafe fn batch<'t, const I: usize, const O: usize>(
     (library, table, n): (*const bssrdf_library, usize, usize),
     (inputs, names): ([*const f64; I], [&'static str; I]),
     outputs: [Array<*mut f64>; O],
-    lookup: impl FnOnce(TableRef<'_>, [&[f64]; I], [&mut [f64]; O]) -> bssrdf_runtime::Result<()>,
+    lookup: impl FnOnce(TableRef<'t>, [&[f64]; I], [&mut [f64]; O]) -> bssrdf_runtime::Result<()>,
 ) -> c_int {
     guard(|| {
         // SAFETY: the caller's contract.
@@ -118,6 +118,34 @@ unsafe fn batch<const I: usize, const O: usize>(
         let (inputs, outputs) = unsafe { arrays(n, inputs, outputs) }?;
         lookup(view, inputs, outputs).map_err(batch_failure)
     })
+}
+
+/// The body of the batches of one value per point at (θ, r_mm, φ) ([`POINTS`]):
+/// [`batch`] running `values_n` (`TableRef::eval_n`, `pdf_n` or `angular_factor_n`).
+///
+/// # Safety
+/// As [`batch`].
+#[inline(always)]
+unsafe fn values_batch<'t>(
+    (library, table, n): (*const bssrdf_library, usize, usize),
+    inputs: [*const f64; 5],
+    out: Array<*mut f64>,
+    values_n: impl FnOnce(
+        &TableRef<'t>,
+        &[f64],
+        &[f64],
+        &[f64],
+        &[f64],
+        &[f64],
+        &mut [f64],
+    ) -> bssrdf_runtime::Result<()>,
+) -> c_int {
+    let lookup =
+        |view: TableRef<'t>,
+         [rho, sigma_t, theta, r_mm, phi]: [&[f64]; 5],
+         [out]: [&mut [f64]; 1]| { values_n(&view, rho, sigma_t, theta, r_mm, phi, out) };
+    // SAFETY: the caller's contract.
+    unsafe { batch((library, table, n), (inputs, POINTS), [out], lookup) }
 }
 
 /// S_p in mm⁻² at `n` points into `out_value[0..n]`: point i is [`bssrdf_table_eval`] of the
@@ -141,13 +169,9 @@ pub unsafe extern "C" fn bssrdf_table_eval_n(
     out_value: *mut f64,
 ) -> c_int {
     let inputs = [rho_prime, sigma_t_prime, theta, r_mm, phi];
-    let eval_n =
-        |view: TableRef, [rho, sigma_t, theta, r_mm, phi]: [&[f64]; 5], [out]: [&mut [f64]; 1]| {
-            view.eval_n(rho, sigma_t, theta, r_mm, phi, out)
-        };
-    let outputs = [(out_value, "out_value")];
+    let out = (out_value, "out_value");
     // SAFETY: the function's contract.
-    unsafe { batch((library, table, n), (inputs, POINTS), outputs, eval_n) }
+    unsafe { values_batch((library, table, n), inputs, out, TableRef::eval_n) }
 }
 
 /// Density per mm² at `n` points into `out_pdf[0..n]`: point i is [`bssrdf_table_pdf`] of the
@@ -170,19 +194,9 @@ pub unsafe extern "C" fn bssrdf_table_pdf_n(
     out_pdf: *mut f64,
 ) -> c_int {
     let inputs = [rho_prime, sigma_t_prime, theta, r_mm, phi];
-    let pdf_n =
-        |view: TableRef, [rho, sigma_t, theta, r_mm, phi]: [&[f64]; 5], [out]: [&mut [f64]; 1]| {
-            view.pdf_n(rho, sigma_t, theta, r_mm, phi, out)
-        };
+    let out = (out_pdf, "out_pdf");
     // SAFETY: the function's contract.
-    unsafe {
-        batch(
-            (library, table, n),
-            (inputs, POINTS),
-            [(out_pdf, "out_pdf")],
-            pdf_n,
-        )
-    }
+    unsafe { values_batch((library, table, n), inputs, out, TableRef::pdf_n) }
 }
 
 /// `n` draws of the exit point into `out_r[0..n]` (mm), `out_phi` (radians) and `out_pdf`
@@ -308,13 +322,9 @@ pub unsafe extern "C" fn bssrdf_table_angular_factor_n(
     out_factor: *mut f64,
 ) -> c_int {
     let inputs = [rho_prime, sigma_t_prime, theta, r_mm, phi];
-    let factor_n =
-        |view: TableRef, [rho, sigma_t, theta, r_mm, phi]: [&[f64]; 5], [out]: [&mut [f64]; 1]| {
-            view.angular_factor_n(rho, sigma_t, theta, r_mm, phi, out)
-        };
-    let outputs = [(out_factor, "out_factor")];
+    let out = (out_factor, "out_factor");
     // SAFETY: the function's contract.
-    unsafe { batch((library, table, n), (inputs, POINTS), outputs, factor_n) }
+    unsafe { values_batch((library, table, n), inputs, out, TableRef::angular_factor_n) }
 }
 
 /// `n` path-tracing draws (θ, r, φ, φ′) into `out_theta[0..n]` (radians), `out_r` (mm),
@@ -356,16 +366,7 @@ pub unsafe extern "C" fn bssrdf_table_sample_path_n(
     ];
     let sample_path_n =
         |view: TableRef, [rho, sigma_t, u @ ..]: [&[f64]; 6], out: [&mut [f64]; 6]| {
-            let [theta, r, phi, phi_prime, pdf_theta, pdf] = out;
-            let out = PathSamplesMut {
-                theta,
-                r,
-                phi,
-                phi_prime,
-                pdf_theta,
-                pdf,
-            };
-            view.sample_path_n(rho, sigma_t, u, out)
+            view.sample_path_n(rho, sigma_t, u, PathSamplesMut::from(out))
         };
     // SAFETY: the function's contract.
     unsafe { batch((library, table, n), (inputs, names), outputs, sample_path_n) }

@@ -245,15 +245,7 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
         view.sample_radius_n(&rho, &sigma_t, &theta, &u_r, radial)
             .unwrap();
         let mut path = [[0.0; N]; 6];
-        let [p0, p1, p2, p3, p4, p5] = &mut path;
-        let paths = PathSamplesMut {
-            theta: p0,
-            r: p1,
-            phi: p2,
-            phi_prime: p3,
-            pdf_theta: p4,
-            pdf: p5,
-        };
+        let paths = PathSamplesMut::from(path.each_mut().map(|p| &mut p[..]));
         view.sample_path_n(&rho, &sigma_t, [&u_r, &u_phi, &r, &phi], paths)
             .unwrap();
         let pp = path.each_mut().map(|p| p.as_mut_ptr());

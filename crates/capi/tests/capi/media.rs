@@ -228,17 +228,8 @@ fn check_separable_and_path_batches(
             .unwrap();
         view.angular_factor_n(media.0, media.1, &b.theta, &b.r, &b.phi, factor)
             .unwrap();
-        let [theta, r, phi, phi_prime, pdf_theta, pdf] = path else {
-            unreachable!()
-        };
-        let paths = PathSamplesMut {
-            theta,
-            r,
-            phi,
-            phi_prime,
-            pdf_theta,
-            pdf,
-        };
+        let path: &mut [Vec<f64>; 6] = path.try_into().unwrap();
+        let paths = PathSamplesMut::from(path.each_mut().map(|v| &mut v[..]));
         view.sample_path_n(media.0, media.1, u, paths).unwrap();
     }
     check(&out);
@@ -336,15 +327,7 @@ fn a_batch_with_arrays_of_other_lengths_is_an_error_naming_the_array() {
     let err = view.sample_radius_n(&two, &two, &two, &two, draws);
     assert!(err.unwrap_err().to_string().starts_with("r holds 3"));
     let mut fields = [[-7.0; 2]; 6];
-    let [theta, r, phi, phi_prime, pdf_theta, pdf] = &mut fields;
-    let paths = PathSamplesMut {
-        theta,
-        r,
-        phi,
-        phi_prime,
-        pdf_theta,
-        pdf,
-    };
+    let paths = PathSamplesMut::from(fields.each_mut().map(|f| &mut f[..]));
     let err = view.sample_path_n(&two, &two, [&two, &two, &two, &three], paths);
     assert_eq!(
         err.unwrap_err().to_string(),

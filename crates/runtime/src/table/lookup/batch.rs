@@ -55,6 +55,21 @@ pub struct PathSamplesMut<'o> {
     pub pdf: &'o mut [f64],
 }
 
+impl<'o> From<[&'o mut [f64]; 6]> for PathSamplesMut<'o> {
+    /// The six output arrays in the order of [`PathSample`]'s fields: θ, r, φ, φ′, pdf_theta,
+    /// pdf.
+    fn from([theta, r, phi, phi_prime, pdf_theta, pdf]: [&'o mut [f64]; 6]) -> Self {
+        PathSamplesMut {
+            theta,
+            r,
+            phi,
+            phi_prime,
+            pdf_theta,
+            pdf,
+        }
+    }
+}
+
 impl TableRef<'_> {
     /// S_p in mm⁻² at N points: point i is [`MediumRef::eval`] at (θᵢ, r_mmᵢ, φᵢ) of the medium
     /// (ρ′ᵢ, σ′tᵢ in mm⁻¹) on this table, into `out[i]`, or 0 where [`TableRef::medium`] refuses
@@ -280,9 +295,8 @@ impl TableRef<'_> {
     /// let view = table.view();
     /// let (rho, sigma_t) = ([0.9, 1.5], [2.0, 2.0]);
     /// let u = [[0.1, 0.1], [0.2, 0.2], [0.3, 0.3], [0.4, 0.4]];
-    /// let mut out = [[0.0; 2]; 6];
-    /// let [theta, r, phi, phi_prime, pdf_theta, pdf] = &mut out;
-    /// let draws = PathSamplesMut { theta, r, phi, phi_prime, pdf_theta, pdf };
+    /// let mut out = [[0.0; 2]; 6]; // θ, r, φ, φ′, pdf_theta, pdf
+    /// let draws = PathSamplesMut::from(out.each_mut().map(|o| &mut o[..]));
     /// view.sample_path_n(&rho, &sigma_t, [&u[0], &u[1], &u[2], &u[3]], draws)?;
     /// let single = view.medium(0.9, 2.0)?.sample_path([0.1, 0.2, 0.3, 0.4]).unwrap();
     /// assert_eq!([out[0][0], out[1][0], out[5][0]], [single.theta, single.r, single.pdf]);
