@@ -154,8 +154,9 @@ impl TableRef<'_> {
     ) -> crate::Result<()> {
         let n = outputs[O - 1].len();
         lengths(out_names, std::array::from_fn(|k| &*outputs[k]), n)?;
-        let inputs = lengths(names, inputs, n)?;
-        let mut outputs = outputs;
+        // Every slice cut to n values, so that the loop's indexing needs no bounds checks
+        let inputs = lengths(names, inputs, n)?.map(|input| &input[..n]);
+        let mut outputs = outputs.map(|output| &mut output[..n]);
         for i in 0..n {
             let x = inputs.map(|input| input[i]);
             let values = lookup(self.medium(x[0], x[1]).ok(), x);
