@@ -39,11 +39,12 @@
  * BSSRDF_ERROR_INVALID_ARGUMENT; the message names the value and its range), and return the
  * bits of a channel handle made for the same medium. They allocate nothing, failing or not.
  *
- * Batches: bssrdf_table_eval_n, bssrdf_table_pdf_n and bssrdf_table_sample_n look up n points
+ * Batches: bssrdf_table_eval_n, _pdf_n, _sample_n, the separable renderers' _sample_radius_n,
+ * _pdf_radius_n and _angular_factor_n, and the path-tracing draw _sample_path_n look up n points
  * given as structures of arrays (one array of n doubles per argument, one per output), each
  * point with its own medium, into output arrays. Point i gives the bits of the single call with
  * the i-th values. A point outside the domain does not fail the batch: its value or density is
- * 0 and its draw the failed draw r = phi = pdf = 0 (every successful draw has pdf > 0). The
+ * 0 and its draw the failed draw, every field 0 (every successful draw has pdf > 0). The
  * call fails, writing nothing, for a NULL library or array (even with n = 0), an array not
  * aligned for a double, an output overlapping another array (inputs may overlap each other),
  * n too large to address, or an unknown table.
@@ -197,6 +198,26 @@ int bssrdf_channel_pdf_theta(const bssrdf_channel *channel, double theta, double
 int bssrdf_channel_effective_albedo(const bssrdf_channel *channel, double theta,
                                     double *out_albedo);
 
+/* For separable renderers (docs/embedding.md, "Separable renderers"): r drawn alone, phi by
+ * the renderer (uniform), the point weighted by w = rho_eff(theta) * angular_factor, whose mean
+ * is rho_eff(theta) exactly; or by w = S * 2 pi r / pdf_r with S from bssrdf_channel_eval.
+ * The exit distance r in mm from one uniform u in [0, 1), with its density per mm: the radial
+ * step of bssrdf_channel_sample (the same u gives the same r). BSSRDF_ERROR_NO_SAMPLE where
+ * bssrdf_channel_sample fails with it. */
+int bssrdf_channel_sample_radius(const bssrdf_channel *channel, double theta, double u,
+                                 bssrdf_radial_sample *out_sample);
+
+/* Density per mm of bssrdf_channel_sample_radius at r_mm (0 where it cannot sample). */
+int bssrdf_channel_pdf_radius(const bssrdf_channel *channel, double theta, double r_mm,
+                              double *out_pdf);
+
+/* The angular factor S(r, phi; theta) / S_bar(r; theta), dimensionless, >= 0, with
+ * S_bar = (1 / 2 pi) * integral of S over phi: bssrdf_channel_eval = S_bar * factor, and the
+ * factor averages to 1 over phi. 0 outside the radial support; BSSRDF_ERROR_OUT_OF_RANGE for
+ * theta outside the table. */
+int bssrdf_channel_angular_factor(const bssrdf_channel *channel, double theta, double r_mm,
+                                  double phi, double *out_factor);
+
 /* Lookups with the medium given per call, on table `table` of an open library: rho_prime is
  * the reduced albedo sigma_s' / sigma_t', sigma_t_prime the reduced extinction in mm^-1. Each
  * is the bssrdf_channel_* function of the same name for a channel made with
@@ -234,24 +255,18 @@ int bssrdf_table_effective_albedo(const bssrdf_library *library, size_t table,
                                   double rho_prime, double sigma_t_prime, double theta,
                                   double *out_albedo);
 
-/* For separable renderers (docs/embedding.md, "Separable renderers"): r drawn alone, phi by
- * the renderer (uniform), the point weighted by w = rho_eff(theta) * angular_factor, whose mean
- * is rho_eff(theta) exactly; or by w = S * 2 pi r / pdf_r with S from bssrdf_table_eval.
- * The exit distance r in mm from one uniform u in [0, 1), with its density per mm: the radial
- * step of bssrdf_table_sample (the same u gives the same r). BSSRDF_ERROR_NO_SAMPLE where
- * bssrdf_table_sample fails with it. */
+/* The separable renderers' lookups above, with the medium given per call.
+ * The exit distance r in mm from one uniform u in [0, 1), with its density per mm
+ * (bssrdf_channel_sample_radius). */
 int bssrdf_table_sample_radius(const bssrdf_library *library, size_t table, double rho_prime,
                                double sigma_t_prime, double theta, double u,
                                bssrdf_radial_sample *out_sample);
 
-/* Density per mm of bssrdf_table_sample_radius at r_mm (0 where it cannot sample). */
+/* Density per mm of bssrdf_table_sample_radius at r_mm (bssrdf_channel_pdf_radius). */
 int bssrdf_table_pdf_radius(const bssrdf_library *library, size_t table, double rho_prime,
                             double sigma_t_prime, double theta, double r_mm, double *out_pdf);
 
-/* The angular factor S(r, phi; theta) / S_bar(r; theta), dimensionless, >= 0, with
- * S_bar = (1 / 2 pi) * integral of S over phi: bssrdf_table_eval = S_bar * factor, and the
- * factor averages to 1 over phi. 0 outside the radial support; BSSRDF_ERROR_OUT_OF_RANGE for
- * theta outside the table. */
+/* The angular factor S / S_bar, dimensionless (bssrdf_channel_angular_factor). */
 int bssrdf_table_angular_factor(const bssrdf_library *library, size_t table, double rho_prime,
                                 double sigma_t_prime, double theta, double r_mm, double phi,
                                 double *out_factor);
@@ -278,6 +293,38 @@ int bssrdf_table_sample_n(const bssrdf_library *library, size_t table, size_t n,
                           const double *theta, const double *u_r, const double *u_phi,
                           double *out_r, double *out_phi, double *out_pdf);
 
+/* Draws of the exit distance alone into out_r[i] (mm) and out_pdf[i] (mm^-1):
+ * bssrdf_table_sample_radius at point i from the uniform u[i], or the failed draw
+ * r = pdf = 0 where it fails. */
+int bssrdf_table_sample_radius_n(const bssrdf_library *library, size_t table, size_t n,
+                                 const double *rho_prime, const double *sigma_t_prime,
+                                 const double *theta, const double *u, double *out_r,
+                                 double *out_pdf);
+
+/* Density per mm into out_pdf[i]: bssrdf_table_pdf_radius at point i, or 0 where it fails. */
+int bssrdf_table_pdf_radius_n(const bssrdf_library *library, size_t table, size_t n,
+                              const double *rho_prime, const double *sigma_t_prime,
+                              const double *theta, const double *r_mm, double *out_pdf);
+
+/* The angular factor into out_factor[i]: bssrdf_table_angular_factor at point i, or 0 where
+ * it fails. */
+int bssrdf_table_angular_factor_n(const bssrdf_library *library, size_t table, size_t n,
+                                  const double *rho_prime, const double *sigma_t_prime,
+                                  const double *theta, const double *r_mm, const double *phi,
+                                  double *out_factor);
+
+/* Path-tracing draws into out_theta[i], out_r[i], out_phi[i], out_phi_prime[i],
+ * out_pdf_theta[i] and out_pdf[i] (the fields of bssrdf_path_sample):
+ * bssrdf_table_sample_path at point i from the four uniforms u = {u0[i], u1[i], u2[i], u3[i]},
+ * or the failed draw, every field 0, where it fails (no energy, the medium outside the table,
+ * a table without theta sampling). */
+int bssrdf_table_sample_path_n(const bssrdf_library *library, size_t table, size_t n,
+                               const double *rho_prime, const double *sigma_t_prime,
+                               const double *u0, const double *u1, const double *u2,
+                               const double *u3, double *out_theta, double *out_r,
+                               double *out_phi, double *out_phi_prime, double *out_pdf_theta,
+                               double *out_pdf);
+
 /* The message of the last failed call on this thread (UTF-8, NUL-terminated, "no error" if
  * none yet). Valid until the next failing call on this thread. Never NULL. */
 const char *bssrdf_last_error_message(void);
@@ -295,6 +342,18 @@ const char *bssrdf_status_name(int status);
  * holds the exit Fresnel transmission; 1 - F_r is the unpolarised Fresnel transmittance at
  * entry. What the boundary reflects at once, F_r, is the renderer's specular lobe, not part of
  * A; single scattering is not in the model. Defined in docs/physics.md. */
+
+/* The diffuse reflectance A(rho', theta) of the channel's medium (dimensionless): the inverse
+ * of bssrdf_library_invert_albedo, for showing an artist the colour a medium gives.
+ * BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table or NaN. Allocates nothing. */
+int bssrdf_channel_diffuse_reflectance(const bssrdf_channel *channel, double theta,
+                                       double *out_reflectance);
+
+/* bssrdf_channel_diffuse_reflectance with the medium given per call (see "Media per call":
+ * the same checks and statuses; sigma_t_prime is checked but does not enter A). */
+int bssrdf_table_diffuse_reflectance(const bssrdf_library *library, size_t table,
+                                     double rho_prime, double sigma_t_prime, double theta,
+                                     double *out_reflectance);
 
 /* The reflectances table `table` reaches at incidence theta: A at its first and at its last
  * albedo row ([0, A(rho' = 1)] for a full table, e.g. [0, 0.931] at theta = 0, eta = 1.33 on the

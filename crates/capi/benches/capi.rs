@@ -5,7 +5,9 @@
 //! random points over 64 media of random ρ′ and σ′t, so the three differ only by their layers.
 //! Then the lookups with the medium given per call and the batches (`batch/…`): the same
 //! points one call each (`MediumRef`, `bssrdf_table_eval`, …) and as batches of structures of
-//! arrays, each point with its own medium (`TableRef::eval_n`, `bssrdf_table_eval_n`, …).
+//! arrays, each point with its own medium (`TableRef::eval_n`, `bssrdf_table_eval_n`, …), for
+//! all seven batches: eval, sample, pdf, the separable renderers' sample_radius, pdf_radius and
+//! angular_factor, and the path-tracing draw sample_path.
 //! Run: `cargo bench -p bssrdf-capi --bench capi` (`-- batch` for the batches alone).
 //!
 //! After criterion, a paired run prints the times and the ratios C / Rust handle and Rust
@@ -27,7 +29,10 @@ use bssrdf_zoo::embed::{ChannelLookup, Library};
 use bssrdf_zoo::format::{self, Compression, LibraryBuilder, Verify};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::{bake, FileTable, Grid, GridPreset, SamplesMut, TableRef, World};
+use bssrdf_zoo::table::{
+    bake, FileTable, Grid, GridPreset, PathSamplesMut, RadialSamplesMut, SamplesMut, TableRef,
+    World,
+};
 use criterion::{black_box, Criterion, Throughput};
 
 const MEDIA: usize = 64;
@@ -448,6 +453,16 @@ impl Fixture<'_> {
             Lookup::Sample => m
                 .sample(black_box(c.theta[i]), c.u_r[i], c.u_phi[i])
                 .map_or(0.0, |s| s.r),
+            Lookup::SampleRadius => m
+                .sample_radius(black_box(c.theta[i]), c.u_r[i])
+                .map_or(0.0, |s| s.r),
+            Lookup::PdfRadius => m.pdf_radius(black_box(c.theta[i]), c.r[i]),
+            Lookup::AngularFactor => m
+                .angular_factor(black_box(c.theta[i]), c.r[i], c.phi[i])
+                .unwrap_or(0.0),
+            Lookup::SamplePath => m
+                .sample_path(black_box([c.u_r[i], c.u_phi[i], c.u2[i], c.u3[i]]))
+                .map_or(0.0, |s| s.r),
         }
     }
 
@@ -455,11 +470,10 @@ impl Fixture<'_> {
         let (c, lib) = (&self.columns, self.c_library);
         let (rho, st, theta) = (c.rho[i], c.sigma_t[i], black_box(c.theta[i]));
         let mut value = 0.0;
-        let mut s = capi::bssrdf_sample {
-            r: 0.0,
-            phi: 0.0,
-            pdf: 0.0,
-        };
+        let mut s = capi::bssrdf_sample::default();
+        let mut d = capi::bssrdf_radial_sample::default();
+        let mut p = capi::bssrdf_path_sample::default();
+        let u = [c.u_r[i], c.u_phi[i], c.u2[i], c.u3[i]];
         // SAFETY: a live library and valid outputs.
         let status = unsafe {
             match what {
@@ -472,9 +486,21 @@ impl Fixture<'_> {
                 Lookup::Sample => {
                     capi::bssrdf_table_sample(lib, 0, rho, st, theta, c.u_r[i], c.u_phi[i], &mut s)
                 }
+                Lookup::SampleRadius => {
+                    capi::bssrdf_table_sample_radius(lib, 0, rho, st, theta, c.u_r[i], &mut d)
+                }
+                Lookup::PdfRadius => {
+                    capi::bssrdf_table_pdf_radius(lib, 0, rho, st, theta, c.r[i], &mut value)
+                }
+                Lookup::AngularFactor => capi::bssrdf_table_angular_factor(
+                    lib, 0, rho, st, theta, c.r[i], c.phi[i], &mut value,
+                ),
+                Lookup::SamplePath => {
+                    capi::bssrdf_table_sample_path(lib, 0, rho, st, black_box(u).as_ptr(), &mut p)
+                }
             }
         };
-        value + s.r + f64::from(status)
+        value + s.r + d.r + p.r + f64::from(status)
     }
 
     fn rust_batch(&self, what: Lookup, range: std::ops::Range<usize>, out: &mut Outputs) -> f64 {
@@ -486,10 +512,12 @@ impl Fixture<'_> {
             &c.sigma_t[range.clone()],
             &c.theta[range.clone()],
         );
+        let u = [&c.u_r, &c.u_phi, &c.u2, &c.u3].map(|u| &u[range.clone()]);
         let (a, b) = match what {
             Lookup::Sample => (&c.u_r[range.clone()], &c.u_phi[range]),
             _ => (&c.r[range.clone()], &c.phi[range]),
         };
+        let [e0, e1, e2] = &mut out.extra;
         match what {
             Lookup::Eval => view.eval_n(rho, st, theta, a, b, &mut out.value[..n]),
             Lookup::Pdf => view.pdf_n(rho, st, theta, a, b, &mut out.value[..n]),
@@ -501,6 +529,22 @@ impl Fixture<'_> {
                 };
                 view.sample_n(rho, st, theta, a, b, draws)
             }
+            Lookup::SampleRadius => {
+                let draws = RadialSamplesMut {
+                    r: &mut out.r[..n],
+                    pdf: &mut out.value[..n],
+                };
+                view.sample_radius_n(rho, st, theta, u[0], draws)
+            }
+            Lookup::PdfRadius => view.pdf_radius_n(rho, st, theta, a, &mut out.value[..n]),
+            Lookup::AngularFactor => {
+                view.angular_factor_n(rho, st, theta, a, b, &mut out.value[..n])
+            }
+            Lookup::SamplePath => {
+                let fields = [e0, &mut out.r, &mut out.phi, e1, e2, &mut out.value];
+                let draws = PathSamplesMut::from(fields.map(|f| &mut f[..n]));
+                view.sample_path_n(rho, st, u, draws)
+            }
         }
         .unwrap();
         out.value[n - 1] + out.r[n - 1]
@@ -511,8 +555,9 @@ impl Fixture<'_> {
         let at = |v: &[f64]| v[range.start..].as_ptr();
         let (rho, st, theta) = (at(&c.rho), at(&c.sigma_t), at(&c.theta));
         let (r, phi, value) = (at(&c.r), at(&c.phi), out.value.as_mut_ptr());
-        let (u_r, u_phi) = (at(&c.u_r), at(&c.u_phi));
+        let (u_r, u_phi, u2, u3) = (at(&c.u_r), at(&c.u_phi), at(&c.u2), at(&c.u3));
         let (draw_r, draw_phi) = (out.r.as_mut_ptr(), out.phi.as_mut_ptr());
+        let [e0, e1, e2] = out.extra.each_mut().map(|e| e.as_mut_ptr());
         // SAFETY: a live library; every array holds at least n doubles from its pointer, the
         // outputs apart from the inputs.
         let status = unsafe {
@@ -521,6 +566,18 @@ impl Fixture<'_> {
                 Lookup::Pdf => capi::bssrdf_table_pdf_n(lib, 0, n, rho, st, theta, r, phi, value),
                 Lookup::Sample => capi::bssrdf_table_sample_n(
                     lib, 0, n, rho, st, theta, u_r, u_phi, draw_r, draw_phi, value,
+                ),
+                Lookup::SampleRadius => capi::bssrdf_table_sample_radius_n(
+                    lib, 0, n, rho, st, theta, u_r, draw_r, value,
+                ),
+                Lookup::PdfRadius => {
+                    capi::bssrdf_table_pdf_radius_n(lib, 0, n, rho, st, theta, r, value)
+                }
+                Lookup::AngularFactor => {
+                    capi::bssrdf_table_angular_factor_n(lib, 0, n, rho, st, theta, r, phi, value)
+                }
+                Lookup::SamplePath => capi::bssrdf_table_sample_path_n(
+                    lib, 0, n, rho, st, u_r, u_phi, u2, u3, e0, draw_r, draw_phi, e1, e2, value,
                 ),
             }
         };
@@ -535,13 +592,30 @@ enum Lookup {
     Eval,
     Pdf,
     Sample,
+    SampleRadius,
+    PdfRadius,
+    AngularFactor,
+    SamplePath,
 }
 
-/// The output arrays of a batch (`value` is the draws' density).
+/// Every lookup the batch benchmarks time, with its name; the floors of the paired run.
+const LOOKUPS: [(&str, Lookup, Option<f64>); 7] = [
+    ("eval", Lookup::Eval, Some(EVAL_FLOOR_NS)),
+    ("sample", Lookup::Sample, Some(SAMPLE_FLOOR_NS)),
+    ("pdf", Lookup::Pdf, None),
+    ("sample_radius", Lookup::SampleRadius, None),
+    ("pdf_radius", Lookup::PdfRadius, None),
+    ("angular_factor", Lookup::AngularFactor, None),
+    ("sample_path", Lookup::SamplePath, None),
+];
+
+/// The output arrays of a batch (`value` is the draws' density; `extra` the path draws' θ, φ′
+/// and pdf_theta).
 struct Outputs {
     value: Vec<f64>,
     r: Vec<f64>,
     phi: Vec<f64>,
+    extra: [Vec<f64>; 3],
 }
 
 impl Outputs {
@@ -550,6 +624,7 @@ impl Outputs {
             value: vec![0.0; 4096],
             r: vec![0.0; 4096],
             phi: vec![0.0; 4096],
+            extra: [(); 3].map(|_| vec![0.0; 4096]),
         }
     }
 }
@@ -558,11 +633,7 @@ impl Outputs {
 fn bench_batches(c: &mut Criterion, f: &Fixture) {
     let mut group = c.benchmark_group("batch");
     let mut out = Outputs::new();
-    for (name, what) in [
-        ("eval", Lookup::Eval),
-        ("sample", Lookup::Sample),
-        ("pdf", Lookup::Pdf),
-    ] {
+    for (name, what, _) in LOOKUPS {
         let mut i = 0usize;
         let mut next = || {
             i = (i + 1) % 4096;
@@ -590,11 +661,7 @@ fn bench_batches(c: &mut Criterion, f: &Fixture) {
 /// a C batch per block and a Rust batch per block, and the verdicts on the floors.
 fn paired_batches(f: &Fixture) -> Vec<String> {
     let mut over = Vec::new();
-    for (name, what, floor) in [
-        ("eval", Lookup::Eval, Some(EVAL_FLOOR_NS)),
-        ("sample", Lookup::Sample, Some(SAMPLE_FLOOR_NS)),
-        ("pdf", Lookup::Pdf, None),
-    ] {
+    for (name, what, floor) in LOOKUPS {
         let (mut out_c, mut out_rust) = (Outputs::new(), Outputs::new());
         let ns = interleaved_blocks(
             31,

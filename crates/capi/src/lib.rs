@@ -13,7 +13,8 @@
 //!   gives `BSSRDF_ERROR_PANIC`. This needs `panic = "unwind"`, the default profile setting;
 //! - outputs are written only on success, except handle outputs, set to NULL on failure.
 //!
-//! The lookups with the medium given per call and the batches are in `crates/capi/src/media.rs`.
+//! The lookups with the medium given per call are in `crates/capi/src/media.rs`, the separable
+//! renderers' in `separable.rs`, the batches in `batch.rs`.
 //!
 //! Handles are opaque pointers to Rust values: `bssrdf_library` (from
 //! [`bssrdf_library_open`], freed by [`bssrdf_library_close`]) and `bssrdf_channel` (from
@@ -41,9 +42,18 @@ mod error;
 use error::*;
 mod media;
 pub use media::*;
+// The separable renderers' lookups, through a handle and per call.
+mod separable;
+pub use separable::*;
+// Batches of N points as structures of arrays.
+mod batch;
+pub use batch::*;
 // The diffuse reflectance's inverse and range (header section "Diffuse reflectance").
 mod reflectance;
-pub use reflectance::{bssrdf_library_invert_albedo, bssrdf_library_reflectance_range};
+pub use reflectance::{
+    bssrdf_channel_diffuse_reflectance, bssrdf_library_invert_albedo,
+    bssrdf_library_reflectance_range, bssrdf_table_diffuse_reflectance,
+};
 
 /// Success.
 pub const BSSRDF_OK: c_int = 0;

@@ -1,16 +1,28 @@
-//! The diffuse reflectance of a library's table, for artists' colours: the reduced albedo that
-//! gives a reflectance ([`bssrdf_library_invert_albedo`]) and the reflectances a table reaches
-//! ([`bssrdf_library_reflectance_range`]), over [`bssrdf_runtime::table::TableRef`]'s one
-//! inversion (`rho_prime_for_reflectance`, `reflectance_range`). The header declares them in
-//! its section "Diffuse reflectance". The module's rules are the crate's (`lib.rs`): a status,
-//! NULL checks, `catch_unwind`, outputs written only on success; on success nothing
-//! allocates, and a failure formats its message (it names the value and the range).
+//! The diffuse reflectance of a library's table, for artists' colours: the reflectance A of a
+//! medium ([`bssrdf_channel_diffuse_reflectance`] through a handle,
+//! [`bssrdf_table_diffuse_reflectance`] with the medium given per call), the reduced albedo
+//! that gives a reflectance ([`bssrdf_library_invert_albedo`]) and the reflectances a table
+//! reaches ([`bssrdf_library_reflectance_range`]), over [`bssrdf_runtime::table::TableRef`]'s
+//! `diffuse_reflectance` and its one inversion (`rho_prime_for_reflectance`,
+//! `reflectance_range`). The header declares them in its section "Diffuse reflectance". The
+//! module's rules are the crate's (`lib.rs`): a status, NULL checks, `catch_unwind`, outputs
+//! written only on success. The forward lookups allocate nothing, failing or not, as every
+//! lookup; the inversion and the range allocate nothing on success, and a failure formats its
+//! message (it names the value and the range).
 
 use std::ffi::c_int;
 
 use bssrdf_runtime::table::ReflectanceError;
 
-use super::{bssrdf_library, guard, input, output, Failure, BSSRDF_ERROR_OUT_OF_RANGE};
+use bssrdf_runtime::embed::ChannelLookup;
+use bssrdf_runtime::table::MediumRef;
+
+use super::media::per_call;
+use super::separable::per_channel;
+use super::{
+    bssrdf_channel, bssrdf_library, guard, input, output, theta_outside, Failure,
+    BSSRDF_ERROR_OUT_OF_RANGE,
+};
 
 impl From<ReflectanceError> for Failure {
     fn from(e: ReflectanceError) -> Failure {
@@ -89,4 +101,45 @@ pub unsafe extern "C" fn bssrdf_library_reflectance_range(
         *unsafe { output(out_max, c"out_max is NULL") }? = max;
         Ok(())
     })
+}
+
+/// Stores in `*out_reflectance` the diffuse reflectance A = (1 − F_r(cos θ; η)) ρ_eff(θ) of the
+/// channel's medium for light arriving at incidence `theta` (radians, before refraction):
+/// the inverse of [`bssrdf_library_invert_albedo`] ([`ChannelLookup::diffuse_reflectance`]).
+/// `BSSRDF_ERROR_OUT_OF_RANGE` for θ outside the table or NaN. Allocates nothing.
+///
+/// # Safety
+/// `channel` is NULL or a live handle; `out_reflectance` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_channel_diffuse_reflectance(
+    channel: *const bssrdf_channel,
+    theta: f64,
+    out_reflectance: *mut f64,
+) -> c_int {
+    let reflectance = |h: &ChannelLookup| h.diffuse_reflectance(theta).ok_or_else(theta_outside);
+    let out = (out_reflectance, c"out_reflectance is NULL");
+    // SAFETY: the function's contract.
+    unsafe { per_channel(channel, out, reflectance) }
+}
+
+/// [`bssrdf_channel_diffuse_reflectance`] with the medium given per call
+/// ([`MediumRef::diffuse_reflectance`]), checked as the other `bssrdf_table_*` lookups check
+/// it; σ′t is checked but does not enter A. Allocates nothing, failing or not.
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_reflectance` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_table_diffuse_reflectance(
+    library: *const bssrdf_library,
+    table: usize,
+    rho_prime: f64,
+    sigma_t_prime: f64,
+    theta: f64,
+    out_reflectance: *mut f64,
+) -> c_int {
+    let medium = (library, table, rho_prime, sigma_t_prime);
+    let reflectance = |m: MediumRef| m.diffuse_reflectance(theta).ok_or_else(theta_outside);
+    let out = (out_reflectance, c"out_reflectance is NULL");
+    // SAFETY: the function's contract.
+    unsafe { per_call(medium, out, reflectance) }
 }

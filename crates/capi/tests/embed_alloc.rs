@@ -10,7 +10,7 @@ use bssrdf as capi;
 use bssrdf_zoo::embed::bake_library;
 use bssrdf_zoo::materials::{self, Rgb};
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::{Grid, SamplesMut};
+use bssrdf_zoo::table::{Grid, PathSamplesMut, RadialSamplesMut, SamplesMut};
 
 struct Counting;
 
@@ -55,6 +55,7 @@ fn the_counter_counts() {
 
 #[test]
 fn rust_handle_lookups_and_clones_never_allocate() {
+    // Every lookup of a handle, the separable renderers' and the diffuse reflectance included
     let skin = materials::Library::builtin().get("skin1").unwrap().clone();
     let library = bake_library(&[&skin], Grid::ferrier(12, 5, 16)).unwrap();
     let handles: Vec<_> = Rgb::ALL
@@ -76,6 +77,9 @@ fn rust_handle_lookups_and_clones_never_allocate() {
             sink += h.sample_path(u).map_or(0.0, |s| s.pdf);
             sink += h.pdf_theta(theta);
             sink += h.effective_albedo(theta).unwrap_or(0.0);
+            sink += h.diffuse_reflectance(theta).unwrap_or(0.0);
+            sink += h.sample_radius(theta, u[0]).map_or(0.0, |s| s.pdf);
+            sink += h.pdf_radius(theta, r) + h.angular_factor(theta, r, phi).unwrap_or(0.0);
             sink += table.view().eval(u[2], theta, r, phi).unwrap_or(0.0);
             let clone = std::hint::black_box(h.clone());
             sink += clone.rho_prime();
@@ -123,6 +127,7 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
                 phi: 0.0,
                 pdf: 0.0,
             };
+            let mut radial = capi::bssrdf_radial_sample::default();
             let mut path_sample = capi::bssrdf_path_sample {
                 theta: 0.0,
                 r: 0.0,
@@ -141,10 +146,14 @@ fn c_interface_lookups_never_allocate_even_when_they_fail() {
                     capi::bssrdf_channel_pdf_theta(channel, theta, &mut value),
                     capi::bssrdf_channel_effective_albedo(channel, theta, &mut value),
                     capi::bssrdf_channel_eval(channel, theta, r, phi, std::ptr::null_mut()),
+                    capi::bssrdf_channel_sample_radius(channel, theta, u[0], &mut radial),
+                    capi::bssrdf_channel_pdf_radius(channel, theta, r, &mut value),
+                    capi::bssrdf_channel_angular_factor(channel, theta, r, phi, &mut value),
+                    capi::bssrdf_channel_diffuse_reflectance(channel, theta, &mut value),
                 ]
             };
             failures += statuses.iter().filter(|&&s| s != 0).count();
-            std::hint::black_box((value, sample, path_sample));
+            std::hint::black_box((value, sample, path_sample, radial));
         }
     });
     // SAFETY: handles from above, released once.
@@ -195,7 +204,8 @@ fn reflectance_inversions_that_succeed_never_allocate() {
     assert_eq!(n, 0, "{n} allocations in 3000 rounds of inversions");
 }
 
-/// Lookups with the medium given per call and batches, from Rust and through C: none
+/// Lookups with the medium given per call and batches (the separable renderers' and the
+/// path-tracing draws' among them), from Rust and through C: none
 /// allocates, not even a failing one, whose message names the value (C formats it into a
 /// fixed buffer).
 #[test]
@@ -224,6 +234,21 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
         };
         view.sample_n(&rho, &sigma_t, &theta, &u_r, &u_phi, draws)
             .unwrap();
+        // The separable and path batches write into the same arrays
+        view.pdf_radius_n(&rho, &sigma_t, &theta, &r, out).unwrap();
+        view.angular_factor_n(&rho, &sigma_t, &theta, &r, &phi, out)
+            .unwrap();
+        let radial = RadialSamplesMut {
+            r: &mut *dr,
+            pdf: &mut *dpdf,
+        };
+        view.sample_radius_n(&rho, &sigma_t, &theta, &u_r, radial)
+            .unwrap();
+        let mut path = [[0.0; N]; 6];
+        let paths = PathSamplesMut::from(path.each_mut().map(|p| &mut p[..]));
+        view.sample_path_n(&rho, &sigma_t, [&u_r, &u_phi, &r, &phi], paths)
+            .unwrap();
+        let pp = path.each_mut().map(|p| p.as_mut_ptr());
         let [rho, sigma_t, theta, r, phi, u_r, u_phi] =
             [&rho, &sigma_t, &theta, &r, &phi, &u_r, &u_phi].map(|a| a.as_ptr());
         let out = out.as_mut_ptr();
@@ -241,9 +266,27 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
                     library, 0, N, rho, sigma_t, theta, u_r, u_phi, dr, dphi, dpdf,
                 ),
                 capi::bssrdf_table_eval_n(library, 0, N, rho, null, theta, r, phi, out),
+                capi::bssrdf_table_sample_radius_n(
+                    library, 0, N, rho, sigma_t, theta, u_r, dr, dpdf,
+                ),
+                capi::bssrdf_table_pdf_radius_n(library, 0, N, rho, sigma_t, theta, r, out),
+                capi::bssrdf_table_angular_factor_n(
+                    library, 0, N, rho, sigma_t, theta, r, phi, out,
+                ),
+                capi::bssrdf_table_sample_path_n(
+                    library, 0, N, rho, sigma_t, u_r, u_phi, r, phi, pp[0], pp[1], pp[2], pp[3],
+                    pp[4], pp[5],
+                ),
+                capi::bssrdf_table_sample_path_n(
+                    library, 0, N, rho, sigma_t, u_r, u_phi, r, phi, pp[0], pp[0], pp[2], pp[3],
+                    pp[4], pp[5],
+                ),
             ]
         };
-        assert_eq!(statuses, [0, 0, 0, capi::BSSRDF_ERROR_NULL_POINTER]);
+        let refused = [capi::BSSRDF_ERROR_NULL_POINTER, 0, 0, 0, 0];
+        assert_eq!(statuses[3..8], refused);
+        assert_eq!(statuses[..3], [0, 0, 0]);
+        assert_eq!(statuses[8], capi::BSSRDF_ERROR_INVALID_ARGUMENT);
     };
     let mut failures = 0;
     let mut sink = 0.0;
@@ -262,6 +305,7 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
                     sink += m.sample_radius(theta, u[0]).map_or(0.0, |s| s.pdf);
                     sink += m.pdf_radius(theta, r[k]);
                     sink += m.angular_factor(theta, r[k], phi[k]).unwrap_or(0.0);
+                    sink += m.diffuse_reflectance(theta).unwrap_or(0.0);
                 }
                 Err(e) => sink += f64::from(u8::from(matches!(e, bssrdf_zoo::Error::Vacuum))),
             }
@@ -307,6 +351,9 @@ fn per_call_and_batch_lookups_never_allocate_even_when_they_fail() {
                     ),
                     capi::bssrdf_table_angular_factor(
                         library, 0, rho, sigma_t, theta, r[k], phi[k], &mut value,
+                    ),
+                    capi::bssrdf_table_diffuse_reflectance(
+                        library, 0, rho, sigma_t, theta, &mut value,
                     ),
                     capi::bssrdf_table_eval(
                         library, 3, rho, sigma_t, theta, r[k], phi[k], &mut value,

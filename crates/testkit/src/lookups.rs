@@ -166,7 +166,7 @@ pub struct Inputs {
 }
 
 /// Points as a batch takes them, one array per argument: entry i of each from the i-th
-/// [`Inputs`] (its ρ′, σ′t, θ, r, φ and first two random numbers).
+/// [`Inputs`] (its ρ′, σ′t, θ, r, φ and its four random numbers: `u_r`, `u_phi`, `u2`, `u3`).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Columns {
     pub rho: Vec<f64>,
@@ -176,6 +176,8 @@ pub struct Columns {
     pub phi: Vec<f64>,
     pub u_r: Vec<f64>,
     pub u_phi: Vec<f64>,
+    pub u2: Vec<f64>,
+    pub u3: Vec<f64>,
 }
 
 impl FromIterator<Inputs> for Columns {
@@ -197,6 +199,8 @@ impl FromIterator<Inputs> for Columns {
             }
             c.u_r.push(x.u[0]);
             c.u_phi.push(x.u[1]);
+            c.u2.push(x.u[2]);
+            c.u3.push(x.u[3]);
         }
         c
     }
@@ -545,6 +549,25 @@ pub unsafe fn check_capi(
         expected.map(|v| v.map(f64::to_bits)),
         "sample_path at {x:?}"
     );
+    // The separable renderers' lookups and the diffuse reflectance
+    let mut radial = bssrdf_radial_sample::default();
+    let status = unsafe { bssrdf_channel_sample_radius(channel, theta, u[0], &mut radial) };
+    let c = (status == BSSRDF_OK).then_some([radial.r, radial.pdf].map(f64::to_bits));
+    let expected = rust.sample_radius(theta, u[0]);
+    assert_eq!(c, expected.map(|d| [d.r, d.pdf].map(f64::to_bits)), "{x:?}");
+    let status = unsafe { bssrdf_channel_pdf_radius(channel, theta, r, &mut value) };
+    assert_eq!(status, BSSRDF_OK);
+    assert_eq!(
+        value.to_bits(),
+        rust.pdf_radius(theta, r).to_bits(),
+        "{x:?}"
+    );
+    let status = unsafe { bssrdf_channel_angular_factor(channel, theta, r, phi, &mut value) };
+    let c = (status == BSSRDF_OK).then_some(value);
+    assert_eq!(bits(c), bits(rust.angular_factor(theta, r, phi)), "{x:?}");
+    let status = unsafe { bssrdf_channel_diffuse_reflectance(channel, theta, &mut value) };
+    let c = (status == BSSRDF_OK).then_some(value);
+    assert_eq!(bits(c), bits(rust.diffuse_reflectance(theta)), "{x:?}");
     // SAFETY: made above, released once.
     unsafe { bssrdf_channel_release(channel) };
 }

@@ -17,17 +17,18 @@
  *   Q theta status pdf_theta             bssrdf_channel_pdf_theta
  *   A theta status albedo                bssrdf_channel_effective_albedo
  *   X table rho' sigma_t' status         a medium the per-call lookups refuse
- *   D theta u status r pdf               bssrdf_table_sample_radius (current channel's medium)
- *   W theta r status pdf                 bssrdf_table_pdf_radius (current channel's medium)
- *   K theta r phi status factor          bssrdf_table_angular_factor (current channel's medium)
+ *   D theta u status r pdf               bssrdf_channel_sample_radius
+ *   W theta r status pdf                 bssrdf_channel_pdf_radius
+ *   K theta r phi status factor          bssrdf_channel_angular_factor
+ *   F theta status reflectance           bssrdf_channel_diffuse_reflectance
  * Values after a failing status are written as 0 and not compared; outputs must then be
- * untouched. Every channel lookup (E P S T Q A) is also made with the medium given per call
- * (bssrdf_table_*, the channel's rho', sigma_t' and table from its I line), which must give
- * the same status and bits; an X medium must fail every per-call lookup with its status. At
- * the end of each run, the points of every E, P and S line and of every X medium (on a table
- * of the file) go through the batch functions (bssrdf_table_*_n), table by table, and each
- * point must give the bits of its line, or 0 (a draw: 0, 0, 0) where the line's status is a
- * failure. The whole file is run for both open modes, the second time with the library
+ * untouched. Every channel lookup (E P S T Q A D W K F) is also made with the medium given per
+ * call (bssrdf_table_*, the channel's rho', sigma_t' and table from its I line), which must
+ * give the same status and bits; an X medium must fail every per-call lookup with its status.
+ * At the end of each run, the points of every E, P, S, D, W, K and T line and of every X
+ * medium (on a table of the file) go through the batch functions (bssrdf_table_*_n), table by
+ * table, and each point must give the bits of its line, or 0 (every field of a draw) where the
+ * line's status is a failure. The whole file is run for both open modes, the second time with the library
  * closed as soon as each channel is made (channels keep the file open; the per-call lookups
  * reopen it).
  *
@@ -46,17 +47,29 @@
 static int failures = 0;
 static long checks = 0;
 
-/* The points of the batches: kind 'E', 'P' or 'S', the table, the medium, the arguments and
- * the expected outputs (0 where the single call fails). */
-#define MAX_POINTS 4096
+/* The points of the batches: kind (the letter of the line: 'E', 'P', 'S', 'D', 'W', 'K' or
+ * 'T'), the table, the medium, the arguments after the medium and the expected outputs (0
+ * where the single call fails). */
+#define MAX_POINTS 8192
+#define MAX_ARGS 4
+#define MAX_OUTPUTS 6
 typedef struct point {
     char kind;
     size_t table;
-    double rho, sigma_t, theta, a, b;
-    double want[3];
+    double rho, sigma_t;
+    double args[MAX_ARGS];
+    double want[MAX_OUTPUTS];
 } point;
 static point points[MAX_POINTS];
 static size_t point_count = 0;
+
+/* How many arguments (after the medium) and outputs the batch of a kind has. */
+static int batch_args(char kind) {
+    return kind == 'D' || kind == 'W' ? 2 : kind == 'T' ? 4 : 3;
+}
+static int batch_outputs(char kind) {
+    return kind == 'S' ? 3 : kind == 'D' ? 2 : kind == 'T' ? 6 : 1;
+}
 
 static void add_point(char kind, size_t table, double rho, double sigma_t, const double *args,
                       int ok, const double *want) {
@@ -71,11 +84,11 @@ static void add_point(char kind, size_t table, double rho, double sigma_t, const
     p->table = table;
     p->rho = rho;
     p->sigma_t = sigma_t;
-    p->theta = args[0];
-    p->a = args[1];
-    p->b = args[2];
-    for (k = 0; k < 3; k++) {
-        p->want[k] = ok ? want[k] : 0.0;
+    for (k = 0; k < MAX_ARGS; k++) {
+        p->args[k] = k < batch_args(kind) ? args[k] : 0.0;
+    }
+    for (k = 0; k < MAX_OUTPUTS; k++) {
+        p->want[k] = ok && k < batch_outputs(kind) ? want[k] : 0.0;
     }
 }
 
@@ -151,6 +164,8 @@ static void per_call_fails(int line, const bssrdf_library *library, size_t table
     same_status(line, "table angular_factor",
                 bssrdf_table_angular_factor(library, table, rho, sigma_t, 0.3, 0.5, 0.0, &out),
                 want);
+    same_status(line, "table diffuse_reflectance",
+                bssrdf_table_diffuse_reflectance(library, table, rho, sigma_t, 0.3, &out), want);
     same_bits(line, "untouched", out, -7.0);
     same_bits(line, "untouched radial", d.pdf, -7.0);
     same_bits(line, "untouched sample", s.pdf, -7.0);
@@ -160,8 +175,12 @@ static void per_call_fails(int line, const bssrdf_library *library, size_t table
 /* The batch points of table `table` of one kind, through the batch function, against their
  * lines. */
 static void run_batch(const bssrdf_library *library, size_t table, char kind) {
-    static double rho[MAX_POINTS], sigma_t[MAX_POINTS], theta[MAX_POINTS], a[MAX_POINTS],
-        b[MAX_POINTS], out[3][MAX_POINTS];
+    static double rho[MAX_POINTS], sigma_t[MAX_POINTS], in[MAX_ARGS][MAX_POINTS],
+        out[MAX_OUTPUTS][MAX_POINTS];
+    static const char *const names[] = {"eval_n", "pdf_n", "sample_n", "sample_radius_n",
+                                        "pdf_radius_n", "angular_factor_n", "sample_path_n"};
+    const char *kinds = "EPSDWKT";
+    const char *name = names[strchr(kinds, kind) - kinds];
     size_t n = 0, k;
     int j, status;
     for (k = 0; k < point_count; k++) {
@@ -169,29 +188,49 @@ static void run_batch(const bssrdf_library *library, size_t table, char kind) {
         if (p->kind == kind && p->table == table) {
             rho[n] = p->rho;
             sigma_t[n] = p->sigma_t;
-            theta[n] = p->theta;
-            a[n] = p->a;
-            b[n] = p->b;
-            out[0][n] = out[1][n] = out[2][n] = -7.0;
+            for (j = 0; j < MAX_ARGS; j++) {
+                in[j][n] = p->args[j];
+            }
+            for (j = 0; j < MAX_OUTPUTS; j++) {
+                out[j][n] = -7.0;
+            }
             n++;
         }
     }
-    if (kind == 'E') {
-        status = bssrdf_table_eval_n(library, table, n, rho, sigma_t, theta, a, b, out[0]);
-    } else if (kind == 'P') {
-        status = bssrdf_table_pdf_n(library, table, n, rho, sigma_t, theta, a, b, out[0]);
-    } else {
-        status = bssrdf_table_sample_n(library, table, n, rho, sigma_t, theta, a, b, out[0],
+    switch (kind) {
+    case 'E':
+        status = bssrdf_table_eval_n(library, table, n, rho, sigma_t, in[0], in[1], in[2], out[0]);
+        break;
+    case 'P':
+        status = bssrdf_table_pdf_n(library, table, n, rho, sigma_t, in[0], in[1], in[2], out[0]);
+        break;
+    case 'S':
+        status = bssrdf_table_sample_n(library, table, n, rho, sigma_t, in[0], in[1], in[2], out[0],
                                        out[1], out[2]);
+        break;
+    case 'D':
+        status = bssrdf_table_sample_radius_n(library, table, n, rho, sigma_t, in[0], in[1], out[0],
+                                              out[1]);
+        break;
+    case 'W':
+        status = bssrdf_table_pdf_radius_n(library, table, n, rho, sigma_t, in[0], in[1], out[0]);
+        break;
+    case 'K':
+        status = bssrdf_table_angular_factor_n(library, table, n, rho, sigma_t, in[0], in[1],
+                                               in[2], out[0]);
+        break;
+    default:
+        status = bssrdf_table_sample_path_n(library, table, n, rho, sigma_t, in[0], in[1], in[2],
+                                            in[3], out[0], out[1], out[2], out[3], out[4], out[5]);
+        break;
     }
-    same_status(0, "batch", status, BSSRDF_OK);
+    same_status(0, name, status, BSSRDF_OK);
     n = 0;
     for (k = 0; k < point_count; k++) {
         const point *p = &points[k];
         if (p->kind == kind && p->table == table) {
-            for (j = 0; j < (kind == 'S' ? 3 : 1); j++) {
-                same_bits((int)k, kind == 'E' ? "eval_n" : kind == 'P' ? "pdf_n" : "sample_n",
-                          out[j][n], p->want[j]);
+            for (j = 0; j < batch_outputs(kind); j++) {
+                same_bits((int)k, name, out[j][n], p->want[j]);
             }
             n++;
         }
@@ -294,10 +333,11 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
             }
             per_call_fails(line, library, table, v[0], v[1], want);
             if (want != BSSRDF_ERROR_NOT_FOUND) {
-                double args[3] = {0.3, 0.5, 0.0}, none[3] = {0.0, 0.0, 0.0};
-                add_point('E', table, v[0], v[1], args, 0, none);
-                add_point('P', table, v[0], v[1], args, 0, none);
-                add_point('S', table, v[0], v[1], args, 0, none);
+                double args[4] = {0.3, 0.5, 0.0, 0.5}, none[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+                const char *kinds = "EPSDWKT";
+                for (; *kinds != '\0'; kinds++) {
+                    add_point(*kinds, table, v[0], v[1], args, 0, none);
+                }
             }
         } else if (kind[0] == 'E' || kind[0] == 'P') {
             double out = -7.0, out2 = -7.0;
@@ -358,6 +398,8 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
                     v[k] = -7.0;
                 }
             }
+            add_point('T', info.table, info.rho_prime, info.sigma_t_prime, v, want == BSSRDF_OK,
+                      &v[4]);
             same_path(line, "path", p, &v[4]);
             same_path(line, "table path", p2, &v[4]);
         } else if (kind[0] == 'Q' || kind[0] == 'A') {
@@ -380,33 +422,58 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
             same_status(line, "table lookup", status2, want);
             same_bits(line, "table value", out2, status2 == BSSRDF_OK ? v[1] : -7.0);
         } else if (kind[0] == 'D') {
-            bssrdf_radial_sample d = {-7.0, -7.0};
+            bssrdf_radial_sample d = {-7.0, -7.0}, d2 = {-7.0, -7.0};
             if (!read_doubles(f, v, 2) || fscanf(f, "%d", &want) != 1 ||
                 !read_doubles(f, v + 2, 2)) {
                 break;
             }
-            status = bssrdf_table_sample_radius(library, info.table, info.rho_prime,
-                                                info.sigma_t_prime, v[0], v[1], &d);
-            same_status(line, "table sample_radius", status, want);
-            same_bits(line, "radial r", d.r, status == BSSRDF_OK ? v[2] : -7.0);
-            same_bits(line, "radial pdf", d.pdf, status == BSSRDF_OK ? v[3] : -7.0);
-        } else if (kind[0] == 'W' || kind[0] == 'K') {
-            int n_args = kind[0] == 'W' ? 2 : 3;
-            double out = -7.0;
+            add_point('D', info.table, info.rho_prime, info.sigma_t_prime, v, want == BSSRDF_OK,
+                      &v[2]);
+            status = bssrdf_channel_sample_radius(channel, v[0], v[1], &d);
+            same_status(line, "sample_radius", status, want);
+            same_status(line, "table sample_radius",
+                        bssrdf_table_sample_radius(library, info.table, info.rho_prime,
+                                                   info.sigma_t_prime, v[0], v[1], &d2),
+                        want);
+            if (status != BSSRDF_OK) {
+                v[2] = v[3] = -7.0;
+            }
+            same_bits(line, "radial r", d.r, v[2]);
+            same_bits(line, "radial pdf", d.pdf, v[3]);
+            same_bits(line, "table radial r", d2.r, v[2]);
+            same_bits(line, "table radial pdf", d2.pdf, v[3]);
+        } else if (kind[0] == 'W' || kind[0] == 'K' || kind[0] == 'F') {
+            int n_args = kind[0] == 'W' ? 2 : kind[0] == 'K' ? 3 : 1;
+            double out = -7.0, out2 = -7.0;
+            int status2;
             if (!read_doubles(f, v, n_args) || fscanf(f, "%d", &want) != 1 ||
                 !read_double(f, &v[n_args])) {
                 break;
             }
             if (kind[0] == 'W') {
-                status = bssrdf_table_pdf_radius(library, info.table, info.rho_prime,
-                                                 info.sigma_t_prime, v[0], v[1], &out);
+                status = bssrdf_channel_pdf_radius(channel, v[0], v[1], &out);
+                status2 = bssrdf_table_pdf_radius(library, info.table, info.rho_prime,
+                                                  info.sigma_t_prime, v[0], v[1], &out2);
+            } else if (kind[0] == 'K') {
+                status = bssrdf_channel_angular_factor(channel, v[0], v[1], v[2], &out);
+                status2 = bssrdf_table_angular_factor(library, info.table, info.rho_prime,
+                                                      info.sigma_t_prime, v[0], v[1], v[2],
+                                                      &out2);
             } else {
-                status = bssrdf_table_angular_factor(library, info.table, info.rho_prime,
-                                                     info.sigma_t_prime, v[0], v[1], v[2], &out);
+                status = bssrdf_channel_diffuse_reflectance(channel, v[0], &out);
+                status2 = bssrdf_table_diffuse_reflectance(library, info.table, info.rho_prime,
+                                                           info.sigma_t_prime, v[0], &out2);
             }
-            same_status(line, kind[0] == 'W' ? "table pdf_radius" : "table angular_factor",
+            if (kind[0] != 'F') {
+                add_point(kind[0], info.table, info.rho_prime, info.sigma_t_prime, v,
+                          want == BSSRDF_OK, &v[n_args]);
+            }
+            same_status(line, kind[0] == 'W' ? "pdf_radius" : kind[0] == 'K' ? "angular_factor"
+                                                                             : "reflectance",
                         status, want);
             same_bits(line, "value", out, status == BSSRDF_OK ? v[n_args] : -7.0);
+            same_status(line, "table lookup", status2, want);
+            same_bits(line, "table value", out2, status2 == BSSRDF_OK ? v[n_args] : -7.0);
         } else {
             fail(line, "unknown expectation kind");
             break;
@@ -421,9 +488,10 @@ static void run(const char *library_path, const char *expectations, uint32_t fla
     }
     same_status(line, "tables", bssrdf_library_table_count(library, &tables), BSSRDF_OK);
     for (t = 0; t < tables; t++) {
-        run_batch(library, t, 'E');
-        run_batch(library, t, 'P');
-        run_batch(library, t, 'S');
+        const char *kinds = "EPSDWKT";
+        for (; *kinds != '\0'; kinds++) {
+            run_batch(library, t, *kinds);
+        }
     }
     bssrdf_channel_release(channel);
     bssrdf_library_close(library);
@@ -508,7 +576,12 @@ static const any_function every_function[] = {
     (any_function)bssrdf_table_effective_albedo, (any_function)bssrdf_table_eval_n,
     (any_function)bssrdf_table_pdf_n,            (any_function)bssrdf_table_sample_n,
     (any_function)bssrdf_table_sample_radius,    (any_function)bssrdf_table_pdf_radius,
-    (any_function)bssrdf_table_angular_factor,
+    (any_function)bssrdf_table_angular_factor,   (any_function)bssrdf_channel_sample_radius,
+    (any_function)bssrdf_channel_pdf_radius,     (any_function)bssrdf_channel_angular_factor,
+    (any_function)bssrdf_table_sample_radius_n,  (any_function)bssrdf_table_pdf_radius_n,
+    (any_function)bssrdf_table_angular_factor_n, (any_function)bssrdf_table_sample_path_n,
+    (any_function)bssrdf_channel_diffuse_reflectance,
+    (any_function)bssrdf_table_diffuse_reflectance,
     (any_function)bssrdf_last_error_message,     (any_function)bssrdf_status_name,
 };
 

@@ -1,5 +1,5 @@
 //! `include/bssrdf_zoo.h` is written by hand; this test holds it to `crates/capi/src/lib.rs`
-//! with its modules `media.rs` and `reflectance.rs`:
+//! with its modules `media.rs`, `separable.rs`, `batch.rs` and `reflectance.rs`:
 //! the same functions with the same parameter and return types (Rust types mapped to C ones),
 //! the same structs with the same fields in the same order, the same opaque types, and the same
 //! constants with the same values. Every exported function must be `#[no_mangle]`. The C test
@@ -11,6 +11,8 @@ const HEADER: &str = include_str!("../../../../include/bssrdf_zoo.h");
 const RUST: &str = concat!(
     include_str!("../../src/lib.rs"),
     include_str!("../../src/media.rs"),
+    include_str!("../../src/separable.rs"),
+    include_str!("../../src/batch.rs"),
     include_str!("../../src/reflectance.rs")
 );
 

@@ -13,7 +13,7 @@ use bssrdf::*;
 use bssrdf_testkit::lookups::{check_capi, Columns, Inputs, UNTOUCHED_PATH, UNTOUCHED_SAMPLE};
 use bssrdf_zoo::embed::Library;
 use bssrdf_zoo::rng::SplitMix64;
-use bssrdf_zoo::table::{Grid, SamplesMut, TableRef};
+use bssrdf_zoo::table::{Grid, PathSamplesMut, RadialSamplesMut, SamplesMut, TableRef};
 
 /// Random points per medium in the comparisons (Miri runs them a thousandfold slower).
 const ROUNDS: usize = if cfg!(miri) { 3 } else { 400 };
@@ -173,6 +173,86 @@ fn check_batches(view: &TableRef, c: *const bssrdf_library, table: usize, b: &Co
         assert_eq!(status, BSSRDF_OK);
     }
     check(&value, &pdf, [&r, &phi, &s_pdf]);
+    check_separable_and_path_batches(view, c, table, b);
+}
+
+/// The separable renderers' batches (`sample_radius_n`, `pdf_radius_n`, `angular_factor_n`)
+/// and the path-tracing draws (`sample_path_n`), Rust and C, against the single calls: each
+/// point the single call's bits, 0 (every field of a draw) where it fails.
+fn check_separable_and_path_batches(
+    view: &TableRef,
+    c: *const bssrdf_library,
+    table: usize,
+    b: &Columns,
+) {
+    let n = b.rho.len();
+    let media = (&b.rho[..], &b.sigma_t[..]);
+    let u = [&b.u_r[..], &b.u_phi[..], &b.u2[..], &b.u3[..]];
+    // Outputs: radial r, radial pdf, pdf_radius, angular factor, then the six path fields
+    let mut out = vec![vec![-7.0; n]; 10];
+    let check = |out: &[Vec<f64>]| {
+        for (i, &rho) in b.rho.iter().enumerate() {
+            let m = view.medium(rho, b.sigma_t[i]).ok();
+            let (theta, r_mm, phi) = (b.theta[i], b.r[i], b.phi[i]);
+            let radial = m.and_then(|m| m.sample_radius(theta, b.u_r[i]));
+            let ui = [b.u_r[i], b.u_phi[i], b.u2[i], b.u3[i]];
+            let path = m.and_then(|m| m.sample_path(ui));
+            let want = [
+                radial.map_or(0.0, |d| d.r),
+                radial.map_or(0.0, |d| d.pdf),
+                m.map_or(0.0, |m| m.pdf_radius(theta, r_mm)),
+                m.and_then(|m| m.angular_factor(theta, r_mm, phi))
+                    .unwrap_or(0.0),
+            ]
+            .into_iter()
+            .chain(path.map_or([0.0; 6], |p| {
+                [p.theta, p.r, p.phi, p.phi_prime, p.pdf_theta, p.pdf]
+            }));
+            for (k, want) in want.enumerate() {
+                assert_eq!(
+                    out[k][i].to_bits(),
+                    want.to_bits(),
+                    "output {k} of point {i}"
+                );
+            }
+        }
+    };
+    {
+        let [d_r, d_pdf, pdf_r, factor, path @ ..] = &mut out[..] else {
+            unreachable!()
+        };
+        let draws = RadialSamplesMut { r: d_r, pdf: d_pdf };
+        view.sample_radius_n(media.0, media.1, &b.theta, &b.u_r, draws)
+            .unwrap();
+        view.pdf_radius_n(media.0, media.1, &b.theta, &b.r, pdf_r)
+            .unwrap();
+        view.angular_factor_n(media.0, media.1, &b.theta, &b.r, &b.phi, factor)
+            .unwrap();
+        let path: &mut [Vec<f64>; 6] = path.try_into().unwrap();
+        let paths = PathSamplesMut::from(path.each_mut().map(|v| &mut v[..]));
+        view.sample_path_n(media.0, media.1, u, paths).unwrap();
+    }
+    check(&out);
+    out.iter_mut().for_each(|v| v.fill(-7.0));
+    let [rho, sigma_t, theta, r_mm, phi, u0, u1, u2, u3] = [
+        &b.rho, &b.sigma_t, &b.theta, &b.r, &b.phi, &b.u_r, &b.u_phi, &b.u2, &b.u3,
+    ]
+    .map(|v| v.as_ptr());
+    let o: Vec<*mut f64> = out.iter_mut().map(|v| v.as_mut_ptr()).collect();
+    // SAFETY: a live library handle; every array holds n doubles, the outputs writable and
+    // apart from each other and the inputs.
+    let statuses = unsafe {
+        [
+            bssrdf_table_sample_radius_n(c, table, n, rho, sigma_t, theta, u0, o[0], o[1]),
+            bssrdf_table_pdf_radius_n(c, table, n, rho, sigma_t, theta, r_mm, o[2]),
+            bssrdf_table_angular_factor_n(c, table, n, rho, sigma_t, theta, r_mm, phi, o[3]),
+            bssrdf_table_sample_path_n(
+                c, table, n, rho, sigma_t, u0, u1, u2, u3, o[4], o[5], o[6], o[7], o[8], o[9],
+            ),
+        ]
+    };
+    assert_eq!(statuses, [BSSRDF_OK; 4]);
+    check(&out);
 }
 
 /// `bssrdf_table_eval_n` and `bssrdf_table_pdf_n`.
@@ -234,6 +314,28 @@ fn a_batch_with_arrays_of_other_lengths_is_an_error_naming_the_array() {
         (out, r, pdf),
         ([-7.0; 2], [-7.0; 2], [-7.0; 2]),
         "nothing written"
+    );
+    let err = view.pdf_radius_n(&two, &two, &three, &two, &mut out);
+    assert!(err.unwrap_err().to_string().starts_with("theta holds 3"));
+    let err = view.angular_factor_n(&two, &two, &two, &two, &three, &mut out);
+    assert!(err.unwrap_err().to_string().starts_with("phi holds 3"));
+    let (mut radial_r, mut radial_pdf) = ([-7.0; 3], [-7.0; 2]);
+    let draws = RadialSamplesMut {
+        r: &mut radial_r,
+        pdf: &mut radial_pdf,
+    };
+    let err = view.sample_radius_n(&two, &two, &two, &two, draws);
+    assert!(err.unwrap_err().to_string().starts_with("r holds 3"));
+    let mut fields = [[-7.0; 2]; 6];
+    let paths = PathSamplesMut::from(fields.each_mut().map(|f| &mut f[..]));
+    let err = view.sample_path_n(&two, &two, [&two, &two, &two, &three], paths);
+    assert_eq!(
+        err.unwrap_err().to_string(),
+        "u3 holds 3 values; the batch has 2 points (the output's length)"
+    );
+    assert_eq!(
+        (out, radial_pdf, fields),
+        ([-7.0; 2], [-7.0; 2], [[-7.0; 2]; 6])
     );
 }
 
@@ -341,6 +443,55 @@ fn per_call_failures_name_the_value_and_leave_the_output() {
             null_pointer,
             &["out_albedo is NULL"],
         );
+        fails(
+            bssrdf_table_diffuse_reflectance(c, 0, 1.5, 2.0, 0.3, out),
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            &["medium on table 0", "rho' = 1.5 is outside [0, 1]"],
+        );
+        fails(
+            bssrdf_table_diffuse_reflectance(c, 0, 0.5, 2.0, 1.7, out),
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            &["theta is outside"],
+        );
+        fails(
+            bssrdf_table_diffuse_reflectance(c, 0, 0.5, 2.0, 0.3, null_mut()),
+            null_pointer,
+            &["out_reflectance is NULL"],
+        );
+        // The channel handles' separable lookups and reflectance
+        let mut radial = bssrdf_radial_sample { r: -7.0, pdf: -7.0 };
+        fails(
+            bssrdf_channel_sample_radius(null(), 0.3, 0.5, &mut radial),
+            null_pointer,
+            &["channel is NULL"],
+        );
+        let mut channel = null_mut();
+        assert_eq!(
+            bssrdf_library_medium(c, 1, 0.0, 2.0, &mut channel),
+            BSSRDF_OK
+        );
+        fails(
+            bssrdf_channel_sample_radius(channel, 0.3, 0.5, &mut radial),
+            BSSRDF_ERROR_NO_SAMPLE,
+            &["no sample"],
+        );
+        fails(
+            bssrdf_channel_pdf_radius(channel, 0.3, 0.5, null_mut()),
+            null_pointer,
+            &["out_pdf is NULL"],
+        );
+        fails(
+            bssrdf_channel_angular_factor(channel, 1.7, 0.5, 0.0, out),
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            &["theta is outside"],
+        );
+        fails(
+            bssrdf_channel_diffuse_reflectance(channel, f64::NAN, out),
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            &["theta is outside"],
+        );
+        bssrdf_channel_release(channel);
+        assert_eq!((radial.r, radial.pdf), (-7.0, -7.0));
         bssrdf_library_close(c);
     }
     assert_eq!(value, -7.0, "outputs untouched on failure");
@@ -415,6 +566,36 @@ fn a_batch_refuses_null_misaligned_and_overlapping_arrays_and_writes_nothing() {
             bssrdf_table_sample_n(c, 5, n, x, x, x, x, x, a, b, d),
             BSSRDF_ERROR_NOT_FOUND,
             &["no table 5"],
+        );
+        fails(
+            bssrdf_table_sample_path_n(c, 0, n, x, x, x, x, x, null(), a, b, d, a, b, d),
+            BSSRDF_ERROR_NULL_POINTER,
+            &["u3 is NULL"],
+        );
+        fails(
+            bssrdf_table_sample_path_n(c, 0, n, x, x, x, x, x, x, a, b, d, a, b, d),
+            BSSRDF_ERROR_INVALID_ARGUMENT,
+            &["out_theta overlaps out_phi_prime"],
+        );
+        fails(
+            bssrdf_table_sample_radius_n(c, 0, n, x, x, x, x, a, overlapping),
+            BSSRDF_ERROR_INVALID_ARGUMENT,
+            &["out_r overlaps out_pdf"],
+        );
+        fails(
+            bssrdf_table_pdf_radius_n(c, 0, n, x, x, x, misaligned, a),
+            BSSRDF_ERROR_INVALID_ARGUMENT,
+            &["r_mm is not aligned"],
+        );
+        fails(
+            bssrdf_table_angular_factor_n(c, 0, n, x, x, x, x, x, null_mut()),
+            BSSRDF_ERROR_NULL_POINTER,
+            &["out_factor is NULL"],
+        );
+        fails(
+            bssrdf_table_angular_factor_n(c, 2, n, x, x, x, x, x, a),
+            BSSRDF_ERROR_NOT_FOUND,
+            &["no table 2"],
         );
         // Inputs may share memory; n = 0 reads and writes nothing.
         assert_eq!(bssrdf_table_eval_n(c, 0, 0, x, x, x, x, x, a), BSSRDF_OK);

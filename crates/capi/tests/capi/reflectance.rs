@@ -1,5 +1,6 @@
-//! The diffuse reflectance's entry points, `bssrdf_library_invert_albedo` and
-//! `bssrdf_library_reflectance_range`, called from Rust: every NULL pointer and failure with
+//! The diffuse reflectance's entry points, `bssrdf_library_invert_albedo`,
+//! `bssrdf_library_reflectance_range` and the forward `bssrdf_table_diffuse_reflectance` and
+//! `bssrdf_channel_diffuse_reflectance` (round trips with the inversion), called from Rust: every NULL pointer and failure with
 //! its code and a message naming the value and the range, outputs untouched on failure, and
 //! values equal to the runtime's bit for bit in both open modes. `c_program.rs` calls them from
 //! C (the expectations below), `embed_alloc.rs` counts their allocations.
@@ -142,6 +143,63 @@ fn c_values_equal_the_runtimes_bit_for_bit() {
         // SAFETY: a handle from above, closed once.
         unsafe { bssrdf_library_close(library) };
     }
+}
+
+/// The forward reflectance through C, `bssrdf_table_diffuse_reflectance` (per call, any σ′t)
+/// and `bssrdf_channel_diffuse_reflectance` (a handle of the medium), round trips with
+/// `bssrdf_library_invert_albedo`: A → ρ′ → A gives A back to 1e-6 (and to 1e-6 of itself for
+/// A ≥ 1e-30; the solver's bound, crates/zoo/tests/table/reflectance.rs), both forward calls
+/// give the runtime's `diffuse_reflectance` bit for bit, and the channel's equals the product
+/// (1 − F_r(θ))·ρ_eff of its own `entry_transmittance` and effective albedo.
+#[test]
+fn the_forward_reflectance_round_trips_with_the_inversion() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = baked(dir.path());
+    let rust = Library::read(path.to_str().unwrap()).unwrap();
+    let library = open(&path, BSSRDF_OPEN_MAP);
+    let mut rng = SplitMix64::new(22);
+    let mut points = 0;
+    for table in 0..rust.table_count() {
+        let view = rust.view(table).unwrap();
+        for _ in 0..crate::rust::ROUNDS {
+            let theta = 0.999 * FRAC_PI_2 * rng.next_f64();
+            let [min, max] = view.reflectance_range(theta).unwrap();
+            let a = draw(&mut rng, max).clamp(min, max);
+            let sigma_t = 10f64.powf(4.0 * rng.next_f64() - 2.0);
+            let (mut rho, mut back, mut via_channel, mut albedo) = (-7.0, -7.0, -7.0, -7.0);
+            let mut channel = null_mut();
+            // SAFETY: a live handle and valid outputs; the channel is released once.
+            unsafe {
+                let status = bssrdf_library_invert_albedo(library, table, a, theta, &mut rho);
+                assert_eq!(status, BSSRDF_OK, "A {a} at θ {theta}");
+                let status = bssrdf_table_diffuse_reflectance(
+                    library, table, rho, sigma_t, theta, &mut back,
+                );
+                assert_eq!(status, BSSRDF_OK);
+                let status = bssrdf_library_medium(library, table, rho, sigma_t, &mut channel);
+                assert_eq!(status, BSSRDF_OK);
+                let status = bssrdf_channel_diffuse_reflectance(channel, theta, &mut via_channel);
+                assert_eq!(status, BSSRDF_OK);
+                let status = bssrdf_channel_effective_albedo(channel, theta, &mut albedo);
+                assert_eq!(status, BSSRDF_OK);
+                bssrdf_channel_release(channel);
+            }
+            let expected = view.diffuse_reflectance(rho, theta).unwrap();
+            assert_eq!(back.to_bits(), expected.to_bits());
+            assert_eq!(via_channel.to_bits(), expected.to_bits());
+            let eta = view.eta();
+            let product = bssrdf_zoo::fresnel::entry_transmittance(theta, eta) * albedo;
+            assert_eq!(back.to_bits(), product.to_bits());
+            let error = (back - a).abs();
+            let at = format!("table {table}, θ {theta}, A {a:e}: ρ′ {rho:e} gives {back:e}");
+            assert!(error <= 1e-6, "{at}");
+            assert!(a < 1e-30 || error <= 1e-6 * a, "{at}");
+            points += 1;
+        }
+    }
+    // SAFETY: a handle from above, closed once.
+    unsafe { bssrdf_library_close(library) };
+    assert!(points >= 2 * crate::rust::ROUNDS, "{points}");
 }
 
 /// The C program's expectations for the diffuse reflectance (format in

@@ -1,7 +1,7 @@
 //! The per-medium lookup handle: S_p, sampling and densities in world units.
 
 use super::TableLookup;
-use crate::table::MediumRef;
+use crate::table::{MediumRef, RadialSample};
 
 /// The draws of a handle, in world units (mm, mm⁻²).
 pub use crate::table::{PathSample, Sample};
@@ -208,6 +208,76 @@ impl ChannelLookup {
     #[inline]
     pub fn effective_albedo(&self, theta: f64) -> Option<f64> {
         self.lookup(false).effective_albedo(theta)
+    }
+
+    /// The diffuse reflectance A = (1 − F_r(cos θ; η)) ρ_eff(θ) for light arriving at incidence
+    /// θ: the multiply scattered power leaving per unit power *arriving*, the entry Fresnel
+    /// transmittance included, which is what an artist's colour gives
+    /// ([`crate::table::TableRef::rho_prime_for_reflectance`] inverts it). `None` for θ outside
+    /// the table.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// let a = red.diffuse_reflectance(0.0).unwrap();
+    /// assert!(a < red.effective_albedo(0.0).unwrap()); // the boundary reflects some at entry
+    /// let rho = red.table().view().rho_prime_for_reflectance(a, 0.0)?;
+    /// assert!((rho - red.rho_prime()).abs() < 1e-6);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn diffuse_reflectance(&self, theta: f64) -> Option<f64> {
+        self.lookup(false).diffuse_reflectance(theta)
+    }
+
+    /// For separable renderers: the exit distance in mm for incidence θ drawn from one uniform
+    /// u ∈ [0, 1), with its density per mm ([`MediumRef::sample_radius`]: the radial step of
+    /// [`ChannelLookup::sample`], the same u giving the same r). `None` where `sample` is.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// let d = red.sample_radius(0.5, 0.25).unwrap();
+    /// assert_eq!(d.r, red.sample(0.5, 0.25, 0.75).unwrap().r);
+    /// assert!((d.pdf / red.pdf_radius(0.5, d.r) - 1.0).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn sample_radius(&self, theta: f64, u: f64) -> Option<RadialSample> {
+        self.lookup(false).sample_radius(theta, u)
+    }
+
+    /// Density per mm of [`ChannelLookup::sample_radius`] at `r_mm`: 0 where it cannot sample
+    /// ([`MediumRef::pdf_radius`]).
+    #[inline]
+    pub fn pdf_radius(&self, theta: f64, r_mm: f64) -> f64 {
+        self.lookup(false).pdf_radius(theta, r_mm)
+    }
+
+    /// The angular factor F = S/S̄ at (θ, r in mm, φ), dimensionless
+    /// ([`MediumRef::angular_factor`]): [`ChannelLookup::eval`] = S̄·F with
+    /// S̄ = (1/2π) ∫ eval dφ, and F averages to 1 over φ. `None` for θ outside the table.
+    ///
+    /// ```
+    /// # use bssrdf_zoo::embed::Library;
+    /// # use bssrdf_zoo::materials::Rgb;
+    /// # let skin = bssrdf_zoo::materials::Library::builtin().get("skin1")?.clone();
+    /// # let library = bssrdf_zoo::embed::bake_library(&[&skin], &bssrdf_zoo::table::Grid::ferrier(6, 4, 10))?;
+    /// let red = library.channel("skin1", Rgb::Red)?;
+    /// let theta = 60f64.to_radians();
+    /// let forward = red.angular_factor(theta, 1.0, 0.0).unwrap();
+    /// assert!(forward > 1.0); // oblique light exits ahead of the entry point
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[inline]
+    pub fn angular_factor(&self, theta: f64, r_mm: f64, phi: f64) -> Option<f64> {
+        self.lookup(false).angular_factor(theta, r_mm, phi)
     }
 
     /// The medium's lookups on its table's view, with or without the θ-sampling CDF (only

@@ -72,7 +72,10 @@ pub use crate::error::TableError;
 use albedo::FarField;
 pub use albedo::{AlbedoAxis, AlbedoWeights};
 pub use io::FileTable;
-pub use lookup::{reduced_to_mm, MediumRef, PathSample, RadialSample, Sample, SamplesMut, World};
+pub use lookup::{
+    reduced_to_mm, MediumRef, PathSample, PathSamplesMut, RadialSample, RadialSamplesMut, Sample,
+    SamplesMut, World,
+};
 pub use reflectance::ReflectanceError;
 pub use subset::{check_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};
 

@@ -30,7 +30,7 @@ mod tests;
 mod two_lobe;
 mod world;
 
-pub use batch::SamplesMut;
+pub use batch::{PathSamplesMut, RadialSamplesMut, SamplesMut};
 pub use separable::RadialSample;
 pub use world::{reduced_to_mm, MediumRef, World};
 

@@ -203,4 +203,13 @@ impl<'a> MediumRef<'a> {
     pub fn effective_albedo(&self, theta: f64) -> Option<f64> {
         self.world.table.effective_albedo(self.rho, theta)
     }
+
+    /// The diffuse reflectance A = (1 − F_r(cos θ; η)) ρ_eff(θ) for light arriving at incidence
+    /// θ (radians, before refraction), dimensionless: what an artist's colour gives
+    /// ([`TableRef::diffuse_reflectance`], inverted by [`TableRef::rho_prime_for_reflectance`]).
+    /// `None` for θ outside the table. σ′t does not enter it.
+    #[inline]
+    pub fn diffuse_reflectance(&self, theta: f64) -> Option<f64> {
+        self.world.table.diffuse_reflectance(self.rho, theta)
+    }
 }
