@@ -179,10 +179,11 @@ impl Grid {
             .iter()
             .map(|&t| {
                 if t >= 90.0 {
-                    // The f32 at or above the critical angle (nodes are stored as f32)
+                    // The f32 at or above the critical angle (nodes are stored as f32): the
+                    // next one up of a positive finite f32 has the next bit pattern
                     let node = critical as f32;
                     f64::from(if f64::from(node) < critical {
-                        node.next_up()
+                        f32::from_bits(node.to_bits() + 1)
                     } else {
                         node
                     })
