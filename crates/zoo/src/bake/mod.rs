@@ -351,12 +351,12 @@ impl Baker {
         scene: Option<Value>,
         tables: &[BakedTable],
     ) -> Result<Provenance, BakeError> {
-        let (name, grid, two, refracted) = match &self.grid {
+        let (name, grid, two, grazing) = match &self.grid {
             BakeGrid::Preset(preset) => (
                 format!("{preset:?}").to_lowercase(),
                 Grid::preset(*preset),
                 preset.grid(1.0, Lobes::Two),
-                Some(preset.refracted_nodes()),
+                Some(preset.grazing_nodes()),
             ),
             BakeGrid::Custom(grid) => ("custom".to_string(), grid.clone(), grid.clone(), None),
         };
@@ -383,10 +383,13 @@ impl Baker {
                 "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
             },
         });
-        if let Some(refracted) = refracted {
+        if let Some(grazing) = grazing {
             // A custom grid is baked as given at every η
-            settings["below_eta_1_theta_nodes"] =
-                json!({"refracted_deg": refracted, "then_deg": 90});
+            settings["theta_nodes_near_eta_1"] = json!({
+                "below_eta": table::GRAZING_NODES_BELOW_ETA,
+                "deg": grazing,
+                "below_eta_1": "refracted angles, then 90",
+            });
         }
         if let (Some(scene), Some(map)) = (scene, settings.as_object_mut()) {
             map.insert("scene".into(), scene);

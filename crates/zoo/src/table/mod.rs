@@ -8,7 +8,8 @@ mod validate;
 
 pub use bake::{
     bake, bake_lobes, bake_rows, bake_rows_lobes, node_cell, two_lobe_azimuths, BakeReport, Grid,
-    GridPreset, Lobes, NodeCell, REFINE_PHI_DEG, REFINE_THETA_MIN_DEG, TWO_LOBES_BELOW_ETA,
+    GridPreset, Lobes, NodeCell, GRAZING_NODES_BELOW_ETA, REFINE_PHI_DEG, REFINE_THETA_MIN_DEG,
+    TWO_LOBES_BELOW_ETA,
 };
 pub use bssrdf_runtime::table::*;
 pub use check::{
