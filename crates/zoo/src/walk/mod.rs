@@ -92,7 +92,7 @@ pub use transport::{hg_phase, sample_hg_cos, MAX_VERTICES, ROULETTE_SURVIVAL, RO
 
 use crate::error::{finite, in_range, Error, Result};
 use rayon::prelude::*;
-use rng::Xoshiro256pp;
+use rng::photon_stream;
 use std::f64::consts::FRAC_PI_2;
 use tally::{PhotonTally, Sums};
 use transport::Medium;
@@ -237,7 +237,7 @@ fn trace_block(config: &Config, medium: &Medium, block: u64) -> Sums {
     let last = config.photons.min(first + BLOCK);
     let mut tally = PhotonTally::new(&config.bins);
     for index in first..last {
-        let mut rng = Xoshiro256pp::for_photon(config.seed, index);
+        let mut rng = photon_stream(config.seed, index);
         medium.trace(&mut rng, &mut tally);
         tally.end_photon();
     }

@@ -15,7 +15,7 @@
 //!    divide the weight by it (MCML's constants), otherwise stop.
 
 use super::exits::Sink;
-use super::rng::Xoshiro256pp;
+use super::rng::{UnitF64, Xoshiro256PlusPlus};
 use super::tally::{Order, Surface};
 use crate::fresnel;
 
@@ -79,7 +79,7 @@ impl Medium {
 
     /// Traces one photon packet of unit weight entering at the origin, scoring into `tally`
     /// (the binned tally of a run, or the exit callback of [`super::ExitWalk`]).
-    pub(crate) fn trace(&self, rng: &mut Xoshiro256pp, tally: &mut impl Sink) {
+    pub(crate) fn trace(&self, rng: &mut Xoshiro256PlusPlus, tally: &mut impl Sink) {
         let mut p = [0.0_f64; 3];
         let mut u = self.entry;
         let mut w = 1.0_f64;
@@ -98,7 +98,7 @@ impl Medium {
             }
 
             // Sample the free flight s = −ln(1 − ξ), ξ ∈ [0, 1).
-            let s = -(1.0 - rng.uniform()).ln();
+            let s = -(1.0 - rng.next_f64()).ln();
             match hit {
                 Some((d, surface)) if s >= d => {
                     // Reach the boundary; the reflected part continues.
@@ -123,7 +123,7 @@ impl Medium {
                         tally.truncate(w);
                         return;
                     }
-                    let cos_theta = sample_hg_cos(self.g, rng.uniform());
+                    let cos_theta = sample_hg_cos(self.g, rng.next_f64());
                     let (cos_phi, sin_phi) = sample_unit_circle(rng);
                     u = turn(u, cos_theta, cos_phi, sin_phi);
                 }
@@ -134,7 +134,7 @@ impl Medium {
                 return;
             }
             if w < ROULETTE_WEIGHT {
-                if rng.uniform() < ROULETTE_SURVIVAL {
+                if rng.next_f64() < ROULETTE_SURVIVAL {
                     w /= ROULETTE_SURVIVAL;
                 } else {
                     return;
@@ -169,10 +169,10 @@ pub fn sample_hg_cos(g: f64, xi: f64) -> f64 {
 /// Draws (x, y) uniformly in the unit disc by rejection from the square (acceptance π/4), then
 /// doubles its angle: (x² − y², 2xy)/(x² + y²). The angle of a uniform point of the disc is
 /// uniform, so is twice that angle modulo 2π.
-pub(crate) fn sample_unit_circle(rng: &mut Xoshiro256pp) -> (f64, f64) {
+pub(crate) fn sample_unit_circle(rng: &mut Xoshiro256PlusPlus) -> (f64, f64) {
     loop {
-        let x = 2.0 * rng.uniform() - 1.0;
-        let y = 2.0 * rng.uniform() - 1.0;
+        let x = 2.0 * rng.next_f64() - 1.0;
+        let y = 2.0 * rng.next_f64() - 1.0;
         let r2 = x * x + y * y;
         // Reject the corners and a tiny disc about 0, where the angle is ill-conditioned.
         if r2 <= 1.0 && r2 > 1e-12 {
@@ -216,6 +216,7 @@ pub fn turn(u: [f64; 3], cos_theta: f64, cos_phi: f64, sin_phi: f64) -> [f64; 3]
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::walk::rng::photon_stream;
 
     fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
         a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -280,7 +281,7 @@ mod tests {
     #[test]
     fn unit_circle_samples_are_unit_and_uniform() {
         // Quadrant counts of 40000 angles: each 10000 ± 87 (binomial sd); allow 5 sd.
-        let mut rng = Xoshiro256pp::for_photon(1, 2);
+        let mut rng = photon_stream(1, 2);
         let mut quadrants = [0u32; 4];
         let mut mean = (0.0, 0.0);
         for _ in 0..40_000 {
