@@ -12,7 +12,7 @@
 
 use bssrdf_zoo::embed;
 use bssrdf_zoo::format::{Library, Verify};
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{RngCore, SeedableRng, SplitMix64};
 use bssrdf_zoo_fuzz::{layout, mutate, read_everything};
 use libfuzzer_sys::{fuzz_mutator, fuzz_target, fuzzer_mutate};
 
@@ -53,7 +53,7 @@ fn look_up(library: Library) {
 }
 
 fuzz_mutator!(|data: &mut [u8], size: usize, max_size: usize, seed: u32| {
-    let mut rng = SplitMix64::new(u64::from(seed));
+    let mut rng = SplitMix64::seed_from_u64(u64::from(seed));
     let mut file = data[..size].to_vec();
     if rng.next_u64().is_multiple_of(4) {
         let n = fuzzer_mutate(data, size, max_size);

@@ -28,7 +28,7 @@ mod tests {
     use std::collections::BTreeMap;
 
     use bssrdf_zoo::format::{Library, Verify};
-    use bssrdf_zoo::rng::SplitMix64;
+    use bssrdf_zoo::rng::{RngCore, SeedableRng, SplitMix64};
 
     #[test]
     fn mutated_files_meet_the_checks_behind_the_crc() {
@@ -39,7 +39,7 @@ mod tests {
                 seeds.push(std::fs::read(entry.unwrap().path()).unwrap());
             }
         }
-        let mut rng = SplitMix64::new(1);
+        let mut rng = SplitMix64::seed_from_u64(1);
         let mut codes: BTreeMap<&'static str, usize> = BTreeMap::new();
         for k in 0..20_000 {
             let mut file = seeds[k % seeds.len()].clone();

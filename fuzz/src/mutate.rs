@@ -5,7 +5,7 @@
 //! ([`crate::layout::repair_crcs`]), so each change reaches the check it aims at instead of
 //! the header CRC. Nothing here panics, whatever the bytes.
 
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{RngCore, SplitMix64};
 
 use crate::layout::{
     data_range, entry, entry_at, entry_count, get, header, lay_out, sections, set,

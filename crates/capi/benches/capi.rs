@@ -28,7 +28,7 @@ use bssrdf_testkit::lookups::{Columns, Inputs};
 use bssrdf_zoo::embed::{ChannelLookup, Library};
 use bssrdf_zoo::format::{self, Compression, LibraryBuilder, Verify};
 use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{
     bake, FileTable, Grid, GridPreset, PathSamplesMut, RadialSamplesMut, SamplesMut, TableRef,
     World,
@@ -81,7 +81,7 @@ impl<'a> Fixture<'a> {
             0
         );
 
-        let mut rng = SplitMix64::new(1);
+        let mut rng = SplitMix64::seed_from_u64(1);
         let (mut direct, mut handles, mut channels) = (Vec::new(), Vec::new(), Vec::new());
         let mut media = Vec::new();
         for _ in 0..MEDIA {

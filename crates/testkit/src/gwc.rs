@@ -2,6 +2,7 @@
 
 /// The crate's own generator (SplitMix64), seeded per test.
 pub use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::UnitF64;
 
 /// Uniform draws in a range from the crate's generator.
 pub trait UniformRange {

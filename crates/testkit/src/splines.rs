@@ -13,6 +13,7 @@ pub const CHI_SQUARE_SAMPLES: usize = 1_000_000;
 
 /// The crate's own generator (SplitMix64), seeded per test.
 pub use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, UnitF64};
 
 /// pbrt's radius grid: r₀ = 0, r₁ = 0.0025, rᵢ = 1.2·r_{i−1}, 64 nodes up to 202.85.
 pub fn geometric_radii() -> Vec<f64> {
@@ -79,7 +80,7 @@ pub fn chi_square(
     assert!((normalization - 1.0).abs() < 1e-6, "∫pdf = {normalization}");
 
     let mut counts = vec![0u64; probabilities.len()];
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = SplitMix64::seed_from_u64(seed);
     for _ in 0..CHI_SQUARE_SAMPLES {
         let u = rng.next_f64();
         let x = sample(u).unwrap_or_else(|| panic!("sampling failed at u = {u}"));

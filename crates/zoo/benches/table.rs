@@ -6,7 +6,7 @@
 //! alone.
 
 use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{bake, Grid, GridPreset, TableRef};
 use criterion::measurement::WallTime;
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkGroup, Criterion};
@@ -36,7 +36,7 @@ fn bench(c: &mut Criterion) {
 
     let (table, _) = bake(1.33, Moments::Exact, &grid, true).unwrap();
     let view = table.view();
-    let mut rng = SplitMix64::new(1);
+    let mut rng = SplitMix64::seed_from_u64(1);
     let points = lookup_points(&view, &mut rng);
     let uniforms: Vec<[f64; 4]> = (0..4096)
         .map(|_| {

@@ -14,7 +14,7 @@
 //! every branch predicted, what is left is the lookup's own arithmetic.
 
 use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
 use std::hint::black_box;
 
@@ -37,7 +37,7 @@ fn main() {
     )
     .expect("the default grid bakes");
     let view = table.view();
-    let mut rng = SplitMix64::new(1);
+    let mut rng = SplitMix64::seed_from_u64(1);
     let points = match std::env::var("RHO") {
         Ok(range) => {
             let (lo, hi) = range

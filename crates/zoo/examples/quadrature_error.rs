@@ -20,7 +20,7 @@ mod domain;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64};
 use bssrdf_zoo::table::{Grid, GridPreset, REFINE_PHI_DEG};
 use std::time::Instant;
 
@@ -53,7 +53,7 @@ fn bake_points(stride: usize) -> Vec<Point> {
 }
 
 fn domain_points(n: usize) -> Vec<Point> {
-    let mut rng = SplitMix64::new(11);
+    let mut rng = SplitMix64::seed_from_u64(11);
     (0..n).map(|_| domain::domain_point(&mut rng)).collect()
 }
 

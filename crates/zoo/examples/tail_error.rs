@@ -19,7 +19,7 @@
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{bake, Grid, GridPreset};
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -81,7 +81,7 @@ fn main() {
         90.0
     };
 
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = SplitMix64::seed_from_u64(seed);
     let draws: Vec<[f64; 4]> = (0..n)
         .map(|_| std::array::from_fn(|_| rng.next_f64()))
         .collect();

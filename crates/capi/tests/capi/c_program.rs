@@ -26,7 +26,7 @@ use bssrdf::{
 };
 use bssrdf_zoo::embed::{bake_library, ChannelLookup, Library};
 use bssrdf_zoo::materials::{self, Rgb};
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{Grid, GridPreset};
 
 fn compiler() -> Option<String> {
@@ -206,7 +206,7 @@ fn line_values(status_if_none: i32, values: Option<Vec<f64>>, width: usize) -> S
 /// The expectations file (format in `crates/capi/tests/c/capi_test.c`): what the Rust API computes.
 fn expectations(library: &Library) -> String {
     let mut text = String::new();
-    let mut rng = SplitMix64::new(2024);
+    let mut rng = SplitMix64::seed_from_u64(2024);
     // Failing channel requests first: an unknown name and an invalid channel.
     writeln!(text, "M skin2 0 {BSSRDF_ERROR_NOT_FOUND}").unwrap();
     writeln!(text, "M skin1 7 {BSSRDF_ERROR_INVALID_ARGUMENT}").unwrap();

@@ -12,7 +12,7 @@ use std::ptr::{null, null_mut};
 use bssrdf::*;
 use bssrdf_testkit::lookups::{check_capi, Columns, Inputs, UNTOUCHED_PATH, UNTOUCHED_SAMPLE};
 use bssrdf_zoo::embed::Library;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{RngCore, SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{Grid, PathSamplesMut, RadialSamplesMut, SamplesMut, TableRef};
 
 /// Random points per medium in the comparisons (Miri runs them a thousandfold slower).
@@ -78,7 +78,7 @@ fn per_call_lookups_equal_the_channel_handles_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     for flags in [BSSRDF_OPEN_MAP, BSSRDF_OPEN_READ] {
         let (rust, c) = open(dir.path(), flags);
-        let mut rng = SplitMix64::new(77);
+        let mut rng = SplitMix64::seed_from_u64(77);
         for table in rust.tables() {
             let view = rust.view(table.index()).unwrap();
             for _ in 0..ROUNDS {
@@ -272,7 +272,7 @@ type BatchFn = unsafe extern "C" fn(
 fn every_point_of_a_batch_is_the_single_call_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     let (rust, c) = open(dir.path(), BSSRDF_OPEN_MAP);
-    let mut rng = SplitMix64::new(78);
+    let mut rng = SplitMix64::seed_from_u64(78);
     for table in 0..rust.table_count() {
         let view = rust.view(table).unwrap();
         // Lengths around the batch code's groups of points, and a long batch

@@ -10,7 +10,7 @@ use std::ptr::{null, null_mut};
 use bssrdf::*;
 use bssrdf_zoo::embed::Library;
 use bssrdf_zoo::materials::Rgb;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::Grid;
 
 /// The grid of the tables here: small (under Miri no table is baked, see `fixture`).
@@ -415,7 +415,7 @@ fn c_values_equal_the_rust_api_bit_for_bit_and_channels_outlive_the_library() {
         }
         // SAFETY: the library's last use; its channels stay valid.
         unsafe { bssrdf_library_close(library) };
-        let mut rng = SplitMix64::new(21);
+        let mut rng = SplitMix64::seed_from_u64(21);
         for (lookup, ch) in channels {
             let mut info = bssrdf_channel_info {
                 rho_prime: 0.0,

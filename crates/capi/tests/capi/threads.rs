@@ -8,7 +8,7 @@ use std::ffi::{c_int, CStr, CString};
 use std::ptr::null_mut;
 
 use bssrdf::*;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::Grid;
 
 /// Handles shared between threads.
@@ -26,7 +26,7 @@ unsafe impl Sync for Shared {}
 
 /// Statuses and value bits of every lookup of the channels at `rounds` points from `seed`.
 fn lookups(shared: Shared, seed: u64, rounds: usize) -> Vec<u64> {
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = SplitMix64::seed_from_u64(seed);
     let mut out = Vec::new();
     for &ch in &shared.channels {
         for _ in 0..rounds {

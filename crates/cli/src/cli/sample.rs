@@ -5,7 +5,7 @@
 
 use super::library::{self, TableChoice};
 use super::CliError;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
@@ -61,7 +61,7 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
     super::check_range("--theta", theta_deg, 0.0..=90.0)?;
     // Both modes: nothing is written before ρ′ is known to be inside the kept rows.
     super::values::check_kept(rho_name, rho, &view)?;
-    let mut rng = SplitMix64::new(args.seed);
+    let mut rng = SplitMix64::seed_from_u64(args.seed);
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let r_column = if chosen.material.is_some() {

@@ -1,7 +1,7 @@
 //! The lookup points of the table benchmark (`crates/zoo/benches/table.rs`) and of the A/B timing loop
 //! (`examples/lookup_loop.rs`), so that both time the same traffic.
 
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SplitMix64, UnitF64};
 use bssrdf_zoo::table::TableRef;
 
 /// 4,096 points (ρ′, θ, r, φ) over the whole table, so caches and branches see realistic

@@ -8,13 +8,13 @@ use super::Renderer;
 use crate::models::ModelKind;
 use crate::pbd::Rule;
 use crate::table::{Sample, TableRef};
-use crate::walk::rng::Xoshiro256pp;
+use crate::walk::rng::{photon_stream, UnitF64, Xoshiro256PlusPlus};
 use crate::walk::Component;
 
 impl Renderer {
     /// Traces photon `index` into `rec` (the caller ends the photon).
     pub(super) fn trace_photon(&self, index: u64, rec: &mut Recorder<'_>) {
-        let mut rng = Xoshiro256pp::for_photon(self.config.seed, index);
+        let mut rng = photon_stream(self.config.seed, index);
         let inc = self.source.sample(&mut rng);
         rec.reflect(inc.reflected);
         if inc.transmitted() <= 0.0 {
@@ -31,7 +31,7 @@ impl Renderer {
     fn place_sampled(
         &self,
         table: TableRef<'_>,
-        rng: &mut Xoshiro256pp,
+        rng: &mut Xoshiro256PlusPlus,
         inc: &Incidence,
         rec: &mut Recorder<'_>,
     ) {
@@ -51,7 +51,7 @@ impl Renderer {
         rec.expect(expected);
         let active = rho_eff.map(|e| e > 0.0);
         let n_active = active.iter().filter(|&&a| a).count();
-        let (u_h, u_r, u_phi) = (rng.uniform(), rng.uniform(), rng.uniform());
+        let (u_h, u_r, u_phi) = (rng.next_f64(), rng.next_f64(), rng.next_f64());
         if n_active == 0 {
             return;
         }
@@ -114,7 +114,7 @@ impl Renderer {
         };
         let t = inc.transmitted();
         for (c, walk) in walks.iter().enumerate() {
-            let mut rng = Xoshiro256pp::for_photon(self.channel_seeds[c], index);
+            let mut rng = photon_stream(self.channel_seeds[c], index);
             // The walk's lengths are mean free paths 1/σt.
             let mm = 1.0 / self.channels[c].sigma_t;
             let path = walk.trace(inc.theta, &mut rng, |e| {

@@ -19,7 +19,7 @@
 //! probability R costs nothing and removes that choice's variance.
 
 use crate::fresnel;
-use crate::walk::rng::Xoshiro256pp;
+use crate::walk::rng::{UnitF64, Xoshiro256PlusPlus};
 use std::f64::consts::TAU;
 
 /// The cone of incident light.
@@ -84,10 +84,10 @@ impl Source {
     }
 
     /// Draws one photon's direction (two uniforms) and its Fresnel split.
-    pub fn sample(&self, rng: &mut Xoshiro256pp) -> Incidence {
+    pub fn sample(&self, rng: &mut Xoshiro256PlusPlus) -> Incidence {
         // Uniform in solid angle: cos α uniform in [cos δ, 1].
-        let cos_alpha = 1.0 - rng.uniform() * (1.0 - self.cos_cone);
-        let (sin_beta, cos_beta) = (TAU * rng.uniform()).sin_cos();
+        let cos_alpha = 1.0 - rng.next_f64() * (1.0 - self.cos_cone);
+        let (sin_beta, cos_beta) = (TAU * rng.next_f64()).sin_cos();
         let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
         let (a, b) = (sin_alpha * cos_beta, sin_alpha * sin_beta);
         let d = [
@@ -114,11 +114,12 @@ impl Source {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::walk::rng::photon_stream;
 
     #[test]
     fn a_collimated_beam_keeps_its_angle_and_plane() {
         let s = Source::new(60f64.to_radians(), 0.0, 1.33);
-        let mut rng = Xoshiro256pp::for_photon(3, 4);
+        let mut rng = photon_stream(3, 4);
         let i = s.sample(&mut rng);
         assert!((i.theta - 60f64.to_radians()).abs() < 1e-12);
         assert_eq!((i.cos_psi, i.sin_psi), (1.0, 0.0));
@@ -131,7 +132,7 @@ mod tests {
     fn cone_directions_stay_inside_the_cone() {
         let (theta, cone) = (30f64.to_radians(), 2f64.to_radians());
         let s = Source::new(theta, cone, 1.33);
-        let mut rng = Xoshiro256pp::for_photon(5, 6);
+        let mut rng = photon_stream(5, 6);
         let mut mean_psi = 0.0;
         for _ in 0..2000 {
             let i = s.sample(&mut rng);

@@ -33,7 +33,7 @@ use super::TableRef;
 use crate::fresnel::Moments;
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
-use crate::rng::SplitMix64;
+use crate::rng::{SeedableRng, SplitMix64, UnitF64};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
@@ -191,7 +191,7 @@ pub fn check(
         .par_iter()
         .enumerate()
         .map(|(index, &(rho, theta_deg))| {
-            let mut rng = SplitMix64::new(CHECK_SEED.wrapping_add(index as u64));
+            let mut rng = SplitMix64::seed_from_u64(CHECK_SEED.wrapping_add(index as u64));
             let mut uniform = |[lo, hi]: [f64; 2]| lo + (hi - lo) * rng.next_f64();
             let mut weighted = Vec::with_capacity(WEIGHTED_POINTS);
             for _ in 0..WEIGHTED_POINTS {

@@ -8,7 +8,7 @@ use super::TableRef;
 use crate::fresnel::Moments;
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
-use crate::rng::SplitMix64;
+use crate::rng::{SeedableRng, SplitMix64, UnitF64};
 use std::time::Instant;
 
 /// The report's cases: ρ′ ∈ {0.5, 0.9, 0.99} × θ ∈ {0°, 60°, 89°}, with its mean relative errors
@@ -64,7 +64,7 @@ pub fn validate(
     for (index, &(rho, theta_deg)) in cases.iter().enumerate() {
         let pbd = Pbd::new(rho, boundary)?;
         let theta = theta_deg.to_radians();
-        let mut rng = SplitMix64::new(seed.wrapping_add(index as u64));
+        let mut rng = SplitMix64::seed_from_u64(seed.wrapping_add(index as u64));
         let points: Vec<(f64, f64)> = (0..samples)
             .filter_map(|_| table.sample(rho, theta, rng.next_f64(), rng.next_f64()))
             .map(|s| (s.r, s.phi))

@@ -16,7 +16,7 @@
 //! sum of their weights over many photons estimates the reflectance, and any tally of them over
 //! regions of the surface (pixels) is unbiased for the exitance there.
 
-use super::rng::Xoshiro256pp;
+use super::rng::Xoshiro256PlusPlus;
 use super::tally::{Order, PhotonTally, Surface};
 use super::transport::Medium;
 use super::Component;
@@ -124,7 +124,7 @@ impl ExitWalk {
     pub fn trace(
         &self,
         theta: f64,
-        rng: &mut Xoshiro256pp,
+        rng: &mut Xoshiro256PlusPlus,
         on_exit: impl FnMut(Exit),
     ) -> PhotonPath {
         let enters = (0.0..=FRAC_PI_2).contains(&theta) && theta.sin() <= self.eta;
@@ -142,6 +142,7 @@ impl ExitWalk {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::walk::rng::photon_stream;
     use crate::walk::{run, Config};
 
     #[test]
@@ -157,7 +158,7 @@ mod tests {
         let exits = ExitWalk::new(0.9, 0.3, 1.33).unwrap();
         let (mut single, mut multiple, mut events) = (0.0, 0.0, 0);
         for index in 0..config.photons {
-            let mut rng = Xoshiro256pp::for_photon(config.seed, index);
+            let mut rng = photon_stream(config.seed, index);
             let (mut s, mut m) = (0.0, 0.0);
             let path = exits.trace(theta, &mut rng, |e| match e.component {
                 Component::Single => s += e.weight,
@@ -176,7 +177,7 @@ mod tests {
     #[test]
     fn no_light_enters_beyond_the_critical_angle() {
         let exits = ExitWalk::new(0.9, 0.0, 0.8).unwrap();
-        let mut rng = Xoshiro256pp::for_photon(1, 1);
+        let mut rng = photon_stream(1, 1);
         let mut count = 0;
         let path = exits.trace(60f64.to_radians(), &mut rng, |_| count += 1);
         assert_eq!((count, path.vertices), (0, 0));

@@ -6,23 +6,31 @@
 //!
 //! One flight, from a point p in direction ω with weight w (see the module docs of
 //! [`crate::walk`] for why this is unbiased):
-//! 1. *Exit estimate.* If the ray p + tω meets a boundary at distance d, score
-//!    w · e^{−d} · T(|ω_z|) at the point where it meets it, for the current scattering order.
-//! 2. *Flight.* Draw s = −ln(1 − ξ). If s < d: a scattering vertex at p + sω, w ← a·w, new
-//!    direction from Henyey–Greenstein. Otherwise the packet reaches the boundary: its
-//!    transmitted part was scored in step 1, the reflected part continues, w ← R·w, ω_z ← −ω_z.
+//! 1. *Exit estimate.* If the ray p + tω meets a boundary at distance
+//!    d ≤ [`EXPECTED_SCORE_DISTANCE`], score w · e^{−d} · T(|ω_z|) at the point where it meets
+//!    it, for the current scattering order.
+//! 2. *Flight.* Draw s, exponential with mean 1. If s < d: a scattering vertex at p + sω,
+//!    w ← a·w, new direction from Henyey–Greenstein. Otherwise the packet reaches the boundary:
+//!    its transmitted part w · T leaves (scored in step 1 when d ≤ [`EXPECTED_SCORE_DISTANCE`],
+//!    here otherwise) and, with probability R = 1 − T, the packet continues with ω_z ← −ω_z;
+//!    otherwise it stops. The unscattered beam continues with w ← R·w instead.
 //! 3. *Roulette.* Below [`ROULETTE_WEIGHT`], survive with probability [`ROULETTE_SURVIVAL`] and
 //!    divide the weight by it (MCML's constants), otherwise stop.
 
 use super::exits::Sink;
-use super::rng::Xoshiro256pp;
+use super::rng::{UnitF64, Xoshiro256PlusPlus};
 use super::tally::{Order, Surface};
 use crate::fresnel;
+use rand_distr::{Distribution, Exp1};
 
 /// Weight below which Russian roulette is played (Wang, Jacques, Zheng 1995, `WEIGHT`).
 pub const ROULETTE_WEIGHT: f64 = 1e-4;
 /// Survival probability of the roulette (MCML's `CHANCE`).
 pub const ROULETTE_SURVIVAL: f64 = 0.1;
+/// Flights that start at most this far from the boundary they head for (mean free paths)
+/// score their expected transmitted part; farther ones reach it with probability below
+/// e⁻⁶ ≈ 0.25 % and score only when they do (the walk's module docs, "Estimator").
+pub const EXPECTED_SCORE_DISTANCE: f64 = 6.0;
 /// A photon is stopped after this many scattering vertices and its weight is reported as
 /// truncated. Only reached for albedo ≈ 1, where path lengths in a half-space have an
 /// infinite mean (their tail falls like n^{−1/2}).
@@ -79,16 +87,18 @@ impl Medium {
 
     /// Traces one photon packet of unit weight entering at the origin, scoring into `tally`
     /// (the binned tally of a run, or the exit callback of [`super::ExitWalk`]).
-    pub(crate) fn trace(&self, rng: &mut Xoshiro256pp, tally: &mut impl Sink) {
+    pub(crate) fn trace(&self, rng: &mut Xoshiro256PlusPlus, tally: &mut impl Sink) {
         let mut p = [0.0_f64; 3];
         let mut u = self.entry;
         let mut w = 1.0_f64;
         let mut vertices: u32 = 0;
         loop {
-            // Score the expected transmitted part of this flight where it would leave.
+            // Score the expected transmitted part of a flight that may well reach the boundary,
+            // where it would leave; a farther one is scored only if it gets there.
             let hit = self.boundary(p[2], u[2]);
+            let expected = matches!(hit, Some((d, _)) if d <= EXPECTED_SCORE_DISTANCE);
             let mut reflectance = 1.0;
-            if let Some((d, surface)) = hit {
+            if let (true, Some((d, surface))) = (expected, hit) {
                 reflectance = fresnel::reflectance(u[2].abs(), self.eta_out_over_in);
                 let escape = w * (1.0 - reflectance) * (-d).exp();
                 if escape > 0.0 {
@@ -97,11 +107,26 @@ impl Medium {
                 }
             }
 
-            // Sample the free flight s = −ln(1 − ξ), ξ ∈ [0, 1).
-            let s = -(1.0 - rng.uniform()).ln();
+            // Sample the free flight s, exponential with mean 1 (σt = 1).
+            let s: f64 = Exp1.sample(rng);
             match hit {
                 Some((d, surface)) if s >= d => {
-                    // Reach the boundary; the reflected part continues.
+                    // Reach the boundary: the transmitted part leaves (scored now unless it
+                    // was scored in expectation), the reflected part continues as a whole with
+                    // probability R; the unscattered beam is split instead.
+                    if !expected {
+                        reflectance = fresnel::reflectance(u[2].abs(), self.eta_out_over_in);
+                        if reflectance < 1.0 {
+                            let order = Order::from_vertices(vertices);
+                            let (x, y) = (p[0] + d * u[0], p[1] + d * u[1]);
+                            tally.exit(surface, x, y, w * (1.0 - reflectance), order);
+                        }
+                    }
+                    if vertices == 0 {
+                        w *= reflectance;
+                    } else if reflectance < 1.0 && rng.next_f64() >= reflectance {
+                        return;
+                    }
                     p[0] += d * u[0];
                     p[1] += d * u[1];
                     p[2] = match surface {
@@ -109,7 +134,6 @@ impl Medium {
                         Surface::Bottom => -self.thickness.unwrap_or(0.0),
                     };
                     u[2] = -u[2];
-                    w *= reflectance;
                 }
                 _ => {
                     // Scatter at p + sω: absorb by weight, turn by the phase function.
@@ -123,7 +147,7 @@ impl Medium {
                         tally.truncate(w);
                         return;
                     }
-                    let cos_theta = sample_hg_cos(self.g, rng.uniform());
+                    let cos_theta = sample_hg_cos(self.g, rng.next_f64());
                     let (cos_phi, sin_phi) = sample_unit_circle(rng);
                     u = turn(u, cos_theta, cos_phi, sin_phi);
                 }
@@ -134,7 +158,7 @@ impl Medium {
                 return;
             }
             if w < ROULETTE_WEIGHT {
-                if rng.uniform() < ROULETTE_SURVIVAL {
+                if rng.next_f64() < ROULETTE_SURVIVAL {
                     w /= ROULETTE_SURVIVAL;
                 } else {
                     return;
@@ -169,10 +193,10 @@ pub fn sample_hg_cos(g: f64, xi: f64) -> f64 {
 /// Draws (x, y) uniformly in the unit disc by rejection from the square (acceptance π/4), then
 /// doubles its angle: (x² − y², 2xy)/(x² + y²). The angle of a uniform point of the disc is
 /// uniform, so is twice that angle modulo 2π.
-pub(crate) fn sample_unit_circle(rng: &mut Xoshiro256pp) -> (f64, f64) {
+pub(crate) fn sample_unit_circle(rng: &mut Xoshiro256PlusPlus) -> (f64, f64) {
     loop {
-        let x = 2.0 * rng.uniform() - 1.0;
-        let y = 2.0 * rng.uniform() - 1.0;
+        let x = 2.0 * rng.next_f64() - 1.0;
+        let y = 2.0 * rng.next_f64() - 1.0;
         let r2 = x * x + y * y;
         // Reject the corners and a tiny disc about 0, where the angle is ill-conditioned.
         if r2 <= 1.0 && r2 > 1e-12 {
@@ -216,6 +240,7 @@ pub fn turn(u: [f64; 3], cos_theta: f64, cos_phi: f64, sin_phi: f64) -> [f64; 3]
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::walk::rng::photon_stream;
 
     fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
         a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -280,7 +305,7 @@ mod tests {
     #[test]
     fn unit_circle_samples_are_unit_and_uniform() {
         // Quadrant counts of 40000 angles: each 10000 ± 87 (binomial sd); allow 5 sd.
-        let mut rng = Xoshiro256pp::for_photon(1, 2);
+        let mut rng = photon_stream(1, 2);
         let mut quadrants = [0u32; 4];
         let mut mean = (0.0, 0.0);
         for _ in 0..40_000 {

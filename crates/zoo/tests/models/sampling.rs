@@ -9,7 +9,7 @@ use bssrdf_zoo::models::burley::{Burley, BurleyFit, BurleyOptions, SurfaceAlbedo
 use bssrdf_zoo::models::mc::McModel;
 use bssrdf_zoo::models::{Model, ModelKind, Params};
 use bssrdf_zoo::quadrature::adaptive;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use std::f64::consts::PI;
 
 /// Draws per test.
@@ -32,7 +32,7 @@ fn cell_probability(m: &dyn Model, theta: f64, r: (f64, f64), phi: (f64, f64)) -
 fn chi_square(m: &dyn Model, theta: f64, r_edges: &[f64], phi_edges: &[f64], seed: u64) {
     let (n_r, n_phi) = (r_edges.len() - 1, phi_edges.len() - 1);
     let mut observed = vec![0usize; n_r * n_phi + 1];
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = SplitMix64::seed_from_u64(seed);
     let mut failed = 0;
     for _ in 0..DRAWS {
         let u = [rng.next_f64(), rng.next_f64()];

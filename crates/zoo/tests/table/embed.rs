@@ -10,7 +10,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use bssrdf_zoo::embed::{bake_library, ChannelLookup, EmbedError, Library, TableLookup};
 use bssrdf_zoo::format::{self, Verify};
 use bssrdf_zoo::materials::{self, Rgb};
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{RngCore, SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{reduced_to_mm, FileTable, Grid, TableRef, World};
 
 /// Two materials on two η (two tables), baked on a small grid and written to a file.
@@ -90,7 +90,7 @@ fn channel_lookups_equal_direct_table_ref_and_world_lookups_bit_for_bit() {
         Library::open_mmap(&path).unwrap(),
         Library::read(&path).unwrap(),
     ] {
-        let mut points = Points(SplitMix64::new(11));
+        let mut points = Points(SplitMix64::seed_from_u64(11));
         let mut compared = [0usize; 3]; // values, samples, path samples that were Some
         for m in library.materials() {
             for rgb in Rgb::ALL {
@@ -171,7 +171,7 @@ fn table_views_equal_file_table_views_bit_for_bit() {
     let file = format::Library::open_mmap(&path, Verify::Full).unwrap();
     let library = Library::open_mmap(&path).unwrap();
     assert_eq!(library.table_count(), 2);
-    let mut points = Points(SplitMix64::new(5));
+    let mut points = Points(SplitMix64::seed_from_u64(5));
     for (table, record) in library.tables().zip(file.tables()) {
         let direct = FileTable::new(record).unwrap();
         let (a, b) = (table.view(), direct.view().unwrap());
@@ -236,7 +236,7 @@ fn handles_outlive_their_library_and_work_from_many_threads() {
 /// Every lookup of every channel of `library` at `rounds` points drawn from `seed`, as bits
 /// (`u64::MAX` for a `None`).
 fn every_lookup(library: &Library, seed: u64, rounds: usize) -> Vec<u64> {
-    let mut points = Points(SplitMix64::new(seed));
+    let mut points = Points(SplitMix64::seed_from_u64(seed));
     let mut out = Vec::new();
     let none = u64::MAX;
     for m in library.materials() {

@@ -8,7 +8,7 @@ use crate::lookup::default_table;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{bake, AngularTable, Grid, GridPreset, CHECK_BOUNDS, PEAK_FRACTION};
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -35,7 +35,7 @@ fn far_tail(table: &AngularTable, n: usize, seed: u64) -> Tail {
     let boundary = Boundary::new(table.eta(), Moments::Exact).unwrap();
     let r_nodes = table.axes().r().as_slice();
     let (r1, r_max) = (r_nodes[1], r_nodes[r_nodes.len() - 1]);
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = SplitMix64::seed_from_u64(seed);
     let draws: Vec<[f64; 4]> = (0..n)
         .map(|_| std::array::from_fn(|_| rng.next_f64()))
         .collect();

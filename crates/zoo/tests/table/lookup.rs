@@ -8,7 +8,7 @@ use bssrdf_zoo::gwc::{fit_three_anchors, FitBranch, Gwc, ANCHOR_COS};
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::quadrature::GaussLegendre;
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{
     bake, node_cell, validate, AngularTable, Grid, GridPreset, World, REPORT_TABLE_2,
 };
@@ -156,7 +156,7 @@ fn samples_follow_the_pdf(table: &AngularTable) {
         );
         let n = 200_000;
         let mut counts = vec![0usize; expected.len()];
-        let mut rng = Rng(SplitMix64::new(0xC0FFEE + case as u64));
+        let mut rng = Rng(SplitMix64::seed_from_u64(0xC0FFEE + case as u64));
         for _ in 0..n {
             let s = view
                 .sample(rho, theta, rng.next(), rng.next())
@@ -220,7 +220,7 @@ fn node_profile(pbd: &Pbd, theta: f64, r: f64) -> Gwc {
 /// interpolation.
 fn node_profile_max_error(rho: f64, theta_deg: f64, n: usize, seed: u64) -> f64 {
     let (view, pbd, theta) = (default_table().view(), pbd(rho), theta_deg.to_radians());
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = SplitMix64::seed_from_u64(seed);
     (0..n)
         .filter_map(|_| view.sample(rho, theta, rng.next_f64(), rng.next_f64()))
         .map(|s| {
@@ -503,7 +503,7 @@ fn lookups_at_an_albedo_node_read_that_row_alone() {
     let (view, (_, n_theta, n_r)) = (table.view(), table.axes().dims());
     let axis = table.axes().rho().as_slice();
     let bits = |v: Option<f64>| v.map(f64::to_bits);
-    let mut rng = Rng(SplitMix64::new(5));
+    let mut rng = Rng(SplitMix64::seed_from_u64(5));
     for i in [1, 2, 3, 40, 98] {
         let alone = table.subset_rows(i..i + 2).unwrap();
         let (one, rho) = (alone.view(), axis[i]);
@@ -539,7 +539,7 @@ fn perpendicular_model_is_the_normal_incidence_slice_with_uniform_phi() {
         let want = view.eval(rho, 0.0, r, 0.0).unwrap();
         let got = view.eval_perpendicular(rho, r).unwrap();
         assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
-        let mut rng = Rng(SplitMix64::new(3));
+        let mut rng = Rng(SplitMix64::seed_from_u64(3));
         for _ in 0..100 {
             let s = view
                 .sample_perpendicular(rho, rng.next(), rng.next())
@@ -558,7 +558,7 @@ fn path_tracing_theta_samples_follow_their_pdf() {
     let n = 100_000;
     let n_bins = 18;
     let mut counts = vec![0usize; n_bins];
-    let mut rng = Rng(SplitMix64::new(11));
+    let mut rng = Rng(SplitMix64::seed_from_u64(11));
     for _ in 0..n {
         let s = view
             .sample_path(rho, [rng.next(), rng.next(), rng.next(), rng.next()])
@@ -646,7 +646,7 @@ fn invert_undoes_sample() {
 
 fn invert_undoes_sample_of(table: &AngularTable) {
     let view = table.view();
-    let mut rng = Rng(SplitMix64::new(21));
+    let mut rng = Rng(SplitMix64::seed_from_u64(21));
     for (rho, theta_deg) in [(0.5, 0.0), (0.9, 60.0), (0.999, 89.0)] {
         let theta = f64::to_radians(theta_deg);
         for _ in 0..2000 {

@@ -5,7 +5,7 @@
 //! ρ_eff(θ) (runtime `table::lookup::separable`, docs/embedding.md "Separable renderers").
 
 use crate::lookup::{default_table, two_lobe_table};
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{AngularTable, TableRef};
 use std::f64::consts::{PI, TAU};
 
@@ -29,7 +29,7 @@ fn mean_over_phi(n: usize, f: impl Fn(f64) -> f64) -> f64 {
 
 /// Random lookups inside the tables: ρ′ in [0.05, 1], θ in [0, 89.9°], and a uniform.
 fn points(seed: u64, n: usize) -> Vec<(f64, f64, f64)> {
-    let mut rng = SplitMix64::new(seed);
+    let mut rng = SplitMix64::seed_from_u64(seed);
     (0..n)
         .map(|_| {
             let rho = 0.05 + 0.95 * rng.next_f64();
@@ -151,7 +151,7 @@ fn the_separable_estimator_has_mean_rho_eff_at_every_incidence() {
                 EVAL_GAP
             };
             let rho_eff = view.effective_albedo(rho, theta).unwrap();
-            let mut rng = SplitMix64::new(100 + case as u64);
+            let mut rng = SplitMix64::seed_from_u64(100 + case as u64);
             let (mut separable, mut full) = (Vec::new(), Vec::new());
             for _ in 0..DRAWS {
                 let (u_r, u_phi) = (rng.next_f64(), rng.next_f64());

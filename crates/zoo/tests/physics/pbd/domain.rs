@@ -1,7 +1,7 @@
 //! Random points of PBD's documented domain, shared by the oracle test and
 //! `examples/quadrature_error.rs`.
 
-use bssrdf_zoo::rng::SplitMix64;
+use bssrdf_zoo::rng::{SplitMix64, UnitF64};
 use std::f64::consts::PI;
 
 /// One point of PBD's documented domain, drawn with the stiff corners weighted up:
