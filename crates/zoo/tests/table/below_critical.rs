@@ -5,9 +5,19 @@
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::table::{
-    bake_lobes, check, validate, Grid, GridPreset, Lobes, CHECK_BOUNDS, GRAZING_NODES_BELOW_ETA,
+    bake_lobes, check, validate, AngularTable, Grid, GridPreset, Lobes, CHECK_BOUNDS,
+    GRAZING_NODES_BELOW_ETA,
 };
 use std::f64::consts::FRAC_PI_2;
+
+/// The table `bssrdf bake --eta ETA` makes: the default preset's grid and lobes at η.
+fn default_at(eta: f64, theta_sampling: bool) -> AngularTable {
+    let lobes = Lobes::for_eta(eta);
+    let grid = GridPreset::Default.grid(eta, lobes);
+    bake_lobes(eta, Moments::Exact, &grid, theta_sampling, lobes)
+        .unwrap()
+        .0
+}
 
 #[test]
 fn below_eta_1_the_theta_nodes_follow_the_refracted_angle_up_to_the_critical_one() {
@@ -60,11 +70,8 @@ fn below_eta_1_every_region_mean_is_within_the_bound_and_the_protocol_within_hal
     // the bake's check is within 1 % (with nodes uniform in θ and one lobe they were 3 % at
     // 30–60° and 12–26 % at 60–64.16°); the spread points at ρ′ < 0.3 are not (the far tails,
     // docs/accuracy.md).
-    let eta = 0.9;
-    let lobes = Lobes::for_eta(eta);
-    assert_eq!(lobes, Lobes::Two);
-    let grid = GridPreset::Default.grid(eta, lobes);
-    let (table, _) = bake_lobes(eta, Moments::Exact, &grid, true, lobes).unwrap();
+    assert_eq!(Lobes::for_eta(0.9), Lobes::Two);
+    let table = default_at(0.9, true);
     let result = check(&table.view(), Moments::Exact, CHECK_BOUNDS).unwrap();
     assert_eq!(result.regions.len(), 15);
     for r in &result.regions {
@@ -89,16 +96,7 @@ fn below_eta_1_every_region_mean_is_within_the_bound_and_the_protocol_within_hal
 fn near_eta_1_the_nodes_towards_grazing_keep_the_region_means_within_the_bound() {
     // η = 1.005: every region mean within 1 % (with nodes every 10°, 85–90° was 1.0–1.3 % and
     // 75–85° 1.1–1.6 % at ρ′ < 0.7)
-    let eta = 1.005;
-    let lobes = Lobes::for_eta(eta);
-    let (table, _) = bake_lobes(
-        eta,
-        Moments::Exact,
-        &GridPreset::Default.grid(eta, lobes),
-        false,
-        lobes,
-    )
-    .unwrap();
+    let table = default_at(1.005, false);
     let result = check(&table.view(), Moments::Exact, CHECK_BOUNDS).unwrap();
     assert_eq!(result.regions.len(), 25);
     for r in &result.regions {
@@ -107,15 +105,7 @@ fn near_eta_1_the_nodes_towards_grazing_keep_the_region_means_within_the_bound()
     }
     // η = 1 between the nodes: 75° (between 74 and 78) and 86° (between 85 and 87.5), where
     // nodes every 10° were 5–11 % and 12–21 % off; 2,000 points per case
-    let eta = 1.0;
-    let (table, _) = bake_lobes(
-        eta,
-        Moments::Exact,
-        &GridPreset::Default.grid(eta, lobes),
-        false,
-        lobes,
-    )
-    .unwrap();
+    let table = default_at(1.0, false);
     let cases: Vec<(f64, f64)> = [75.0, 86.0]
         .iter()
         .flat_map(|&t| [0.5, 0.9, 0.99].map(|rho| (rho, t)))
