@@ -93,7 +93,7 @@ pub struct BakeArgs {
     /// Wrapped Cauchy lobes of the angular profile: 2 below η = 1.33, where one misses the
     /// report's accuracy at grazing incidence (or refraction), else 1 (auto). At η = 1.05–1.3 two
     /// are 28–47 times more accurate at 89°; on the default grid they keep the size (42 radii
-    /// instead of 64), on the others they take 1.5 times it; lookups take about 4 times as long
+    /// instead of 64), on the others they take 1.5 times it; lookups take 2–3 times as long
     /// (docs/accuracy.md).
     #[arg(long, value_enum, default_value = "auto")]
     lobes: LobesArg,

@@ -31,6 +31,9 @@ struct Prepared {
     theta_cdf: Option<usize>,
     /// Position of the harmonics section of a two-lobe table.
     harmonics: Option<usize>,
+    /// A two-lobe table's `table::harmonic_shares_of`, computed at open: 20 bytes per node,
+    /// which take its lookups from dividing 16 rows × 4 nodes each to one blend.
+    shares: Option<Vec<f32>>,
 }
 
 impl Inner {
@@ -46,7 +49,7 @@ impl Inner {
             floats(file, p.radial_cdf),
             p.theta_cdf.filter(|_| theta_cdf).map(|t| floats(file, t)),
         )
-        .prevalidated_harmonics(p.harmonics.map(|h| floats(file, h)))
+        .prevalidated_harmonics(p.harmonics.map(|h| floats(file, h)), p.shares.as_deref())
     }
 }
 
@@ -154,6 +157,9 @@ impl Library {
                 radial_cdf: position(SectionKind::RadialCdf).ok_or_else(unlocated)?,
                 theta_cdf: position(SectionKind::ThetaCdf),
                 harmonics: position(SectionKind::Harmonics),
+                shares: view
+                    .harmonics()
+                    .map(|h| crate::table::harmonic_shares_of(table.record().gwc_params(), h)),
             };
             // The arrays found by position must be the very ones `TableRef::new` just checked.
             let same =

@@ -156,6 +156,8 @@ pub struct AngularTable {
     radial_cdf: Vec<f32>,
     theta_cdf: Option<Vec<f32>>,
     harmonics: Option<Vec<f32>>,
+    /// [`harmonic_shares_of`] the params and harmonics, with them (derived, not stored in files).
+    shares: Option<Vec<f32>>,
 }
 
 /// A borrowed view of a table's arrays, as owned by [`AngularTable`] or mapped from a file.
@@ -170,6 +172,37 @@ pub struct TableRef<'a> {
     theta_cdf: Option<&'a [f32]>,
     /// the harmonics (rμ₃, rμ₄) per node, `[nρ][nθ][nr][2]`, for tables with a second lobe.
     harmonics: Option<&'a [f32]>,
+    /// [`harmonic_shares_of`] the params and harmonics, where the owner computed them (an
+    /// [`AngularTable`], an opened `embed::Library`): lookups then blend them as they are
+    /// instead of dividing row by row. `None` in views of raw arrays ([`TableRef::new`]).
+    shares: Option<&'a [f32]>,
+}
+
+/// Values per node of [`harmonic_shares_of`].
+pub(crate) const SHARES_PER_NODE: usize = 5;
+
+/// Per node of a two-lobe table, what its lookups blend of the harmonics
+/// (`TableRef::harmonic_shares`): the shares of E of μ₁, μ₂ (the one lobe's E_β·c and E_β·c²)
+/// and of rμ₃, rμ₄, each times 1/E where the node holds energy (E > 0) and 0 elsewhere, then
+/// 1 or 0 for whether it does. In f32 with the lookups' own operations, so that blending these
+/// gives bit for bit what dividing row by row gives (tested in `lookup/tests.rs`).
+pub(crate) fn harmonic_shares_of(params: &[f32], harmonics: &[f32]) -> Vec<f32> {
+    params
+        .chunks_exact(PARAMS_PER_NODE)
+        .zip(harmonics.chunks_exact(HARMONICS_PER_NODE))
+        .flat_map(|(p, h)| {
+            let (e, e_beta, c) = (p[0], p[1], p[2]);
+            let inv = if e > 0.0 { 1.0 / e } else { 0.0 };
+            let share1 = e_beta * c * inv;
+            [
+                share1,
+                share1 * c,
+                h[0] * inv,
+                h[1] * inv,
+                if e > 0.0 { 1.0 } else { 0.0 },
+            ]
+        })
+        .collect()
 }
 
 /// Number of f32 values per node of the second lobe: E_β₂, c₂.
@@ -227,6 +260,7 @@ impl<'a> TableRef<'a> {
             radial_cdf,
             theta_cdf,
             harmonics: None,
+            shares: None,
         })
     }
 
@@ -254,6 +288,7 @@ impl<'a> TableRef<'a> {
         }
         Ok(Self {
             harmonics: Some(harmonics),
+            shares: None,
             ..self
         })
     }
@@ -278,13 +313,22 @@ impl<'a> TableRef<'a> {
             radial_cdf,
             theta_cdf,
             harmonics: None,
+            shares: None,
         }
     }
 
     /// [`TableRef::prevalidated`]'s view with a second lobe [`TableRef::with_harmonics`]
-    /// has already accepted with these axes.
-    pub(crate) fn prevalidated_harmonics(self, harmonics: Option<&'a [f32]>) -> Self {
-        Self { harmonics, ..self }
+    /// has already accepted with these axes, and its [`harmonic_shares_of`] if computed.
+    pub(crate) fn prevalidated_harmonics(
+        self,
+        harmonics: Option<&'a [f32]>,
+        shares: Option<&'a [f32]>,
+    ) -> Self {
+        Self {
+            harmonics,
+            shares: harmonics.and(shares),
+            ..self
+        }
     }
 
     /// Relative index of refraction the table was baked for.
@@ -333,6 +377,7 @@ impl AngularTable {
             radial_cdf,
             theta_cdf,
             harmonics: None,
+            shares: None,
         })
     }
 
@@ -340,6 +385,7 @@ impl AngularTable {
     pub fn with_harmonics(self, harmonics: Vec<f32>) -> Result<Self, TableError> {
         self.view().with_harmonics(&harmonics)?;
         Ok(Self {
+            shares: Some(harmonic_shares_of(&self.params, &harmonics)),
             harmonics: Some(harmonics),
             ..self
         })
@@ -355,6 +401,7 @@ impl AngularTable {
             radial_cdf: &self.radial_cdf,
             theta_cdf: self.theta_cdf.as_deref(),
             harmonics: self.harmonics.as_deref(),
+            shares: self.shares.as_deref(),
         }
     }
     /// η.

@@ -2,6 +2,7 @@
 //! and the two lobes rebuilt from them at the point (format-spec.md §10).
 
 use super::*;
+use crate::table::SHARES_PER_NODE;
 
 impl TableRef<'_> {
     /// The shares of E that the harmonics μ₁ … μ₄ of a two-lobe table carry, rμₙ/E, at the four
@@ -14,6 +15,11 @@ impl TableRef<'_> {
     /// that at the ends of the albedo axis too, where E takes its own spline (`albedo_ends`)
     /// that a blend of rμₙ would not follow. 0 at a node where no row holds energy.
     pub(super) fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> [[f64; 4]; 4] {
+        // (A table of fewer than 4 radii goes node by node below: a window of 4 would run into
+        // the next row.)
+        if let Some(shares) = self.shares.filter(|_| self.axes.dims().2 >= 4) {
+            return Self::blended_shares(s, shares, first);
+        }
         // sum[n][k]: Σ ω × share n at node k; weight[k]: Σ ω over the rows with energy there.
         // In f32, like the stored values and the GWC window (`TableRef::blend`), and laid out per harmonic so the
         // four nodes of a row update together.
@@ -74,6 +80,22 @@ impl TableRef<'_> {
         std::array::from_fn(|k| {
             if weight[k] != 0.0 {
                 std::array::from_fn(|n| f64::from(sum[n][k]) / f64::from(weight[k]))
+            } else {
+                [0.0; 4]
+            }
+        })
+    }
+
+    /// [`TableRef::harmonic_shares`] from the shares the table's owner computed
+    /// (`table::harmonic_shares_of`): one blend of the four nodes' five values, the same sums
+    /// in the same order as dividing row by row, so the same bits.
+    fn blended_shares(s: &Slice, shares: &[f32], first: usize) -> [[f64; 4]; 4] {
+        let acc = Self::blend::<f32, { 4 * SHARES_PER_NODE }, 1>(s, shares, first, SHARES_PER_NODE);
+        std::array::from_fn(|k| {
+            let node = &acc[SHARES_PER_NODE * k..SHARES_PER_NODE * (k + 1)];
+            let weight = node[SHARES_PER_NODE - 1];
+            if weight != 0.0 {
+                std::array::from_fn(|n| f64::from(node[n]) / f64::from(weight))
             } else {
                 [0.0; 4]
             }
