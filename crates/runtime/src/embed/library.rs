@@ -31,7 +31,7 @@ struct Prepared {
     theta_cdf: Option<usize>,
     /// Position of the harmonics section of a two-lobe table.
     harmonics: Option<usize>,
-    /// A two-lobe table's `table::harmonic_shares_of`, computed at open: 20 bytes per node,
+    /// A two-lobe table's `table::harmonic_shares_of`, computed at open: 24 bytes per node,
     /// which take its lookups from dividing 16 rows × 4 nodes each to one blend.
     shares: Option<Vec<f32>>,
 }
@@ -157,9 +157,10 @@ impl Library {
                 radial_cdf: position(SectionKind::RadialCdf).ok_or_else(unlocated)?,
                 theta_cdf: position(SectionKind::ThetaCdf),
                 harmonics: position(SectionKind::Harmonics),
-                shares: view
-                    .harmonics()
-                    .map(|h| crate::table::harmonic_shares_of(table.record().gwc_params(), h)),
+                shares: view.harmonics().map(|h| {
+                    let n_r = view.axes().dims().2;
+                    crate::table::harmonic_shares_of(table.record().gwc_params(), h, n_r)
+                }),
             };
             // The arrays found by position must be the very ones `TableRef::new` just checked.
             let same =

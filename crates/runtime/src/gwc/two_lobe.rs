@@ -10,26 +10,42 @@
 //!
 //! # Admissible profiles
 //!
-//! β₁, β₂ ≥ 0, c₁, c₂ ∈ (−1, 1) and α signed, as one lobe's ([`super::floor_bound`]), down to
-//! where the profile would dip below 0. The minimum of a lobe is opposite its peak,
-//! β·(1 − |c|)/(2π(1 + |c|)), and the minimum of the sum is at least the sum of the minima, so
-//! the profile is ≥ 0 at every φ when
+//! c₁, c₂ ∈ (−1, 1) and α signed, as one lobe's ([`super::floor_bound`]), down to where the
+//! profile would dip below 0; β₁, β₂ ≥ 0, or one of them negative (a *signed pair*).
+//!
+//! **Lobes of one sign.** The minimum of a lobe is opposite its peak, β·(1 − |c|)/(2π(1 + |c|)),
+//! and the minimum of the sum is at least the sum of the minima, so the profile is ≥ 0 at every
+//! φ when
 //!
 //! 2πα + Σ βᵢ(1 − |cᵢ|)/(1 + |cᵢ|) ≥ 0, i.e. Σ βᵢ·2|cᵢ|/(1 + |cᵢ|) ≤ E/r = 2πα + β₁ + β₂
 //!
-//! (exact when both lobes peak on the same side, as PBD's do). [`TwoLobe::from_table`] scales
-//! both lobes down by one factor where an interpolated cell breaks it, keeping E/r and the
-//! shapes, as [`super::cap_lobe`] does for one lobe.
+//! (exact when both lobes peak on the same side, as PBD's do).
+//!
+//! **A signed pair**, a lobe less a broader one, is narrower in its flanks than any Cauchy lobe,
+//! closer to a von Mises peak exp(κ cos φ). Lookups rebuild one where the harmonics they blend
+//! ask for it ([`TwoLobe::from_moments`]). Its least value is not opposite the peak in general,
+//! but it has a closed form: in x = cos φ each lobe is monotone and the derivative of the sum
+//! vanishes at most once (`lobes_minimum`), so the profile is ≥ 0 when E/r ≥ −2π·min over φ of
+//! Σ βᵢ(pdf_WC(φ; cᵢ) − 1/2π).
+//!
+//! Either way, [`TwoLobe::from_table`] scales both lobes down by one factor where an
+//! interpolated cell breaks the condition, keeping E/r and the shapes, as [`super::cap_lobe`]
+//! does for one lobe.
 //!
 //! # Sampling
 //!
-//! A signed floor is not a density of its own, so the sampler draws from the mixture of the
-//! profile's non-negative parts, max(2πα, 0)/2π + β₁·pdf_WC(c₁) + β₂·pdf_WC(c₂), normalised:
-//! the profile itself wherever α ≥ 0, and where α < 0 a density at least (2πα + β₁ + β₂)/(β₁ + β₂)
-//! times the normalised profile (as one lobe's `Gwc::normalised` does), so a renderer's weight
-//! S/pdf grows by at most the inverse of that. [`TwoLobe::pdf`] is that density
-//! exactly. The draw inverts the mixture's distribution function (monotone, since every part
-//! is ≥ 0) by Newton steps inside a bisection bracket, so [`TwoLobe::cdf`] undoes it.
+//! **Lobes of one sign.** A signed floor is not a density of its own, so the sampler draws from
+//! the mixture of the profile's non-negative parts, max(2πα, 0)/2π + β₁·pdf_WC(c₁) +
+//! β₂·pdf_WC(c₂), normalised: the profile itself wherever α ≥ 0, and where α < 0 a density at
+//! least (2πα + β₁ + β₂)/(β₁ + β₂) times the normalised profile (as one lobe's
+//! `Gwc::normalised` does), so a renderer's weight S/pdf grows by at most the inverse of that.
+//!
+//! **A signed pair** is drawn from the profile itself, f/(E/r): the mixture of its parts with
+//! weights (2πα, β₁, β₂)/(E/r), one negative, whose distribution function is monotone because
+//! the profile is ≥ 0.
+//!
+//! [`TwoLobe::pdf`] is that density exactly. The draw inverts its distribution function by
+//! Newton steps inside a bisection bracket, so [`TwoLobe::cdf`] undoes it.
 //!
 
 use std::f64::consts::{PI, TAU};
@@ -40,8 +56,9 @@ use super::{cdf_wc, clamp_c, inv_cdf_wc, pdf_wc};
 /// c ≈ 0.982 at small r.
 pub const C_MAX_TWO_LOBES: f64 = 0.999;
 
-/// A profile with two lobes (see the module docs). Invariants: β₁, β₂ ≥ 0 and finite, c₁, c₂
-/// within [−[`C_LIMIT`](super::C_LIMIT), `C_LIMIT`], the profile ≥ 0 at every φ (to rounding).
+/// A profile with two lobes (see the module docs). Invariants: β₁, β₂ finite, both ≥ 0 or one
+/// negative (a signed pair), c₁, c₂ within [−[`C_LIMIT`](super::C_LIMIT), `C_LIMIT`], the
+/// profile ≥ 0 at every φ (to rounding).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TwoLobe {
     alpha: f64,
@@ -51,38 +68,55 @@ pub struct TwoLobe {
 
 impl TwoLobe {
     /// The profile α + β₁·pdf_WC(c₁) + β₂·pdf_WC(c₂) as given, or `None` where it breaks the
-    /// invariants: a value not finite, β < 0, |c| > [`C_LIMIT`](super::C_LIMIT), or the profile
-    /// below 0 somewhere by more than 10⁻¹² of its scale (module docs, "Admissible profiles").
+    /// invariants: a value not finite, |c| > [`C_LIMIT`](super::C_LIMIT), or the profile below 0
+    /// somewhere by more than 10⁻¹² of its scale (module docs, "Admissible profiles"; so two
+    /// negative lobes only with a floor that lifts them, which no table gives).
     pub fn new(alpha: f64, beta: [f64; 2], c: [f64; 2]) -> Option<Self> {
         let finite = alpha.is_finite() && beta.iter().chain(&c).all(|v| v.is_finite());
-        if !finite || beta.iter().any(|&b| b < 0.0) || c.iter().any(|&c| c.abs() > super::C_LIMIT) {
+        if !finite || c.iter().any(|&c| c.abs() > super::C_LIMIT) {
             return None;
         }
-        let minimum: f64 = TAU * alpha
-            + (0..2)
-                .map(|i| beta[i] * (1.0 - c[i].abs()) / (1.0 + c[i].abs()))
-                .sum::<f64>();
-        let scale = (TAU * alpha).abs() + beta[0] + beta[1];
+        let scale = (TAU * alpha).abs() + beta[0].abs() + beta[1].abs();
+        let minimum = if beta.iter().any(|&b| b < 0.0) {
+            // A signed pair: the profile's least value, in units of E/r (module docs)
+            TAU * alpha + beta[0] + beta[1] + TAU * lobes_minimum(beta, c)
+        } else {
+            TAU * alpha
+                + (0..2)
+                    .map(|i| beta[i] * (1.0 - c[i].abs()) / (1.0 + c[i].abs()))
+                    .sum::<f64>()
+        };
         (minimum >= -1e-12 * scale).then_some(Self { alpha, beta, c })
     }
 
     /// The profile of a table cell: E/r = 2πα + β₁ + β₂ and the lobes (β, c), with c clamped
-    /// as in [`pdf_wc`], β NaN or negative taken as 0, E/r negative or not finite as 0, and
-    /// both β scaled by one factor where the profile would dip below 0 (module docs).
+    /// as in [`pdf_wc`], β NaN taken as 0, E/r negative or not finite as 0, and both β scaled by
+    /// one factor where the profile would dip below 0 (module docs). Lobes of one sign keep
+    /// their sign only where both are ≥ 0: one negative lobe is kept where the other is
+    /// positive (a signed pair), two negative ones are taken as 0.
     pub fn from_table(e_per_r: f64, beta: [f64; 2], c: [f64; 2]) -> Self {
         let c = c.map(clamp_c);
-        let mut beta = beta.map(|b| if b.is_finite() { b.max(0.0) } else { 0.0 });
+        let mut beta = beta.map(|b| if b.is_finite() { b } else { 0.0 });
+        if beta[0] <= 0.0 && beta[1] <= 0.0 {
+            beta = [0.0; 2];
+        }
         let e_per_r = if e_per_r.is_finite() {
             e_per_r.max(0.0)
         } else {
             0.0
         };
-        let need: f64 = (0..2)
-            .map(|i| {
-                let a = c[i].abs();
-                beta[i] * 2.0 * a / (1.0 + a)
-            })
-            .sum();
+        // How far the lobes' part reaches below their mean, times 2π: the profile is ≥ 0 where
+        // E/r covers it
+        let need: f64 = if beta.iter().any(|&b| b < 0.0) {
+            -TAU * lobes_minimum(beta, c)
+        } else {
+            (0..2)
+                .map(|i| {
+                    let a = c[i].abs();
+                    beta[i] * 2.0 * a / (1.0 + a)
+                })
+                .sum()
+        };
         if need > e_per_r {
             let k = e_per_r / need;
             beta = beta.map(|b| b * k);
@@ -100,12 +134,20 @@ impl TwoLobe {
     /// method: c₁ and c₂ are the roots of z² − pz + q with μₙ₊₂ = pμₙ₊₁ − qμₙ (n = 1, 2),
     /// clamped into [[`C_MIN_SECOND_LOBE`], [`C_MAX_TWO_LOBES`]] (c₁ only from above), and β₁, β₂
     /// solve μ₁ and μ₂ for them. Where that has no admissible answer (the Hankel determinant
-    /// μ₁μ₃ − μ₂² vanishing relative to μ₂², complex roots, clamped roots that meet, a negative
-    /// mass), the one lobe of the first two harmonics: c = μ₂/μ₁, β = μ₁/c. Then as
-    /// [`TwoLobe::from_table`].
+    /// μ₁μ₃ − μ₂² vanishing relative to μ₂², complex roots, c₁ above [`C_MAX_TWO_LOBES`],
+    /// clamped roots that meet, β₁ ≤ 0, β₂ < 0 for clamped roots), the one lobe of the first two
+    /// harmonics: c = μ₂/μ₁, β = μ₁/c. Then as [`TwoLobe::from_table`]. β₂ < 0 with the roots
+    /// as they are is a signed pair (module docs).
     pub fn from_moments(e_per_r: f64, m: [f64; 4]) -> Self {
+        Self::from_moments_capped(e_per_r, m, C_MAX_TWO_LOBES)
+    }
+
+    /// [`TwoLobe::from_moments`] with the sharper lobe's concentration at most `cap` (clamped
+    /// as to [`C_MAX_TWO_LOBES`]): lookups pass the sharpest lobe of the nodes they blend
+    /// (`table::node_sharpness`).
+    pub fn from_moments_capped(e_per_r: f64, m: [f64; 4], cap: f64) -> Self {
         let [m1, m2, m3, m4] = m;
-        if let Some((beta, c)) = prony(m1, m2, m3, m4) {
+        if let Some((beta, c)) = prony(m1, m2, m3, m4, cap) {
             return Self::from_table(e_per_r, beta, c);
         }
         let (beta, c) = one_lobe_of(m1, m2);
@@ -150,15 +192,26 @@ impl TwoLobe {
     }
 
     /// Weights of the sampler's mixture (floor, lobe 1, lobe 2), summing to 1: the uniform
-    /// density alone for the zero profile.
+    /// density alone for the zero profile. For lobes of one sign, the profile's non-negative
+    /// parts; for a signed pair, the profile itself, (2πα, β₁, β₂)/(E/r), with a negative
+    /// weight (module docs, "Sampling").
     fn mixture(&self) -> [f64; 3] {
-        let parts = [(TAU * self.alpha).max(0.0), self.beta[0], self.beta[1]];
+        let parts = if self.is_signed() {
+            [TAU * self.alpha, self.beta[0], self.beta[1]]
+        } else {
+            [(TAU * self.alpha).max(0.0), self.beta[0], self.beta[1]]
+        };
         let total: f64 = parts.iter().sum();
         if total > 0.0 && total.is_finite() {
             parts.map(|p| p / total)
         } else {
             [1.0, 0.0, 0.0]
         }
+    }
+
+    /// Whether one lobe is negative (a signed pair, module docs).
+    pub fn is_signed(&self) -> bool {
+        self.beta[0] < 0.0 || self.beta[1] < 0.0
     }
 
     /// Density of [`TwoLobe::sample`] in rad⁻¹ (module docs); 0 outside [−π, π] or NaN.
@@ -194,7 +247,9 @@ impl TwoLobe {
         let u = super::unit_interval(u);
         let weights = self.mixture();
         let heaviest = (0..3).fold(0, |m, k| if weights[k] > weights[m] { k } else { m });
-        if weights[heaviest] >= 1.0 {
+        // (A signed pair's positive lobe may weigh more than 1, its weights summing to 1 with
+        // one negative: never one part alone)
+        if weights[heaviest] >= 1.0 && !self.is_signed() {
             // One part alone: invert it directly
             let phi = match heaviest {
                 0 => super::uniform_azimuth(u),
@@ -237,7 +292,7 @@ impl TwoLobe {
         let (s, co) = super::half_angle(phi);
         let (mut cdf, mut pdf) = (weights[0] * (phi + PI) / TAU, weights[0] / TAU);
         for (&w, &c) in weights[1..].iter().zip(&self.c) {
-            if w > 0.0 {
+            if w != 0.0 {
                 let c = clamp_c(c);
                 let tail = super::tail_wc(s, co, c);
                 cdf += w * if phi >= 0.0 { 1.0 - tail } else { tail };
@@ -255,7 +310,7 @@ impl TwoLobe {
 
 /// The lobes (β, c) with harmonics (μ₁ … μ₄), by Prony's method ([`TwoLobe::from_moments`]),
 /// `None` where they are not two admissible lobes.
-fn prony(m1: f64, m2: f64, m3: f64, m4: f64) -> Option<([f64; 2], [f64; 2])> {
+fn prony(m1: f64, m2: f64, m3: f64, m4: f64, cap: f64) -> Option<([f64; 2], [f64; 2])> {
     let det = m1 * m3 - m2 * m2;
     // (NaN harmonics fail here too)
     if det.is_nan() || det.abs() <= 1e-9 * m2 * m2 {
@@ -276,16 +331,66 @@ fn prony(m1: f64, m2: f64, m3: f64, m4: f64) -> Option<([f64; 2], [f64; 2])> {
     // across its edges. (Falling back to the one lobe of μ₁, μ₂ where c₂ crossed 0 jumped the
     // profile by 0.1–0.3 % between neighbouring lookups; as c₂ → 0 the exact lobes need
     // β₂ → ∞ against a floor → −∞, their limit a cos φ term.)
-    let (c1, c2) = (
-        c1.min(C_MAX_TWO_LOBES),
+    if c1 > C_MAX_TWO_LOBES {
+        // Sharper than any fit: no node's lobe but an artefact of blending harmonics of nearly
+        // one lobe, whose second root is ill-determined. Clamped to C_MAX_TWO_LOBES, it put a
+        // lobe of a few thousandths of the mass there, a spike at φ = 0 of 2.2 times the
+        // profile at η = 1.01, ρ′ = 0.5, θ = 75°, r = 5.63 (`examples/worst_points`).
+        return None;
+    }
+    let clamped = (
+        c1.min(C_MAX_TWO_LOBES.min(cap)),
         c2.clamp(C_MIN_SECOND_LOBE, C_MAX_TWO_LOBES),
     );
+    let (c1, c2, inside) = (clamped.0, clamped.1, clamped == (c1, c2));
     if c1 <= c2 {
         return None;
     }
     let b1 = (m2 - m1 * c2) / (c1 * (c1 - c2));
     let b2 = (m1 * c1 - m2) / (c2 * (c1 - c2));
-    (b1 >= 0.0 && b2 >= 0.0 && b1.is_finite() && b2.is_finite()).then_some(([b1, b2], [c1, c2]))
+    // The broader lobe may be negative (a signed pair: the sharper one narrowed towards a
+    // von Mises-like peak; `from_table` keeps the profile ≥ 0) where the roots are the
+    // harmonics' own; masses solved for clamped roots must both be ≥ 0, as before the clamp
+    // the pair matched no harmonics of its own.
+    let signs = b1 > 0.0 && (b2 >= 0.0 || inside);
+    (signs && b1.is_finite() && b2.is_finite()).then_some(([b1, b2], [c1, c2]))
+}
+
+/// The least value over φ of the lobes' part Σ βᵢ(pdf_WC(φ; cᵢ) − 1/2π) (zero mean), for any
+/// signs of β and c. In x = cos φ each lobe is monotone, (1 − c²)/(2π(1 + c² − 2cx)), and the
+/// derivative of the sum, Σ βᵢcᵢ(1 − cᵢ²)/(π(1 + cᵢ² − 2cᵢx)²), vanishes where
+/// D₂ = √K·D₁ with Dᵢ = 1 + cᵢ² − 2cᵢx and K = −β₂c₂(1 − c₂²)/(β₁c₁(1 − c₁²)) > 0: linear in
+/// x, so at most once. The least value is at x = ±1 or there.
+fn lobes_minimum(beta: [f64; 2], c: [f64; 2]) -> f64 {
+    let at = |x: f64| -> f64 {
+        (0..2)
+            .map(|i| {
+                let c = c[i];
+                beta[i] * ((1.0 - c) * (1.0 + c) / (TAU * (1.0 + c * c - 2.0 * c * x)) - 1.0 / TAU)
+            })
+            .sum()
+    };
+    let mut least = at(1.0).min(at(-1.0));
+    let a: [f64; 2] = std::array::from_fn(|i| beta[i] * c[i] * (1.0 - c[i]) * (1.0 + c[i]));
+    if a[0] != 0.0 && -a[1] / a[0] > 0.0 {
+        let k = (-a[1] / a[0]).sqrt();
+        let denominator = 2.0 * (k * c[0] - c[1]);
+        let x = (k * (1.0 + c[0] * c[0]) - (1.0 + c[1] * c[1])) / denominator;
+        if x > -1.0 && x < 1.0 {
+            least = least.min(at(x));
+        }
+    }
+    least
+}
+
+/// The concentration of the sharper lobe of the profile with harmonics `m`
+/// ([`TwoLobe::from_moments`]), or of its one lobe where it has not two; 0 with none.
+pub fn sharp_concentration(m: [f64; 4]) -> f64 {
+    let [m1, m2, m3, m4] = m;
+    match prony(m1, m2, m3, m4, C_MAX_TWO_LOBES) {
+        Some((_, c)) => c[0],
+        None => one_lobe_of(m1, m2).1,
+    }
 }
 
 /// The smallest concentration [`TwoLobe::from_moments`] gives the second lobe (see the clamp in

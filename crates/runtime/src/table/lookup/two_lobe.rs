@@ -2,7 +2,15 @@
 //! and the two lobes rebuilt from them at the point (format-spec.md §10).
 
 use super::*;
-use crate::table::SHARES_PER_NODE;
+use crate::table::{node_sharpness, SHARES_PER_NODE};
+
+/// What [`TableRef::harmonic_shares`] blends at the four radius nodes of a lookup's window.
+pub(super) struct Shares {
+    /// Per node, the four harmonics' shares of E.
+    shares: [[f64; 4]; 4],
+    /// The sharpest lobe of the nodes blended, which caps the rebuild's.
+    sharpest: f64,
+}
 
 impl TableRef<'_> {
     /// The shares of E that the harmonics μ₁ … μ₄ of a two-lobe table carry, rμₙ/E, at the four
@@ -14,7 +22,11 @@ impl TableRef<'_> {
     /// however each node's fit split its profile into lobes; blending their shares of E keeps
     /// that at the ends of the albedo axis too, where E takes its own spline (`albedo_ends`)
     /// that a blend of rμₙ would not follow. 0 at a node where no row holds energy.
-    pub(super) fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> [[f64; 4]; 4] {
+    ///
+    /// With them, the sharpest lobe among the nodes blended (`table::node_sharpness` of the
+    /// slice's rows of nonzero weight at the four nodes, where they hold energy): the rebuild
+    /// gives no sharper lobe ([`TwoLobe::from_moments_capped`]).
+    pub(super) fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> Shares {
         // (A table of fewer than 4 radii goes node by node below: a window of 4 would run into
         // the next row.)
         if let Some(shares) = self.shares.filter(|_| self.axes.dims().2 >= 4) {
@@ -23,7 +35,7 @@ impl TableRef<'_> {
         // sum[n][k]: Σ ω × share n at node k; weight[k]: Σ ω over the rows with energy there.
         // In f32, like the stored values and the GWC window (`TableRef::blend`), and laid out per harmonic so the
         // four nodes of a row update together.
-        let (mut sum, mut weight) = ([[0.0f32; 4]; 4], [0.0f32; 4]);
+        let (mut sum, mut weight, mut sharpest) = ([[0.0f32; 4]; 4], [0.0f32; 4], 0.0f32);
         let n = s.len.min(16);
         let (_, _, n_r) = self.axes.dims();
         let mut add = |w: f32, p: &[f32; 12], h: &[f32; 8]| {
@@ -44,6 +56,10 @@ impl TableRef<'_> {
             }
             for k in 0..4 {
                 weight[k] += if e[k] > 0.0 { w } else { 0.0 };
+                if e[k] > 0.0 && w != 0.0 {
+                    let cell = [p[3 * k], p[3 * k + 1], p[3 * k + 2], h[2 * k], h[2 * k + 1]];
+                    sharpest = sharpest.max(node_sharpness(cell));
+                }
             }
         };
         for (&offset, &w) in s.offsets[..n].iter().zip(&s.weights[..n]) {
@@ -77,21 +93,25 @@ impl TableRef<'_> {
                 }
             }
         }
-        std::array::from_fn(|k| {
+        let shares = std::array::from_fn(|k| {
             if weight[k] != 0.0 {
                 std::array::from_fn(|n| f64::from(sum[n][k]) / f64::from(weight[k]))
             } else {
                 [0.0; 4]
             }
-        })
+        });
+        Shares {
+            shares,
+            sharpest: f64::from(sharpest),
+        }
     }
 
     /// [`TableRef::harmonic_shares`] from the shares the table's owner computed
     /// (`table::harmonic_shares_of`): one blend of the four nodes' five values, the same sums
     /// in the same order as dividing row by row, so the same bits.
-    fn blended_shares(s: &Slice, shares: &[f32], first: usize) -> [[f64; 4]; 4] {
+    fn blended_shares(s: &Slice, shares: &[f32], first: usize) -> Shares {
         let acc = Self::blend::<f32, { 4 * SHARES_PER_NODE }, 1>(s, shares, first, SHARES_PER_NODE);
-        std::array::from_fn(|k| {
+        let blended = std::array::from_fn(|k| {
             let node = &acc[SHARES_PER_NODE * k..SHARES_PER_NODE * (k + 1)];
             let weight = node[SHARES_PER_NODE - 1];
             if weight != 0.0 {
@@ -99,7 +119,19 @@ impl TableRef<'_> {
             } else {
                 [0.0; 4]
             }
-        })
+        });
+        // The sharpest lobe of the rows with weight: the window maxima after the shares
+        let sharpness = &shares[shares.len() / (SHARES_PER_NODE + 1) * SHARES_PER_NODE..];
+        let mut sharpest = 0.0f32;
+        for (&offset, &w) in s.offsets[..s.len.min(16)].iter().zip(&s.weights) {
+            if let Some(&x) = sharpness.get(offset as usize + first).filter(|_| w != 0.0) {
+                sharpest = sharpest.max(x);
+            }
+        }
+        Shares {
+            shares: blended,
+            sharpest: f64::from(sharpest),
+        }
     }
 
     /// The two-lobe profile of energy `e_per_r` = E/r at `r_eval`, from the first array's window
@@ -107,16 +139,17 @@ impl TableRef<'_> {
     /// harmonics' shares of E interpolated along r, times E/r (in the first two intervals the
     /// harmonics μₙ themselves, share × E/r at nodes 1 and 2, on the straight line between them,
     /// as the one-lobe β is there: the ln(1/r) growth of E is isotropic), and the profile of
-    /// [`TwoLobe::from_moments`].
+    /// [`TwoLobe::from_moments_capped`] with the sharpest node's concentration `cap`.
     pub(super) fn two_lobe_cell(
         &self,
         window: impl FnOnce() -> [f32; 12],
-        shares: &[[f64; 4]; 4],
+        blended: &Shares,
         first: usize,
         r_eval: f64,
         w: &Weights,
         e_per_r: f64,
     ) -> TwoLobe {
+        let (shares, cap) = (&blended.shares, blended.sharpest);
         let r_nodes = self.axes.r().as_slice();
         if w.segment() <= 1 && r_nodes[0] == 0.0 {
             let acc = window();
@@ -130,7 +163,7 @@ impl TableRef<'_> {
                 None => (a, 0.0),
             };
             let m = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
-            return TwoLobe::from_moments(e_per_r, m);
+            return TwoLobe::from_moments_capped(e_per_r, m, cap);
         }
         let weights = node_weights(first, w);
         let mut share = [0.0; 4];
@@ -141,7 +174,7 @@ impl TableRef<'_> {
                 }
             }
         }
-        TwoLobe::from_moments(e_per_r, share.map(|x| x * e_per_r))
+        TwoLobe::from_moments_capped(e_per_r, share.map(|x| x * e_per_r), cap)
     }
 
     /// [`TableRef::eval`] of a table with a second lobe: the cell of [`TableRef::cell_from`]

@@ -28,6 +28,33 @@ fn random_profile(rng: &mut SplitMix64) -> TwoLobe {
     TwoLobe::from_table(e_per_r, beta, [c1, c2])
 }
 
+/// A random signed pair: c₁ > c₂ as in [`random_profile`], β₁ in (0.2, 2], β₂ = −k·β₁ with k
+/// in (0, 0.95), the floor from the least admissible (the profile touching 0, found on a
+/// dense grid) up to 0.1 above it. Returns the profile and its least floor.
+fn random_signed_profile(rng: &mut SplitMix64) -> (TwoLobe, f64) {
+    let c1 = rng.range(0.1, 0.99);
+    let c2 = rng.range(0.06, c1 * 0.9);
+    let b1 = rng.range(0.2, 2.0);
+    let beta = [b1, -rng.range(0.0, 0.95) * b1];
+    let least = least_of(&|phi| beta[0] * pdf_wc(phi, c1) + beta[1] * pdf_wc(phi, c2));
+    let alpha = -least + rng.range(0.0, 0.1);
+    let e_per_r = TAU * alpha + beta[0] + beta[1];
+    (TwoLobe::from_table(e_per_r, beta, [c1, c2]), -least)
+}
+
+/// The least value of `f` over [0, π]: a grid of 20,001 azimuths, then one as fine around its
+/// least point.
+fn least_of(f: &dyn Fn(f64) -> f64) -> f64 {
+    let step = PI / 20_000.0;
+    let at = (0..=20_000)
+        .map(|k| k as f64 * step)
+        .min_by(|&a, &b| f(a).total_cmp(&f(b)))
+        .unwrap();
+    (0..=20_000)
+        .map(|k| f((at - step + 2.0 * step * k as f64 / 20_000.0).clamp(0.0, PI)))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// The profile by definition, α + Σ βᵢ pdf_WC(φ; cᵢ).
 fn by_definition(g: &TwoLobe, phi: f64) -> f64 {
     let ([b1, b2], [c1, c2]) = (g.beta(), g.c());
@@ -51,6 +78,138 @@ fn admissible_cells_are_kept_and_the_profile_never_dips_below_zero() {
             assert!(g.eval(phi) >= 0.0 && g.eval(-phi) == g.eval(phi));
         }
         assert!((heavy.integral() - 0.5 * g.integral()).abs() <= 1e-12 * g.integral());
+    }
+}
+
+#[test]
+fn signed_pairs_are_admissible_exactly_down_to_where_they_touch_zero() {
+    // The broader lobe negative: the profile's least value is found in closed form (at φ = 0,
+    // π or the one turning point between), checked against a grid of 20,001 azimuths
+    let mut rng = SplitMix64::seed_from_u64(21);
+    for _ in 0..500 {
+        let (g, least_alpha) = random_signed_profile(&mut rng);
+        assert!(g.is_signed(), "{g:?}");
+        let scale = g.beta()[0];
+        // Kept as given where admissible, refused just below the least floor
+        assert!(TwoLobe::new(least_alpha + 1e-9 * scale, g.beta(), g.c()).is_some());
+        assert!(TwoLobe::new(least_alpha - 1e-7 * scale, g.beta(), g.c()).is_none());
+        let h = TwoLobe::from_table(g.integral(), g.beta(), g.c());
+        assert_eq!((g.beta(), g.c()), (h.beta(), h.c()));
+        // Half the least energy the pair needs: both lobes scaled by one factor until it
+        // touches 0
+        let least_energy = TAU * least_alpha + g.beta()[0] + g.beta()[1];
+        let heavy = TwoLobe::from_table(0.5 * least_energy, g.beta(), g.c());
+        assert!(
+            least_of(&|phi| by_definition(&g, phi)) >= -1e-12 * scale,
+            "{g:?}"
+        );
+        let lowest = least_of(&|phi| by_definition(&heavy, phi));
+        assert!(lowest >= -1e-12 * scale, "{heavy:?}: {lowest}");
+        assert!(
+            lowest <= 1e-6 * scale,
+            "{heavy:?} scaled more than needed: {lowest}"
+        );
+        assert!((heavy.integral() - 0.5 * least_energy).abs() <= 1e-12 * least_energy);
+    }
+    // Two negative lobes carry nothing: the uniform profile of the cell's energy
+    let none = TwoLobe::from_table(1.0, [-0.5, -0.2], [0.6, 0.3]);
+    assert_eq!(none.beta(), [0.0, 0.0]);
+}
+
+#[test]
+fn harmonics_rebuild_signed_pairs() {
+    let mut rng = SplitMix64::seed_from_u64(22);
+    let mut missed = 0;
+    for _ in 0..5000 {
+        let (g, _) = random_signed_profile(&mut rng);
+        let back = TwoLobe::from_moments(g.integral(), g.harmonics());
+        let worst = (0..=90)
+            .map(|k| {
+                let phi = PI * k as f64 / 90.0;
+                (back.eval(phi) - g.eval(phi)).abs()
+            })
+            .fold(0.0, f64::max);
+        if worst > 1e-9 * g.eval(0.0) {
+            missed += 1;
+        }
+    }
+    // (Nearly equal concentrations are ill-conditioned, as for lobes of one sign)
+    assert!(missed <= 10, "{missed} of 5000 not rebuilt");
+}
+
+#[test]
+fn no_lobe_sharper_than_the_fit_or_the_cap_is_rebuilt() {
+    // Harmonics a lookup blended at η = 1.05, ρ′ = 0.3, θ = 89°, r = 4.15 (in a trial bake),
+    // nearly those of one lobe (c ≈ 0.71): Prony's second root lies above C_MAX_TWO_LOBES.
+    // Clamped, it gave a lobe of 0.8 % of the mass at c = 0.999 and 3.6 times PBD at φ = 0; it
+    // is the one lobe of μ₁, μ₂ instead.
+    let m = [
+        7.926_118_596_883_64e-5,
+        5.607067536661124e-5,
+        3.975118758507838e-5,
+        2.826_960_836_362_68e-5,
+    ];
+    let e_per_r = 1.1098700111828769e-4;
+    let g = TwoLobe::from_moments(e_per_r, m);
+    let one = TwoLobe::from_table(e_per_r, [m[0] * m[0] / m[1], 0.0], [m[1] / m[0]; 2]);
+    assert!(g.c()[0] < 0.8, "{g:?}");
+    assert!(
+        (g.eval(0.0) / one.eval(0.0) - 1.0).abs() < 1e-12,
+        "{g:?} vs {one:?}"
+    );
+    // Two real lobes and a cap below the sharper one: clamped to the cap, the masses solved
+    // for it, and the profile keeps E/r
+    let two = TwoLobe::from_table(1.0, [0.3, 0.6], [0.9, 0.5]);
+    let capped = TwoLobe::from_moments_capped(two.integral(), two.harmonics(), 0.8);
+    assert_eq!(capped.c()[0], 0.8);
+    assert!((capped.integral() - two.integral()).abs() < 1e-12);
+    let free = TwoLobe::from_moments_capped(two.integral(), two.harmonics(), 0.95);
+    assert!(
+        (free.c()[0] - 0.9).abs() < 1e-9 && (free.beta()[0] - 0.3).abs() < 1e-9,
+        "{free:?}"
+    );
+}
+
+#[test]
+fn signed_pairs_are_drawn_from_the_profile_itself() {
+    // pdf = f/(E/r) exactly, integrating to 1; cdf its integral; draws invert it
+    let mut rng = SplitMix64::seed_from_u64(23);
+    for _ in 0..50 {
+        let (g, _) = random_signed_profile(&mut rng);
+        for k in 0..=64 {
+            let phi = PI * k as f64 / 64.0;
+            let expected = g.eval(phi) / g.integral();
+            assert!(
+                (g.pdf(phi) - expected).abs() <= 1e-12 * g.pdf(0.0),
+                "{g:?} at {phi}"
+            );
+        }
+        let total = integrate(&|p| g.pdf(p), -PI, PI, 1e-12);
+        assert!((total - 1.0).abs() < 1e-9, "{g:?}: {total}");
+        for phi in [-2.5, -0.3, 0.0, 0.01, 1.0, 3.0] {
+            let cdf = integrate(&|p| g.pdf(p), -PI, phi, 1e-12);
+            assert!((cdf - g.cdf(phi)).abs() < 1e-9, "{g:?} at {phi}");
+        }
+        for _ in 0..50 {
+            let u = rng.next_f64();
+            let (phi, pdf) = g.sample_with_pdf(u);
+            assert!((g.cdf(phi) - u).abs() < 1e-12, "{g:?}: u {u} -> {phi}");
+            assert!((pdf - g.pdf(phi)).abs() <= 1e-12 * pdf);
+        }
+    }
+    // χ², p = 1e-6: a far-tail shape (η = 1.1, ρ′ → 0, r ≈ 14: near a von Mises peak), a
+    // pair touching 0 at π, and a sharp lobe less a broad one
+    let cases = [
+        (0.0015, [2.42, -1.53], [0.66, 0.57]),
+        (0.0, [1.0, -0.5], [0.8, 0.5]),
+        (0.02, [0.5, -0.2], [0.97, 0.3]),
+    ];
+    for (alpha, beta, c) in cases {
+        let g = TwoLobe::from_table(TAU * alpha + beta[0] + beta[1], beta, c);
+        assert!(g.is_signed());
+        let (chi2, dof) = chi_square(g.c()[0], &|p| g.pdf(p), &mut || g.sample(rng.next_f64()));
+        let critical = chi2_critical_1e6(dof);
+        assert!(chi2 < critical, "{g:?}: χ² = {chi2} ≥ {critical}");
     }
 }
 
