@@ -49,11 +49,26 @@ impl TableRef<'_> {
             let goal = (u * f64::from(total)) as f32;
             // Nodes 1 … n − 2 at most goal: segment of the first node above it, minus one (the
             // row's CDF never decreases). Counted, not bisected: the loads are independent and
-            // the comparisons vectorise, where a bisection waits for each load in turn.
-            Some(inner.get(1..)?.iter().filter(|&&c| c <= goal).count())
+            // the comparisons vectorise, where a bisection waits for each load in turn. Summed
+            // as 0s and 1s, which compiles to packed compares (a filter's count did not).
+            let below = inner
+                .get(1..)?
+                .iter()
+                .map(|&c| u32::from(c <= goal))
+                .sum::<u32>();
+            Some(below as usize)
         });
-        let e = |k: usize| self.energies_around(s, k);
-        let cdf = |k: usize| self.cdf(s, k);
+        // The reads near the hint in one pass; the others (a walk of more than a segment, a
+        // segment whose nodes leave the window) blend on their own, to the same bits
+        let near = hint.and_then(|k| self.radial_near(s, k));
+        let e = |k: usize| {
+            near.and_then(|w| w.energies_around(k))
+                .unwrap_or_else(|| self.energies_around(s, k))
+        };
+        let cdf = |k: usize| {
+            near.and_then(|w| w.cdf(k))
+                .unwrap_or_else(|| self.cdf(s, k))
+        };
         self.axes.r().sample_with(e, cdf, u, hint)
     }
 
