@@ -96,8 +96,20 @@ impl TableRef<'_> {
     /// [`TableRef::pdf_slice`].
     #[inline(always)]
     pub(super) fn radial_pdf(&self, s: &Slice, r: f64) -> f64 {
-        let e = |k: usize| self.energies_around(s, k);
-        let cdf = |k: usize| self.cdf(s, k);
+        // Every read of the density in r's segment in one pass, as in `radius_draw`
+        let near = self
+            .axes
+            .r()
+            .find_segment(r)
+            .and_then(|k| self.radial_near(s, k));
+        let e = |k: usize| {
+            near.and_then(|w| w.energies_around(k))
+                .unwrap_or_else(|| self.energies_around(s, k))
+        };
+        let cdf = |k: usize| {
+            near.and_then(|w| w.cdf(k))
+                .unwrap_or_else(|| self.cdf(s, k))
+        };
         self.axes.r().pdf_with(e, cdf, r)
     }
 
