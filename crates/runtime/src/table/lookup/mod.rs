@@ -272,22 +272,19 @@ impl<'a> TableRef<'a> {
         let (mut e_lin, mut e_beta, mut c, mut ln_e) = (0.0, 0.0, 0.0, 0.0);
         let mut node_share = 0.0;
         let mut positive = true;
+        // Branch-free over the four nodes: a node of weight 0 adds exactly 0 (the values are
+        // finite), and the logarithms and shares of a node without energy (ln 1 = 0, E_β/1)
+        // are read only when every node of nonzero weight holds energy (`positive`)
         for ((&wk, [e, eb, ck]), ln) in weights.iter().zip(params).zip(ln) {
-            if wk == 0.0 {
-                continue;
-            }
             e_lin += wk * e;
             e_beta += wk * eb;
             // c_scale in the weight, which is ready long before the blended c
             c += (wk * c_scale) * ck;
-            if e > 0.0 {
-                ln_e += wk * ln;
-                if LOG_ENERGY {
-                    node_share += wk * (eb / e);
-                }
-            } else {
-                positive = false;
+            ln_e += wk * ln;
+            if LOG_ENERGY {
+                node_share += wk * (eb / if e > 0.0 { e } else { 1.0 });
             }
+            positive &= wk == 0.0 || e > 0.0;
         }
         // All four node energies positive: ln E interpolates even where the plain spline of E
         // undershoots below zero in a steep tail (it would give 0 there).
