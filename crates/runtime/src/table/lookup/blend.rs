@@ -178,16 +178,23 @@ impl TableRef<'_> {
     /// nodes, and the CDF's total (its last node). Each value is the sum, in row order and in
     /// f64, that [`TableRef::energies_around`] and [`TableRef::cdf`] give: the same bits, for
     /// a fifth of the passes (a draw reads C at two to four nodes and the total, and E around
-    /// one segment, usually `k` or its neighbour). `None` for tables of fewer than 4 radii
+    /// one segment, usually `k` or its neighbour). With `WINDOW`, also the (E, E_β, c) window
+    /// of [`TableRef::window`] at the same nodes, in f32 and in the same order, for the profile
+    /// at the drawn r (whose segment is usually `k`). `None` for tables of fewer than 4 radii
     /// and where a row's values would run past the arrays (never, for a slice of the table).
     #[inline(always)]
-    pub(super) fn radial_near(&self, s: &Slice, k: usize) -> Option<RadialNear> {
+    pub(super) fn radial_near<const WINDOW: bool>(
+        &self,
+        s: &Slice,
+        k: usize,
+    ) -> Option<RadialNear> {
         let (_, _, n_r) = self.axes.dims();
         if n_r < 4 {
             return None;
         }
         let first = energy_window(k, n_r);
         let (mut cdf, mut energy, mut total) = ([0.0f64; 4], [0.0f64; 4], 0.0f64);
+        let mut window = [0.0f32; 4 * PARAMS_PER_NODE];
         let n = s.len.min(16);
         for k in 0..n {
             let row = s.offsets[k] as usize;
@@ -195,10 +202,15 @@ impl TableRef<'_> {
             let (Some(c), Some(&t), Some(p)) = (
                 self.radial_cdf.get(row + first..row + first + 4),
                 self.radial_cdf.get(row + n_r - 1),
-                self.params.get(lo..lo + 4 * PARAMS_PER_NODE),
+                self.params
+                    .get(lo..)
+                    .and_then(<[f32]>::first_chunk::<{ 4 * PARAMS_PER_NODE }>),
             ) else {
                 return None;
             };
+            if WINDOW {
+                axpy12(&mut window, s.weights[k], p);
+            }
             let w = f64::from(s.weights[k]);
             for j in 0..4 {
                 cdf[j] += w * f64::from(c[j]);
@@ -212,6 +224,7 @@ impl TableRef<'_> {
             energy,
             total,
             last: n_r - 1,
+            window: WINDOW.then_some(window),
         })
     }
 
@@ -315,7 +328,7 @@ fn around_from_window(first: usize, k: usize, e: [f64; 4]) -> [f64; 4] {
 }
 
 /// What [`TableRef::radial_near`] blends: the radial CDF and E at the four radius nodes from
-/// `first`, and the CDF's total at node `last`.
+/// `first`, the CDF's total at node `last`, and if asked the (E, E_β, c) window there.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct RadialNear {
     first: usize,
@@ -323,6 +336,7 @@ pub(super) struct RadialNear {
     energy: [f64; 4],
     total: f64,
     last: usize,
+    window: Option<[f32; 4 * PARAMS_PER_NODE]>,
 }
 
 impl RadialNear {
@@ -332,6 +346,11 @@ impl RadialNear {
             return Some(self.total);
         }
         self.cdf.get(k.checked_sub(self.first)?).copied()
+    }
+
+    /// [`TableRef::window`] at `first` if this holds it.
+    pub(super) fn window(&self, first: usize) -> Option<[f32; 12]> {
+        self.window.filter(|_| first == self.first)
     }
 
     /// [`TableRef::energies_around`] of segment k if the window holds its nodes.

@@ -138,10 +138,18 @@ fn the_blend_is_the_plain_sum_over_the_neighbourhood() {
             }
             // The radial sampler's one pass near each segment: what it holds, the same bits
             for k in 0..n_r - 1 {
-                let Some(near) = view.radial_near(&slice, k) else {
+                let Some(near) = view.radial_near::<true>(&slice, k) else {
                     assert!(n_r < 4, "{at}: no reads near segment {k}");
                     continue;
                 };
+                let first = k.saturating_sub(1).min(n_r - 4);
+                let window = near.window(first).expect("the hinted segment's window");
+                let expected = view.window(&slice, first);
+                assert_eq!(
+                    window.map(f32::to_bits),
+                    expected.map(f32::to_bits),
+                    "{at}, {k}"
+                );
                 let around = near
                     .energies_around(k)
                     .expect("the hinted segment's energies");
