@@ -23,7 +23,6 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 mod albedo_ends;
 mod batch;
 mod blend;
-mod ln_exp;
 mod sample;
 mod separable;
 #[cfg(test)]
@@ -276,24 +275,27 @@ impl<'a> TableRef<'a> {
         let (mut e_lin, mut e_beta, mut c, mut ln_e) = (0.0, 0.0, 0.0, 0.0);
         let mut node_share = 0.0;
         let mut positive = true;
-        // Branch-free over the four nodes: a node of weight 0 adds exactly 0 (the values are
-        // finite), and the logarithms and shares of a node without energy (ln 1 = 0, E_β/1)
-        // are read only when every node of nonzero weight holds energy (`positive`)
         for ((&wk, [e, eb, ck]), ln) in weights.iter().zip(params).zip(ln) {
+            if wk == 0.0 {
+                continue;
+            }
             e_lin += wk * e;
             e_beta += wk * eb;
             // c_scale in the weight, which is ready long before the blended c
             c += (wk * c_scale) * ck;
-            ln_e += wk * ln;
-            if LOG_ENERGY {
-                node_share += wk * (eb / if e > 0.0 { e } else { 1.0 });
+            if e > 0.0 {
+                ln_e += wk * f64::from(ln);
+                if LOG_ENERGY {
+                    node_share += wk * (eb / e);
+                }
+            } else {
+                positive = false;
             }
-            positive &= wk == 0.0 || e > 0.0;
         }
         // All four node energies positive: ln E interpolates even where the plain spline of E
         // undershoots below zero in a steep tail (it would give 0 there).
         let e = if LOG_ENERGY && positive {
-            ln_exp::exp(ln_e)
+            ln_e.exp()
         } else {
             e_lin
         };
@@ -526,14 +528,19 @@ fn node_weights(first: usize, w: &Weights) -> [f64; 4] {
 }
 
 /// ln E of the four nodes of a (E, E_β, c) window where E > 0 (0 for the others; the caller
-/// reads only the nodes with weight), in f64 ([`ln_exp::ln_f32`], within an ulp). Branch-free
-/// over the four lanes, so that they compile to packed instructions; out of line, so that the
-/// caller's sums stay in registers; it takes no weights, which would go through memory.
+/// reads only the nodes with weight). The nodes are f32 values: their logarithms in f32 lose
+/// nothing. Out of line, so that the four library calls do not force the caller's sums to and
+/// from the stack; it takes no weights, which would go through memory.
 #[inline(never)]
-fn ln_energies(window: [f32; 12]) -> [f64; 4] {
-    let e: [f32; 4] = std::array::from_fn(|k| window[PARAMS_PER_NODE * k]);
-    // A lane of E ≤ 0 (or NaN) takes ln 1 = 0: a select, not a branch
-    std::array::from_fn(|k| ln_exp::ln_f32(if e[k] > 0.0 { e[k] } else { 1.0 }))
+fn ln_energies(window: [f32; 12]) -> [f32; 4] {
+    std::array::from_fn(|k| {
+        let e = window[PARAMS_PER_NODE * k];
+        if e > 0.0 {
+            e.ln()
+        } else {
+            0.0
+        }
+    })
 }
 
 /// Maps any finite φ into [−π, π] (the profile is 2π-periodic and even).
