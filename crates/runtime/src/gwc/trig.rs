@@ -57,24 +57,24 @@ pub(super) fn sin_quarter(x: f64) -> f64 {
 
 /// Cephes' `atan.c` numerator P(z), highest power first.
 const ATAN_P: [f64; 5] = [
-    -8.750_608_600_031_904_122_785e-1,
-    -1.615_753_718_733_365_076_637e1,
-    -7.500_855_792_314_704_667_340e1,
-    -1.228_866_684_490_136_173_410e2,
-    -6.485_021_904_942_025_371_773e1,
+    -0.8750608600031904,
+    -16.157537187333652,
+    -75.00855792314705,
+    -122.88666844901361,
+    -64.85021904942025,
 ];
 
 /// Cephes' `atan.c` denominator Q(z) = z⁵ + …, its lower coefficients highest power first.
 const ATAN_Q: [f64; 5] = [
-    2.485_846_490_142_306_297_962e1,
-    1.650_270_098_316_988_542_046e2,
-    4.328_810_604_912_902_668_951e2,
-    4.853_903_996_359_136_964_868e2,
-    1.945_506_571_482_613_964_425e2,
+    24.858464901423062,
+    165.02700983169885,
+    432.88106049129027,
+    485.3903996359137,
+    194.5506571482614,
 ];
 
 /// π/2 less its f64 rounding `FRAC_PI_2` (Cephes' MOREBITS): added after the small terms.
-const PI_2_LOW: f64 = 6.123_233_995_736_765_886_130e-17;
+const PI_2_LOW: f64 = 6.123233995736766e-17;
 
 /// atan2(y, x) ∈ [0, π/2] for y, x ≥ 0 (not both 0; (0, 0) gives 0, as the library's does),
 /// within 2 ulp of the library's atan2. Reduced by one division to a = t − k·π/4 with
