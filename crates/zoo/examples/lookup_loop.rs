@@ -2,9 +2,9 @@
 //! gives the figures docs/performance.md reports; this loop is quicker to run many times in alternation,
 //! and its binary can be copied aside and run against another build's).
 //!
-//! Run: `N=4000000 cargo run --release -p bssrdf-zoo --example lookup_loop -- eval|sample`. Bakes the default
+//! Run: `N=4000000 cargo run --release -p bssrdf-zoo --example lookup_loop -- eval|sample|pdf`. Bakes the default
 //! table at η = 1.33, draws 4,096 points (ρ′ ∈ [0.05, 1), θ ∈ [0, 1.5) rad, (r, φ) from the
-//! table's own sampler) and times N calls of `eval` or `sample` over them; prints ns per call
+//! table's own sampler) and times N calls of `eval`, `sample` or `pdf` over them; prints ns per call
 //! and a checksum. To compare two builds, copy `target/release/examples/lookup_loop` aside
 //! after each build and run the copies in alternation, keeping each one's minimum.
 //! `RHO=LO,HI` draws ρ′ uniformly in [LO, HI) instead, to time one part of the albedo axis
@@ -24,8 +24,8 @@ use lookup_points::lookup_points;
 
 fn main() {
     let what = std::env::args().nth(1).unwrap_or("sample".into());
-    if !["eval", "sample"].contains(&what.as_str()) {
-        eprintln!("lookup_loop: the mode is eval or sample, not {what:?}");
+    if !["eval", "sample", "pdf"].contains(&what.as_str()) {
+        eprintln!("lookup_loop: the mode is eval, sample or pdf, not {what:?}");
         std::process::exit(2);
     }
     let eta = std::env::var("ETA").map_or(1.33, |v| v.parse().expect("ETA=number"));
@@ -80,6 +80,12 @@ fn main() {
                     black_box(phi),
                 )
                 .unwrap_or(0.0),
+            "pdf" => view.pdf(
+                black_box(rho),
+                black_box(theta),
+                black_box(r),
+                black_box(phi),
+            ),
             _ => view
                 .sample(black_box(rho), black_box(theta), u[0], u[1])
                 .map_or(0.0, |s| s.r),

@@ -461,7 +461,7 @@ impl Nodes {
     /// The segment i containing `x` (xᵢ ≤ x, the last one for x = x_{n−1}), or `None` if `x`
     /// is NaN or outside [x₀, x_{n−1}].
     #[inline]
-    fn find_segment(&self, x: f64) -> Option<usize> {
+    pub(crate) fn find_segment(&self, x: f64) -> Option<usize> {
         match self.cells.get(x) {
             Some(cell) => Some(cell.segment(x)).filter(|&i| i < self.spans.len()),
             None => self.search(x),

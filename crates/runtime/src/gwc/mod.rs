@@ -74,7 +74,7 @@ use std::f64::consts::{PI, TAU};
 
 use crate::error::{finite, in_range, non_negative, Result};
 use crate::float::next_towards;
-use trig::sin_quarter;
+use trig::{atan2_quadrant, sin_quarter};
 
 /// Largest |c| the three-anchor fit of the bake produces, hence the largest a table holds (`bssrdf_zoo::gwc::fit`).
 pub const C_MAX_FIT: f64 = 0.99;
@@ -105,9 +105,10 @@ fn half_angle(phi: f64) -> (f64, f64) {
     (sin_quarter(0.5 * a), sin_quarter(0.5 * (PI - a)))
 }
 
-/// One-sided tail mass ∫_{|φ|}^{π} pdf_WC, from (sin h, cos h), in [0, 1/2].
+/// One-sided tail mass ∫_{|φ|}^{π} pdf_WC, from (sin h, cos h), in [0, 1/2]: both arguments of
+/// the atan2 are ≥ 0 (`trig::atan2_quadrant`, as in the inverse, `sample::LobePoint::at`).
 fn tail_wc(s: f64, co: f64, c: f64) -> f64 {
-    ((1.0 - c) * co).atan2((1.0 + c) * s) / PI
+    atan2_quadrant((1.0 - c) * co, (1.0 + c) * s) / PI
 }
 
 /// pdf_WC from (sin h, cos h) and a clamped c.

@@ -17,7 +17,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use super::trig::sin_quarter;
+use super::trig::{atan2_quadrant, sin_quarter};
 use super::{clamp_c, Gwc, C_MAX_FIT, SAMPLE_U_TOL};
 
 /// Iteration cap of the Newton–bisection in [`Gwc::sample`].
@@ -83,7 +83,7 @@ impl LobePoint {
         let (sin_m, sin_t) = (sin_quarter(PI * m), sin_quarter(PI * t));
         // Solve π·t = atan2((1−c)·cos h, (1+c)·sin h) for h: tan h = y/x
         let (y, x) = ((1.0 - c) * sin_m, (1.0 + c) * sin_t);
-        let h = y.atan2(x);
+        let h = atan2_quadrant(y, x);
         let num = if c >= 0.0 {
             (1.0 - c) * (1.0 - c) + 4.0 * c * sin_t * sin_t
         } else {

@@ -168,14 +168,64 @@ impl TableRef<'_> {
                 _ => 0.0,
             });
         }
-        // A window of 4 nodes inside the axis, and where node k − 1 sits in it
-        let first = k.saturating_sub(1).min(n_r - 4);
+        let first = energy_window(k, n_r);
         let e = Self::blend::<f64, 4, PARAMS_PER_NODE>(s, self.params, first, PARAMS_PER_NODE);
-        match (first + 1).checked_sub(k) {
-            Some(0) => e,
-            Some(_) => [0.0, e[0], e[1], e[2]],
-            None => [e[1], e[2], e[3], 0.0],
+        around_from_window(first, k, e)
+    }
+
+    /// The radial sampler's reads near segment `k`, in one pass over the slice's rows: E at the
+    /// four nodes of [`TableRef::energies_around`]'s window for k, the radial CDF at the same
+    /// nodes, and the CDF's total (its last node). Each value is the sum, in row order and in
+    /// f64, that [`TableRef::energies_around`] and [`TableRef::cdf`] give: the same bits, for
+    /// a fifth of the passes (a draw reads C at two to four nodes and the total, and E around
+    /// one segment, usually `k` or its neighbour). With `WINDOW`, also the (E, E_β, c) window
+    /// of [`TableRef::window`] at the same nodes, in f32 and in the same order, for the profile
+    /// at the drawn r (whose segment is usually `k`). `None` for tables of fewer than 4 radii
+    /// and where a row's values would run past the arrays (never, for a slice of the table).
+    #[inline(always)]
+    pub(super) fn radial_near<const WINDOW: bool>(
+        &self,
+        s: &Slice,
+        k: usize,
+    ) -> Option<RadialNear> {
+        let (_, _, n_r) = self.axes.dims();
+        if n_r < 4 {
+            return None;
         }
+        let first = energy_window(k, n_r);
+        let (mut cdf, mut energy, mut total) = ([0.0f64; 4], [0.0f64; 4], 0.0f64);
+        let mut window = [0.0f32; 4 * PARAMS_PER_NODE];
+        let n = s.len.min(16);
+        for k in 0..n {
+            let row = s.offsets[k] as usize;
+            let lo = (row + first) * PARAMS_PER_NODE;
+            let (Some(c), Some(&t), Some(p)) = (
+                self.radial_cdf.get(row + first..row + first + 4),
+                self.radial_cdf.get(row + n_r - 1),
+                self.params
+                    .get(lo..)
+                    .and_then(<[f32]>::first_chunk::<{ 4 * PARAMS_PER_NODE }>),
+            ) else {
+                return None;
+            };
+            if WINDOW {
+                axpy12(&mut window, s.weights[k], p);
+            }
+            let w = f64::from(s.weights[k]);
+            for j in 0..4 {
+                cdf[j] += w * f64::from(c[j]);
+                energy[j] += w * f64::from(p[PARAMS_PER_NODE * j]);
+            }
+            total += w * f64::from(t);
+        }
+        Some(RadialNear {
+            first,
+            cdf,
+            energy,
+            total,
+            last: n_r - 1,
+            window: WINDOW.then_some(window),
+        })
     }
 
     /// E at radius node k, in f64 ([`TableRef::blend`]).
@@ -258,6 +308,56 @@ impl TableRef<'_> {
             }
         }
         acc
+    }
+}
+
+/// The first node of the window of four radius nodes, inside an axis of `n_r` ≥ 4 nodes, that
+/// holds the nodes k − 1 … k + 2 of segment k that lie in the axis.
+fn energy_window(k: usize, n_r: usize) -> usize {
+    k.saturating_sub(1).min(n_r - 4)
+}
+
+/// E at the nodes k − 1 … k + 2 of segment k from the window of four nodes from `first`
+/// ([`energy_window`]), 0 for the nodes outside the axis.
+fn around_from_window(first: usize, k: usize, e: [f64; 4]) -> [f64; 4] {
+    match (first + 1).checked_sub(k) {
+        Some(0) => e,
+        Some(_) => [0.0, e[0], e[1], e[2]],
+        None => [e[1], e[2], e[3], 0.0],
+    }
+}
+
+/// What [`TableRef::radial_near`] blends: the radial CDF and E at the four radius nodes from
+/// `first`, the CDF's total at node `last`, and if asked the (E, E_β, c) window there.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct RadialNear {
+    first: usize,
+    cdf: [f64; 4],
+    energy: [f64; 4],
+    total: f64,
+    last: usize,
+    window: Option<[f32; 4 * PARAMS_PER_NODE]>,
+}
+
+impl RadialNear {
+    /// The blended radial CDF at node k if the window holds it.
+    pub(super) fn cdf(&self, k: usize) -> Option<f64> {
+        if k == self.last {
+            return Some(self.total);
+        }
+        self.cdf.get(k.checked_sub(self.first)?).copied()
+    }
+
+    /// [`TableRef::window`] at `first` if this holds it.
+    pub(super) fn window(&self, first: usize) -> Option<[f32; 12]> {
+        self.window.filter(|_| first == self.first)
+    }
+
+    /// [`TableRef::energies_around`] of segment k if the window holds its nodes.
+    pub(super) fn energies_around(&self, k: usize) -> Option<[f64; 4]> {
+        let n_r = self.last + 1;
+        (energy_window(k, n_r) == self.first)
+            .then(|| around_from_window(self.first, k, self.energy))
     }
 }
 

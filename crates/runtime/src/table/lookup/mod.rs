@@ -17,7 +17,7 @@ use super::albedo::AlbedoWeights;
 use super::{TableRef, HARMONICS_PER_NODE, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
 use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc, TwoLobe};
-use blend::Slice;
+use blend::{RadialNear, Slice};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 mod albedo_ends;
@@ -193,10 +193,14 @@ impl<'a> TableRef<'a> {
     /// The GWC profile at (slice, r), from the radius and weights of [`TableRef::radius`], for
     /// the samplers: its normalised density in φ is the table's, its energy the plain spline
     /// of E (see [`TableRef::cell_from`]; the density does not depend on it).
+    /// `near`, the radial draw's reads, gives the window where it holds it (the same bits).
     #[inline(always)]
-    fn profile(&self, s: &Slice, r_eval: f64, w: &Weights) -> Profile {
+    fn profile(&self, s: &Slice, r_eval: f64, w: &Weights, near: Option<&RadialNear>) -> Profile {
         let first = self.radial_window(w);
-        let acc = self.window_out_of_line(s, first);
+        let acc = match near.and_then(|near| near.window(first)) {
+            Some(window) => window,
+            None => self.window_out_of_line(s, first),
+        };
         if let Some(second) = self.harmonics {
             // The samplers' profile: normalised (E/r = 1) except in the first two intervals,
             // where the harmonics are outright and E/r the plain spline's
@@ -388,10 +392,11 @@ impl<'a> TableRef<'a> {
         Some((r_eval, w))
     }
 
-    /// The angular profile at (slice, r), `None` where [`TableRef::radius`] is.
-    fn profile_at(&self, s: &Slice, r: f64) -> Option<Profile> {
+    /// The angular profile at (slice, r), `None` where [`TableRef::radius`] is; `near` as in
+    /// [`TableRef::profile`].
+    fn profile_at(&self, s: &Slice, r: f64, near: Option<&RadialNear>) -> Option<Profile> {
         let (r_eval, w) = self.radius(r)?;
-        Some(self.profile(s, r_eval, &w))
+        Some(self.profile(s, r_eval, &w, near))
     }
 
     fn first_radius(&self) -> f64 {

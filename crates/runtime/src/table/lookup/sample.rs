@@ -14,8 +14,8 @@ impl TableRef<'_> {
     }
 
     pub(super) fn sample_slice(&self, s: &Slice, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let radial = self.radius_draw(s, u_r)?;
-        let g = self.profile_at(s, radial.x)?;
+        let (radial, near) = self.radius_draw_near::<true>(s, u_r)?;
+        let g = self.profile_at(s, radial.x, near.as_ref())?;
         let (phi, pdf_phi) = g.sample_with_pdf(u_phi);
         let pdf = radial.pdf * pdf_phi / radial.x;
         (pdf.is_finite() && pdf > 0.0).then_some(Sample {
@@ -33,6 +33,18 @@ impl TableRef<'_> {
     /// CDF is a mixture of rows of nearby (ρ′, θ), so the guess is usually exact or one segment
     /// off, and the search reads the blended CDF at two or three nodes instead of bisecting 64.
     pub(super) fn radius_draw(&self, s: &Slice, u: f64) -> Option<crate::catmull_rom::Sample> {
+        Some(self.radius_draw_near::<false>(s, u)?.0)
+    }
+
+    /// [`TableRef::radius_draw`] with the reads it blended near the drawn segment
+    /// ([`TableRef::radial_near`], with the (E, E_β, c) window if `WINDOW`), for the profile at
+    /// the drawn r.
+    #[inline(always)]
+    fn radius_draw_near<const WINDOW: bool>(
+        &self,
+        s: &Slice,
+        u: f64,
+    ) -> Option<(crate::catmull_rom::Sample, Option<RadialNear>)> {
         let (_, _, n_r) = self.axes.dims();
         let n = s.len.min(16);
         let mut heaviest = 0;
@@ -49,12 +61,27 @@ impl TableRef<'_> {
             let goal = (u * f64::from(total)) as f32;
             // Nodes 1 … n − 2 at most goal: segment of the first node above it, minus one (the
             // row's CDF never decreases). Counted, not bisected: the loads are independent and
-            // the comparisons vectorise, where a bisection waits for each load in turn.
-            Some(inner.get(1..)?.iter().filter(|&&c| c <= goal).count())
+            // the comparisons vectorise, where a bisection waits for each load in turn. Summed
+            // as 0s and 1s, which compiles to packed compares (a filter's count did not).
+            let below = inner
+                .get(1..)?
+                .iter()
+                .map(|&c| u32::from(c <= goal))
+                .sum::<u32>();
+            Some(below as usize)
         });
-        let e = |k: usize| self.energies_around(s, k);
-        let cdf = |k: usize| self.cdf(s, k);
-        self.axes.r().sample_with(e, cdf, u, hint)
+        // The reads near the hint in one pass; the others (a walk of more than a segment, a
+        // segment whose nodes leave the window) blend on their own, to the same bits
+        let near = hint.and_then(|k| self.radial_near::<WINDOW>(s, k));
+        let e = |k: usize| {
+            near.and_then(|w| w.energies_around(k))
+                .unwrap_or_else(|| self.energies_around(s, k))
+        };
+        let cdf = |k: usize| {
+            near.and_then(|w| w.cdf(k))
+                .unwrap_or_else(|| self.cdf(s, k))
+        };
+        Some((self.axes.r().sample_with(e, cdf, u, hint)?, near))
     }
 
     /// Density per unit area of [`TableRef::sample`] at (r, φ), reduced mfp⁻².
@@ -70,8 +97,8 @@ impl TableRef<'_> {
         if r <= 0.0 || !r.is_finite() {
             return 0.0;
         }
-        let pdf_r = self.radial_pdf(s, r);
-        match self.profile_at(s, r) {
+        let (pdf_r, near) = self.radial_pdf_near::<true>(s, r);
+        match self.profile_at(s, r, near.as_ref()) {
             Some(g) if pdf_r > 0.0 => pdf_r * g.pdf(wrap_phi(phi)) / r,
             _ => 0.0,
         }
@@ -81,9 +108,27 @@ impl TableRef<'_> {
     /// [`TableRef::pdf_slice`].
     #[inline(always)]
     pub(super) fn radial_pdf(&self, s: &Slice, r: f64) -> f64 {
-        let e = |k: usize| self.energies_around(s, k);
-        let cdf = |k: usize| self.cdf(s, k);
-        self.axes.r().pdf_with(e, cdf, r)
+        self.radial_pdf_near::<false>(s, r).0
+    }
+
+    /// [`TableRef::radial_pdf`] with its reads, as in [`TableRef::radius_draw_near`].
+    #[inline(always)]
+    fn radial_pdf_near<const WINDOW: bool>(&self, s: &Slice, r: f64) -> (f64, Option<RadialNear>) {
+        // Every read of the density in r's segment in one pass, as in `radius_draw`
+        let near = self
+            .axes
+            .r()
+            .find_segment(r)
+            .and_then(|k| self.radial_near::<WINDOW>(s, k));
+        let e = |k: usize| {
+            near.and_then(|w| w.energies_around(k))
+                .unwrap_or_else(|| self.energies_around(s, k))
+        };
+        let cdf = |k: usize| {
+            near.and_then(|w| w.cdf(k))
+                .unwrap_or_else(|| self.cdf(s, k))
+        };
+        (self.axes.r().pdf_with(e, cdf, r), near)
     }
 
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
@@ -149,7 +194,7 @@ impl TableRef<'_> {
             let e = |k: usize| self.energy(s, k);
             let cdf = |k: usize| self.cdf(s, k);
             let u_r = self.axes.r().cdf(e, cdf, r)?;
-            let g = self.profile_at(s, r)?;
+            let g = self.profile_at(s, r, None)?;
             Some((u_r, g.cdf(wrap_phi(phi))))
         })?
     }

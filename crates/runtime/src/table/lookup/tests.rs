@@ -1,5 +1,5 @@
-//! The lookups' blend ([`TableRef::blend`] over a [`Slice`], and evaluation's
-//! [`TableRef::window_at`]) against a plain sum written from the table's layout: for every (ρ′, θ) node pair of the 4 × 4 neighbourhood in order, the
+//! The lookups' blend ([`TableRef::blend`] over a [`Slice`], evaluation's
+//! [`TableRef::window_at`] and the radial sampler's [`TableRef::radial_near`]) against a plain sum written from the table's layout: for every (ρ′, θ) node pair of the 4 × 4 neighbourhood in order, the
 //! product of the two axes' weights (skipped where it is 0 in f32) times the row's value. The
 //! slice leaves rows out and pads; the sums must not notice, bit for bit, in f32 (the GWC
 //! window) and in f64 (energies and the radial CDF). The values are arbitrary: the blend does
@@ -134,6 +134,45 @@ fn the_blend_is_the_plain_sum_over_the_neighbourhood() {
                         expected.to_bits(),
                         "{at}, node {k} + {j} − 1"
                     );
+                }
+            }
+            // The radial sampler's one pass near each segment: what it holds, the same bits
+            for k in 0..n_r - 1 {
+                let Some(near) = view.radial_near::<true>(&slice, k) else {
+                    assert!(n_r < 4, "{at}: no reads near segment {k}");
+                    continue;
+                };
+                let first = k.saturating_sub(1).min(n_r - 4);
+                let window = near.window(first).expect("the hinted segment's window");
+                let expected = view.window(&slice, first);
+                assert_eq!(
+                    window.map(f32::to_bits),
+                    expected.map(f32::to_bits),
+                    "{at}, {k}"
+                );
+                let around = near
+                    .energies_around(k)
+                    .expect("the hinted segment's energies");
+                let expected = view.energies_around(&slice, k);
+                assert_eq!(
+                    around.map(f64::to_bits),
+                    expected.map(f64::to_bits),
+                    "{at}, {k}"
+                );
+                let mut held = 0;
+                for node in 0..n_r {
+                    if let Some(c) = near.cdf(node) {
+                        assert_eq!(c.to_bits(), view.cdf(&slice, node).to_bits(), "{at}, {k}");
+                        held += 1;
+                    }
+                }
+                // Nodes k − 1 … k + 2 (inside the axis) and the total
+                assert!(held >= 4, "{at}: {held} nodes near segment {k}");
+                for other in 0..n_r - 1 {
+                    if let Some(e) = near.energies_around(other) {
+                        let expected = view.energies_around(&slice, other);
+                        assert_eq!(e.map(f64::to_bits), expected.map(f64::to_bits), "{at}");
+                    }
                 }
             }
         }
