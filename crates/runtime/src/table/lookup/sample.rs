@@ -73,14 +73,8 @@ impl TableRef<'_> {
         // The reads near the hint in one pass; the others (a walk of more than a segment, a
         // segment whose nodes leave the window) blend on their own, to the same bits
         let near = hint.and_then(|k| self.radial_near::<WINDOW>(s, k));
-        let e = |k: usize| {
-            near.and_then(|w| w.energies_around(k))
-                .unwrap_or_else(|| self.energies_around(s, k))
-        };
-        let cdf = |k: usize| {
-            near.and_then(|w| w.cdf(k))
-                .unwrap_or_else(|| self.cdf(s, k))
-        };
+        let e = |k: usize| self.energies_near(s, near, k);
+        let cdf = |k: usize| self.cdf_near(s, near, k);
         Some((self.axes.r().sample_with(e, cdf, u, hint)?, near))
     }
 
@@ -120,15 +114,25 @@ impl TableRef<'_> {
             .r()
             .find_segment(r)
             .and_then(|k| self.radial_near::<WINDOW>(s, k));
-        let e = |k: usize| {
-            near.and_then(|w| w.energies_around(k))
-                .unwrap_or_else(|| self.energies_around(s, k))
-        };
-        let cdf = |k: usize| {
-            near.and_then(|w| w.cdf(k))
-                .unwrap_or_else(|| self.cdf(s, k))
-        };
+        let e = |k: usize| self.energies_near(s, near, k);
+        let cdf = |k: usize| self.cdf_near(s, near, k);
         (self.axes.r().pdf_with(e, cdf, r), near)
+    }
+
+    /// The energies around node k ([`TableRef::energies_around`]) from `near`'s one pass where
+    /// it holds them, else blended on their own (the same bits).
+    #[inline(always)]
+    fn energies_near(&self, s: &Slice, near: Option<RadialNear>, k: usize) -> [f64; 4] {
+        near.and_then(|w| w.energies_around(k))
+            .unwrap_or_else(|| self.energies_around(s, k))
+    }
+
+    /// The radial CDF at node k ([`TableRef::cdf`]) from `near`'s one pass where it holds it,
+    /// else blended on its own (the same bits).
+    #[inline(always)]
+    fn cdf_near(&self, s: &Slice, near: Option<RadialNear>, k: usize) -> f64 {
+        near.and_then(|w| w.cdf(k))
+            .unwrap_or_else(|| self.cdf(s, k))
     }
 
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
