@@ -77,23 +77,15 @@ impl TwoLobe {
             return None;
         }
         let scale = (TAU * alpha).abs() + beta[0].abs() + beta[1].abs();
-        let minimum = if beta.iter().any(|&b| b < 0.0) {
-            // A signed pair: the profile's least value, in units of E/r (module docs)
-            TAU * alpha + beta[0] + beta[1] + TAU * lobes_minimum(beta, c)
-        } else {
-            TAU * alpha
-                + (0..2)
-                    .map(|i| beta[i] * (1.0 - c[i].abs()) / (1.0 + c[i].abs()))
-                    .sum::<f64>()
-        };
+        // 2π times the profile's least value
+        let minimum = TAU * alpha + beta[0] + beta[1] - lobes_need(beta, c);
         (minimum >= -1e-12 * scale).then_some(Self { alpha, beta, c })
     }
 
     /// The profile of a table cell: E/r = 2πα + β₁ + β₂ and the lobes (β, c), with c clamped
-    /// as in [`pdf_wc`], β NaN taken as 0, E/r negative or not finite as 0, and both β scaled by
-    /// one factor where the profile would dip below 0 (module docs). Lobes of one sign keep
-    /// their sign only where both are ≥ 0: one negative lobe is kept where the other is
-    /// positive (a signed pair), two negative ones are taken as 0.
+    /// as in [`pdf_wc`], β NaN taken as 0, no lobe where neither β is positive, E/r negative or
+    /// not finite as 0, and both β scaled by one factor where the profile would dip below 0
+    /// (module docs). One negative β beside a positive one is kept: a signed pair.
     pub fn from_table(e_per_r: f64, beta: [f64; 2], c: [f64; 2]) -> Self {
         let c = c.map(clamp_c);
         let mut beta = beta.map(|b| if b.is_finite() { b } else { 0.0 });
@@ -105,18 +97,7 @@ impl TwoLobe {
         } else {
             0.0
         };
-        // How far the lobes' part reaches below their mean, times 2π: the profile is ≥ 0 where
-        // E/r covers it
-        let need: f64 = if beta.iter().any(|&b| b < 0.0) {
-            -TAU * lobes_minimum(beta, c)
-        } else {
-            (0..2)
-                .map(|i| {
-                    let a = c[i].abs();
-                    beta[i] * 2.0 * a / (1.0 + a)
-                })
-                .sum()
-        };
+        let need = lobes_need(beta, c);
         if need > e_per_r {
             let k = e_per_r / need;
             beta = beta.map(|b| b * k);
@@ -354,6 +335,22 @@ fn prony(m1: f64, m2: f64, m3: f64, m4: f64, cap: f64) -> Option<([f64; 2], [f64
     // the pair matched no harmonics of its own.
     let signs = b1 > 0.0 && (b2 >= 0.0 || inside);
     (signs && b1.is_finite() && b2.is_finite()).then_some(([b1, b2], [c1, c2]))
+}
+
+/// The energy E/r the lobes (β, c) need for the profile to be ≥ 0 at every φ: −2π times the
+/// least value of their part Σ βᵢ(pdf_WC(φ; cᵢ) − 1/2π) (module docs, "Admissible profiles").
+/// For lobes of one sign Σ βᵢ·2|cᵢ|/(1 + |cᵢ|), their minima opposite their peaks.
+fn lobes_need(beta: [f64; 2], c: [f64; 2]) -> f64 {
+    if beta.iter().any(|&b| b < 0.0) {
+        -TAU * lobes_minimum(beta, c)
+    } else {
+        (0..2)
+            .map(|i| {
+                let a = c[i].abs();
+                beta[i] * 2.0 * a / (1.0 + a)
+            })
+            .sum()
+    }
 }
 
 /// The least value over φ of the lobes' part Σ βᵢ(pdf_WC(φ; cᵢ) − 1/2π) (zero mean), for any

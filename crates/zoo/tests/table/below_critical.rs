@@ -4,6 +4,9 @@
 //! "Below η = 1").
 
 use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::medium::Boundary;
+use bssrdf_zoo::pbd::{Pbd, Rule};
+use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{
     bake_lobes, check, validate, AngularTable, Grid, GridPreset, Lobes, CHECK_BOUNDS,
     GRAZING_NODES_BELOW_ETA,
@@ -123,14 +126,10 @@ fn the_two_lobe_rebuild_puts_no_spike_at_phi_0() {
     // spike at φ = 0 of 2.2 times PBD (the largest error of 50,000 points the table's sampler
     // draws: 116 %). No lobe sharper than the fit's largest nor than the sharpest node blended
     // (`gwc::TwoLobe::from_moments_capped`) leaves 4.8 % (`examples/worst_points 1.01`).
-    use bssrdf_zoo::fresnel::Moments as M;
-    use bssrdf_zoo::medium::Boundary;
-    use bssrdf_zoo::pbd::{Pbd, Rule};
-    use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
     let table = default_at(1.01, false);
     let view = table.view();
     let (rho, theta) = (0.5, 75f64.to_radians());
-    let pbd = Pbd::new(rho, Boundary::new(1.01, M::Exact).unwrap()).unwrap();
+    let pbd = Pbd::new(rho, Boundary::new(1.01, Moments::Exact).unwrap()).unwrap();
     let mut rng = SplitMix64::seed_from_u64(7);
     let mut worst = (0.0f64, 0.0, 0.0);
     for _ in 0..50_000 {

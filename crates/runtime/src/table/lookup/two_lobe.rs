@@ -30,7 +30,8 @@ impl TableRef<'_> {
         // (A table of fewer than 4 radii goes node by node below: a window of 4 would run into
         // the next row.)
         if let Some(shares) = self.shares.filter(|_| self.axes.dims().2 >= 4) {
-            return Self::blended_shares(s, shares, first);
+            let (n_rho, n_theta, n_r) = self.axes.dims();
+            return Self::blended_shares(s, shares, first, n_rho * n_theta * n_r);
         }
         // sum[n][k]: Σ ω × share n at node k; weight[k]: Σ ω over the rows with energy there.
         // In f32, like the stored values and the GWC window (`TableRef::blend`), and laid out per harmonic so the
@@ -109,7 +110,8 @@ impl TableRef<'_> {
     /// [`TableRef::harmonic_shares`] from the shares the table's owner computed
     /// (`table::harmonic_shares_of`): one blend of the four nodes' five values, the same sums
     /// in the same order as dividing row by row, so the same bits.
-    fn blended_shares(s: &Slice, shares: &[f32], first: usize) -> Shares {
+    /// `nodes`: the table's node count, after whose shares the window maxima follow.
+    fn blended_shares(s: &Slice, shares: &[f32], first: usize, nodes: usize) -> Shares {
         let acc = Self::blend::<f32, { 4 * SHARES_PER_NODE }, 1>(s, shares, first, SHARES_PER_NODE);
         let blended = std::array::from_fn(|k| {
             let node = &acc[SHARES_PER_NODE * k..SHARES_PER_NODE * (k + 1)];
@@ -121,7 +123,7 @@ impl TableRef<'_> {
             }
         });
         // The sharpest lobe of the rows with weight: the window maxima after the shares
-        let sharpness = &shares[shares.len() / (SHARES_PER_NODE + 1) * SHARES_PER_NODE..];
+        let sharpness = shares.get(nodes * SHARES_PER_NODE..).unwrap_or_default();
         let mut sharpest = 0.0f32;
         for (&offset, &w) in s.offsets[..s.len.min(16)].iter().zip(&s.weights) {
             if let Some(&x) = sharpness.get(offset as usize + first).filter(|_| w != 0.0) {
