@@ -10,7 +10,7 @@ doc: |
   A library file of bssrdf-zoo: baked BSSRDF tables (one per model and relative index of
   refraction η), the materials rendered with them and how they were made. This description
   follows format-spec.md, which is normative; where the two differ, the spec wins and this
-  file has a bug. It describes major version 1, minors 0 to 2, and reads files of newer
+  file has a bug. It describes major version 1, minors 0 to 3, and reads files of newer
   minors as far as the spec lets an older reader (unknown section kinds as bytes, the first
   64 or 512 bytes of longer records).
 
@@ -69,7 +69,7 @@ types:
       - id: minor
         type: u2
         doc: |
-          Format minor version: 2 for format 1.2 (0 and 1 in files of formats 1.0 and 1.1).
+          Format minor version: 3 for format 1.3 (0 to 2 in files of formats 1.0 to 1.2).
           Minors only add; a newer minor is read as far as this description goes.
       - id: byte_order
         type: u4
@@ -91,10 +91,11 @@ types:
           Feature bits a reader must understand, or reject the file: bit 0 `zstd-sections`
           (some section has codec 1), bit 1 `signed-floor` (since 1.1: some gwc-params node
           has E_β > E), bit 2 `harmonics` (since 1.2: some table has a gwc-harmonics
-          section). Bits 3 to 63 are reserved for later minors. Not checked here.
+          section), bit 3 `signed-lobes` (since 1.3: some gwc-harmonics node is a sharp lobe
+          less a broader one). Bits 4 to 63 are reserved for later minors. Not checked here.
       - id: optional_features
         type: u8
-        doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.2.
+        doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.3.
       - id: alignment
         type: u4
         valid:
@@ -120,6 +121,9 @@ types:
       harmonics:
         value: (required_features & 4) != 0
         doc: Required feature bit 2, `harmonics` (since 1.2).
+      signed_lobes:
+        value: (required_features & 8) != 0
+        doc: Required feature bit 3, `signed-lobes` (since 1.3).
       dir_end:
         value: 128 + 64 * section_count
         doc: End of the directory, where the padding before the first section starts.

@@ -13,7 +13,7 @@ class Bssrdf(KaitaiStruct):
     """A library file of bssrdf-zoo: baked BSSRDF tables (one per model and relative index of
     refraction η), the materials rendered with them and how they were made. This description
     follows format-spec.md, which is normative; where the two differ, the spec wins and this
-    file has a bug. It describes major version 1, minors 0 to 2, and reads files of newer
+    file has a bug. It describes major version 1, minors 0 to 3, and reads files of newer
     minors as far as the spec lets an older reader (unknown section kinds as bytes, the first
     64 or 512 bytes of longer records).
     
@@ -320,6 +320,15 @@ class Bssrdf(KaitaiStruct):
 
             self._m_signed_floor = self.required_features & 2 != 0
             return getattr(self, '_m_signed_floor', None)
+
+        @property
+        def signed_lobes(self):
+            """Required feature bit 3, `signed-lobes` (since 1.3)."""
+            if hasattr(self, '_m_signed_lobes'):
+                return self._m_signed_lobes
+
+            self._m_signed_lobes = self.required_features & 8 != 0
+            return getattr(self, '_m_signed_lobes', None)
 
         @property
         def zstd_sections(self):

@@ -37,7 +37,7 @@ TINY_KINDS = [
 ]
 TABLE_KINDS = ["axis-rho", "axis-theta", "axis-r", "gwc-params", "radial-cdf"]
 TINY = {
-    "version": (1, 2),
+    "version": (1, 3),
     "required_features": 0,
     "optional_features": 0,
     "alignment": 256,
@@ -53,7 +53,7 @@ TINY = {
 # spec-example. Keys a line does not state are left out.
 MANIFEST = {
     "spec-example": {
-        "version": (1, 2),
+        "version": (1, 3),
         "required_features": 1 << 1,
         "optional_features": 0,
         "alignment": 256,
@@ -66,7 +66,7 @@ MANIFEST = {
     "tiny-packed": {**TINY, "required_features": 1 << 0, "codecs": {"zstd"}},
     "newer-minor": {
         **{k: v for k, v in TINY.items() if k != "optional_features"},
-        "version": (1, 3),
+        "version": (1, 4),
         "optional_features_set": 1,
         "header_reserved_zero": False,
         "unknown_entry_flags": True,
@@ -77,7 +77,13 @@ MANIFEST = {
     "older-minor": {**TINY, "version": (1, 0)},
     "two-lobes": {
         **TINY,
+        "version": (1, 2),
         "required_features": 1 << 2,
+        "section_kinds": TINY_KINDS + ["gwc-harmonics"],
+    },
+    "signed-lobes": {
+        **TINY,
+        "required_features": (1 << 2) | (1 << 3),
         "section_kinds": TINY_KINDS + ["gwc-harmonics"],
     },
     "aligned-4096": {
@@ -164,7 +170,7 @@ def test_every_valid_vector_is_in_the_manifest():
 def test_spec_example_as_section_16_states():
     lib = parse_fully(REPO / "tests" / "data" / "valid" / "spec-example.bssrdf")
     h = lib.header
-    assert (h.section_count, h.file_size, h.header_crc) == (7, 2568, 0xB3B34DCC)
+    assert (h.section_count, h.file_size, h.header_crc) == (7, 2568, 0x14B96012)
     placed = [(e.offset, e.stored_len) for e in lib.directory]
     assert placed == [
         (0x300, 64), (0x400, 512), (0x600, 4), (0x700, 4), (0x800, 8), (0x900, 24), (0xA00, 8)
@@ -335,6 +341,7 @@ NOT_REJECTED = {
     "unsupported-features": "feature bits are not checked",
     "feature-not-declared": "feature bits are not checked",
     "harmonics-not-declared": "feature bits are not checked",
+    "signed-lobes-not-declared": "feature bits and node values are not checked",
     "signed-floor-not-declared": "feature bits and node values are not checked",
     "reserved-not-zero": "reserved bytes depend on the minor",
     "section-flags": "reserved bits depend on the minor",

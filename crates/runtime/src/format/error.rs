@@ -93,6 +93,10 @@ pub enum FormatError {
     /// feature bit 2: a reader that ignored the section would read one lobe.
     #[error("section {section}: gwc-harmonics (two lobes) in a file without required feature bit 2 (harmonics)")]
     HarmonicsNotDeclared { section: usize },
+    /// A `gwc-harmonics` node rebuilds into a signed pair but the file does not set required
+    /// feature bit 3: a 1.2 reader would read it as one lobe.
+    #[error("table {table}: gwc-harmonics node {node} is a signed pair (a lobe less a broader one) in a file without required feature bit 3 (signed-lobes)")]
+    SignedLobesNotDeclared { table: usize, node: usize },
     /// A directory entry's rank or dimensions are malformed.
     #[error("section {section}: ndim {ndim} with dims {dims:?} is malformed (ndim must be 1..=4, unused dims 0)")]
     BadShape {
@@ -412,6 +416,7 @@ impl FormatError {
             FormatError::UnknownCodec { .. } => "unknown-codec",
             FormatError::FeatureNotDeclared { .. } => "feature-not-declared",
             FormatError::HarmonicsNotDeclared { .. } => "harmonics-not-declared",
+            FormatError::SignedLobesNotDeclared { .. } => "signed-lobes-not-declared",
             FormatError::BadShape { .. } => "bad-shape",
             FormatError::SectionTooLarge { .. } => "section-too-large",
             FormatError::RawLengthMismatch { .. } => "raw-length-mismatch",

@@ -174,7 +174,28 @@ fn check_table_values<'a>(
             None => {}
         }
     }
+    // A signed pair at a node needs bit 3 (§4): a 1.2 reader would read one lobe there
+    let params = slot.sections.get(&SectionKind::GwcParams.code());
+    let harmonics = slot.sections.get(&SectionKind::Harmonics.code());
+    if let (Some(&p), Some(&h), false) = (
+        params,
+        harmonics,
+        required & required_features::SIGNED_LOBES != 0,
+    ) {
+        if let Some(node) = first_signed_node(&f32_values(data(p)), &f32_values(data(h))) {
+            return Err(FormatError::SignedLobesNotDeclared { table: t, node });
+        }
+    }
     Ok(())
+}
+
+/// The first node (in storage order) of a two-lobe table's `gwc-params` and `gwc-harmonics`
+/// values that rebuilds into a signed pair (`table::node_is_signed`).
+pub(crate) fn first_signed_node(params: &[f32], harmonics: &[f32]) -> Option<usize> {
+    params
+        .chunks_exact(3)
+        .zip(harmonics.chunks_exact(2))
+        .position(|(p, h)| crate::table::node_is_signed([p[0], p[1], p[2], h[0], h[1]]))
 }
 
 fn check_finite_bytes(table: usize, kind: SectionKind, bytes: &[u8]) -> FormatResult<()> {

@@ -14,8 +14,9 @@ pub const MAGIC: [u8; 12] = *b"\x89BSSRDF\r\n\x1a\n\0";
 pub const VERSION_MAJOR: u16 = 1;
 /// The minor version this crate writes; it reads every minor of its major. Minor 1 added the
 /// required feature bit 1, [`required_features::SIGNED_FLOOR`]; minor 2 the section
-/// [`SectionKind::Harmonics`] with required feature bit 2, [`required_features::HARMONICS`].
-pub const VERSION_MINOR: u16 = 2;
+/// [`SectionKind::Harmonics`] with required feature bit 2, [`required_features::HARMONICS`];
+/// minor 3 the required feature bit 3, [`required_features::SIGNED_LOBES`].
+pub const VERSION_MINOR: u16 = 3;
 /// Written as a little-endian u32 at byte 16; a byte-swapped file shows `0x0D0C0B0A`.
 pub const BYTE_ORDER_MARK: u32 = 0x0A0B_0C0D;
 
@@ -83,14 +84,18 @@ pub mod required_features {
     /// At least one table has a `gwc-harmonics` section: its profile is two lobes rebuilt from
     /// four harmonics (format 1.2). Readers that ignore the section would read one lobe.
     pub const HARMONICS: u64 = 1 << 2;
+    /// At least one `gwc-harmonics` node rebuilds into a signed pair, a sharp lobe less a
+    /// broader one (format 1.3). A 1.2 reader would read it as one lobe.
+    pub const SIGNED_LOBES: u64 = 1 << 3;
     /// Every required feature this reader understands.
-    pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR | HARMONICS;
+    pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR | HARMONICS | SIGNED_LOBES;
     /// Name of a required feature bit, for messages.
     pub fn name(bit: u32) -> &'static str {
         match bit {
             0 => "zstd-sections",
             1 => "signed-floor",
             2 => "harmonics",
+            3 => "signed-lobes",
             _ => "unknown",
         }
     }

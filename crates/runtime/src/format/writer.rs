@@ -386,12 +386,32 @@ impl LibraryBuilder {
             .tables
             .iter()
             .any(|(_, table_sections)| table_sections.contains_key(&SectionKind::Harmonics.code()));
+        // The bit exactly when some node of some two-lobe table is a signed pair, so that
+        // files without one stay readable by 1.2 readers.
+        let signed_lobes = self.tables.iter().any(|(_, table_sections)| {
+            let values = |kind: SectionKind| {
+                table_sections
+                    .get(&kind.code())
+                    .map(|s| f32_values_of(&s.bytes))
+            };
+            match (
+                values(SectionKind::GwcParams),
+                values(SectionKind::Harmonics),
+            ) {
+                (Some(p), Some(h)) => super::reader::first_signed_node(&p, &h).is_some(),
+                _ => false,
+            }
+        });
         let required = if signed_floor {
             required_features::SIGNED_FLOOR
         } else {
             0
         } | if harmonics {
             required_features::HARMONICS
+        } else {
+            0
+        } | if signed_lobes {
+            required_features::SIGNED_LOBES
         } else {
             0
         };
@@ -416,11 +436,15 @@ impl LibraryBuilder {
 
 /// [`has_signed_floor`] of little-endian f32 bytes.
 fn has_signed_floor_bytes(bytes: &[u8]) -> bool {
-    let values: Vec<f32> = bytes
+    has_signed_floor(&f32_values_of(bytes))
+}
+
+/// Little-endian f32 values of a section's raw bytes.
+fn f32_values_of(bytes: &[u8]) -> Vec<f32> {
+    bytes
         .chunks_exact(4)
         .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
-    has_signed_floor(&values)
+        .collect()
 }
 
 /// Places the sections one after another at aligned offsets and writes header and directory.

@@ -68,7 +68,10 @@ mod trig;
 mod two_lobe;
 
 pub use sample::{uniform_azimuth, unit_interval};
-pub use two_lobe::{one_lobe_of, sharp_concentration, TwoLobe, C_MAX_TWO_LOBES, C_MIN_SECOND_LOBE};
+pub use two_lobe::{
+    harmonics_are_signed, one_lobe_of, sharp_concentration, TwoLobe, C_MAX_TWO_LOBES,
+    C_MIN_SECOND_LOBE,
+};
 
 use std::f64::consts::{PI, TAU};
 

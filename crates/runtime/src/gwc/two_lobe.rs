@@ -390,6 +390,12 @@ pub fn sharp_concentration(m: [f64; 4]) -> f64 {
     }
 }
 
+/// Whether the profile with harmonics `m` is a signed pair ([`TwoLobe::from_moments`]).
+pub fn harmonics_are_signed(m: [f64; 4]) -> bool {
+    let [m1, m2, m3, m4] = m;
+    prony(m1, m2, m3, m4, C_MAX_TWO_LOBES).is_some_and(|(beta, _)| beta[1] < 0.0)
+}
+
 /// The smallest concentration [`TwoLobe::from_moments`] gives the second lobe (see the clamp in
 /// `prony`): its mass stays within about μ₁/0.05 = 20 μ₁.
 pub const C_MIN_SECOND_LOBE: f64 = 0.05;

@@ -227,6 +227,28 @@ pub(crate) fn harmonic_shares_of(params: &[f32], harmonics: &[f32], n_r: usize) 
     shares.chain(sharpest).collect()
 }
 
+/// How far (relative to E) a node's stored r·μ₃ and r·μ₄ must depart from its one lobe's,
+/// E_β·c³ and E_β·c⁴, before [`node_is_signed`] calls it a signed pair. A reader without
+/// signed pairs reads such a node as its one lobe, whose profile lacks those differences, each
+/// a cosine of amplitude 2Δμ/E times the mean: ≤ 0.02 % of it below this. Rounding the one
+/// lobe's own harmonics to f32 departs by about 10⁻⁷ E, where Prony's roots are noise and
+/// may give any sign.
+pub const SIGNED_DEPARTURE: f64 = 1e-4;
+
+/// Whether a node of a two-lobe table with stored values (E, E_β, c, rμ₃, rμ₄) is a signed
+/// pair, what required feature bit 3, `signed-lobes`, declares: its harmonics depart from its
+/// one lobe's by more than [`SIGNED_DEPARTURE`]·E, and format-spec.md §10 step 4 on them gives
+/// a negative broader lobe.
+pub fn node_is_signed(cell: [f32; 5]) -> bool {
+    let [e, e_beta, c, h0, h1] = cell.map(f64::from);
+    let departure = (h0 - e_beta * c.powi(3))
+        .abs()
+        .max((h1 - e_beta * c.powi(4)).abs());
+    e > 0.0
+        && departure > SIGNED_DEPARTURE * e
+        && crate::gwc::harmonics_are_signed([e_beta * c, e_beta * c * c, h0, h1])
+}
+
 /// The concentration of the sharper lobe a node of a two-lobe table rebuilds into from its
 /// own stored values (E, E_β, c, rμ₃, rμ₄) ([`crate::gwc::sharp_concentration`]), in f32.
 /// Lookups rebuild no lobe sharper than the sharpest node they blend: where the harmonics

@@ -104,7 +104,7 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
     };
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data");
     let gwc = SectionKind::GwcParams.code();
-    // Format 1.1 with required feature bit 1 (signed-floor): E_β = 2 > E = 0.5 at node 1.
+    // Required feature bit 1 (signed-floor): E_β = 2 > E = 0.5 at node 1.
     let (code, stdout) = run(&exe, &data.join("valid/spec-example.bssrdf"), 0, gwc, 4);
     assert_eq!((code, stdout.as_str()), (0, "40000000 2\n"));
     // A newer minor with extensions is read too, and so is an older one.
@@ -122,6 +122,10 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
     assert_eq!(code, 0, "{stdout}");
     let bits = stdout.split_whitespace().next().unwrap();
     assert_eq!(u32::from_str_radix(bits, 16).unwrap(), expected.to_bits());
+    // Format 1.3 with required feature bit 3: a signed pair's stored r·μ₃ at node (0, 0, 1).
+    let signed = data.join("valid/signed-lobes.bssrdf");
+    let (code, stdout) = run(&exe, &signed, 0, harmonics, 2);
+    assert_eq!((code, stdout.as_str()), (0, "3ee624dd 0.449499995\n"));
     for (file, why) in [
         ("invalid/bad-magic", "magic"),
         ("invalid/unsupported-major", "version"),

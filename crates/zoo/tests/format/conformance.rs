@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use bssrdf_testkit::files::{
     kind, synthetic_table, tiny_builder, tiny_two_lobes_sections, Raw, Sec, ENTRY, HEADER,
 };
+use bssrdf_zoo::format::spec::VERSION_MINOR;
 use bssrdf_zoo::format::{
     pack, AxisKind, Compression, Library, LibraryBuilder, SectionKind, Verify,
 };
@@ -395,6 +396,24 @@ fn two_lobes(declared: bool) -> Raw {
     Raw::build(2, required, 0, 256, &tiny_two_lobes_sections())
 }
 
+/// The two-lobe tiny library with node (0, 0, 1) a signed pair: r·μₙ of β = (1, −0.5) at
+/// c = (0.8, 0.5), so (E_β, c) = (0.587379, 0.936364) for r·μ₁ = 0.55, r·μ₂ = 0.515 and
+/// (r·μ₃, r·μ₄) = (0.4495, 0.37835), with E = 1. Bit 2, and bit 3 if `declared`.
+fn signed_lobes(declared: bool) -> Raw {
+    let mut secs = tiny_two_lobes_sections();
+    let put = |data: &mut Vec<u8>, at: usize, values: &[f32]| {
+        for (k, v) in values.iter().enumerate() {
+            data[4 * (at + k)..4 * (at + k + 1)].copy_from_slice(&v.to_le_bytes());
+        }
+    };
+    let gwc = secs.iter().position(|s| s.kind == kind::GWC).unwrap();
+    put(&mut secs[gwc].data, 3, &[1.0, 0.587_379, 0.936_364]);
+    let harmonics = secs.iter().position(|s| s.kind == kind::HARMONICS).unwrap();
+    put(&mut secs[harmonics].data, 2, &[0.4495, 0.378_35]);
+    let required = (1 << 2) | if declared { 1 << 3 } else { 0 };
+    Raw::build(VERSION_MINOR, required, 0, 256, &secs)
+}
+
 /// Vectors that need compressed sections.
 fn packed_vectors() -> Vec<(&'static str, Raw)> {
     let mut out = Vec::new();
@@ -421,6 +440,8 @@ fn packed_vectors() -> Vec<(&'static str, Raw)> {
     out.push(("too-many-records", Raw::build(0, 1, 0, 256, &secs)));
     // harmonics-not-declared: a gwc-harmonics section without required feature bit 2.
     out.push(("harmonics-not-declared", two_lobes(false)));
+    // signed-lobes-not-declared: a node that is a signed pair without required feature bit 3.
+    out.push(("signed-lobes-not-declared", signed_lobes(false)));
     out
 }
 
@@ -445,7 +466,7 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
         data: [7.0f32, 8.0].iter().flat_map(|v| v.to_le_bytes()).collect(),
         raw_len: None,
     });
-    let mut raw = Raw::build(3, 0, 1 << 9, 256, &secs);
+    let mut raw = Raw::build(VERSION_MINOR + 1, 0, 1 << 9, 256, &secs);
     raw.bytes[100] = 0x42;
     raw.fix_crcs();
     out.push(("newer-minor", raw.bytes));
@@ -456,6 +477,8 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
     ));
     // Two lobes: the tiny library with a gwc-harmonics section, required feature bit 2.
     out.push(("two-lobes", two_lobes(true).bytes));
+    // A signed pair at one node, required feature bits 2 and 3.
+    out.push(("signed-lobes", signed_lobes(true).bytes));
     // Page alignment, one albedo row, no materials, no provenance, no θ CDF.
     let mut b = LibraryBuilder::new();
     b.set_alignment(4096).unwrap();
@@ -489,7 +512,7 @@ fn sync(dir: &Path, name: &str, bytes: &[u8]) {
 #[test]
 fn raw_editor_rebuilds_the_writer_output_exactly() {
     let raw = tiny();
-    let rebuilt = Raw::build(2, 0, 0, 256, &raw.sections());
+    let rebuilt = Raw::build(VERSION_MINOR, 0, 0, 256, &raw.sections());
     assert!(rebuilt.bytes == raw.bytes);
 }
 
@@ -602,7 +625,7 @@ fn every_valid_vector_is_accepted() {
 fn newer_minor_is_read_and_its_extensions_skipped_but_not_rewritten() {
     let path = data_dir("valid").join("newer-minor.bssrdf");
     let library = Library::open_mmap(&path, Verify::Full).unwrap();
-    assert_eq!(library.version(), (1, 3));
+    assert_eq!(library.version(), (1, VERSION_MINOR + 1));
     assert_eq!(library.optional_features(), 1 << 9);
     let table = library.table(0).unwrap();
     assert_eq!(table.dims(), [2, 2, 4]);

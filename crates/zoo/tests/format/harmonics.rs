@@ -11,7 +11,8 @@
 use bssrdf_testkit::files::{
     kind, synthetic_table, tiny_builder, tiny_two_lobes_sections, Raw, Sec,
 };
-use bssrdf_zoo::format::spec::required_features::{HARMONICS, SIGNED_FLOOR, ZSTD};
+use bssrdf_zoo::format::spec::required_features::{HARMONICS, SIGNED_FLOOR, SIGNED_LOBES, ZSTD};
+use bssrdf_zoo::format::spec::VERSION_MINOR;
 use bssrdf_zoo::format::{
     pack, unpack, Compression, Library, LibraryBuilder, SectionKind, TableData, Verify,
 };
@@ -21,9 +22,10 @@ const SECTION: usize = 9;
 /// Number of f32 values of the harmonics section: [2, 2, 4, 2].
 const VALUES: usize = 32;
 
-/// The two-lobe tiny library, declaring required feature bit 2.
+/// The two-lobe tiny library, declaring required feature bit 2, at the minor this crate writes
+/// (the conformance vector `two-lobes` has the same sections at minor 2).
 fn two_lobes() -> Raw {
-    build(2, HARMONICS, &tiny_two_lobes_sections())
+    build(VERSION_MINOR, HARMONICS, &tiny_two_lobes_sections())
 }
 
 fn build(minor: u16, required: u64, secs: &[Sec]) -> Raw {
@@ -97,7 +99,7 @@ fn assert_accepted(case: &str, raw: &Raw) -> Library {
 #[test]
 fn the_two_lobe_file_is_valid() {
     let library = assert_accepted("two lobes", &two_lobes());
-    assert_eq!(library.version(), (1, 2));
+    assert_eq!(library.version(), (1, VERSION_MINOR));
     assert_eq!(library.required_features(), HARMONICS);
     let harmonics = library.table(0).unwrap().harmonics().unwrap();
     assert_eq!(harmonics.len(), VALUES);
@@ -565,4 +567,59 @@ fn bit_2_means_the_same_in_a_file_of_an_older_minor() {
         let case = format!("minor {minor} without bit 2");
         assert_rejected(&case, &undeclared, "harmonics-not-declared", "section 9");
     }
+}
+
+/// §4, bit 3, the writer's side: set exactly when a node is a signed pair. The one lobe's own
+/// harmonics, rounded to f32, are not one, whatever sign Prony's ill-determined roots take.
+#[test]
+fn the_writer_sets_bit_3_exactly_when_a_node_is_a_signed_pair() {
+    let features = |t: TableData| {
+        let mut b = LibraryBuilder::new();
+        b.add_table(t).unwrap();
+        Library::from_bytes(&b.to_bytes(Compression::None).unwrap(), Verify::Full)
+            .unwrap()
+            .required_features()
+    };
+    let one_lobe = with_harmonics_of_one_lobe(synthetic_table(1.3, 2, 3, 4, false));
+    assert_eq!(features(one_lobe.clone()), HARMONICS);
+    // Node 5 made the vector `signed-lobes`' pair: β = (1, −0.5) at c = (0.8, 0.5), E = 1
+    let mut signed = one_lobe;
+    signed.gwc[15..18].copy_from_slice(&[1.0, 0.587_379, 0.936_364]);
+    signed.harmonics.as_mut().unwrap()[10..12].copy_from_slice(&[0.4495, 0.378_35]);
+    assert_eq!(features(signed), HARMONICS | SIGNED_LOBES);
+}
+
+/// `node_is_signed` over random one-lobe nodes in f32 (none is signed) and the same nodes with
+/// a broader negative lobe of 5 % of the sharp one's mass added: each is, where its harmonics
+/// depart from its one lobe's by more than twice `SIGNED_DEPARTURE` (most do).
+#[test]
+fn node_is_signed_tells_one_lobe_from_a_signed_pair() {
+    use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
+    use bssrdf_zoo::table::{node_is_signed, SIGNED_DEPARTURE};
+    let mut rng = SplitMix64::seed_from_u64(17);
+    let mut uniform = move || rng.next_f64();
+    let (cases, mut signed) = (10_000, 0);
+    for _ in 0..cases {
+        let (e, c) = (0.01 + uniform(), 0.05 + 0.94 * uniform());
+        let e_beta = e * uniform() * (1.0 + c) / (2.0 * c);
+        let cell = [e, e_beta, c, e_beta * c.powi(3), e_beta * c.powi(4)].map(|v| v as f32);
+        assert!(!node_is_signed(cell), "one lobe {cell:?}");
+        // β₂ = −0.05 β at c₂ = c/2: harmonics Σ βᵢcᵢⁿ, stored as one lobe of μ₁, μ₂ and μ₃, μ₄
+        let (b1, b2, c2) = (e_beta, -0.05 * e_beta, 0.5 * c);
+        let mu = |n: i32| b1 * c.powi(n) + b2 * c2.powi(n);
+        let (m1, m2) = (mu(1), mu(2));
+        let (e_beta, c) = (m1 * m1 / m2, m2 / m1);
+        let departure = (mu(3) - e_beta * c.powi(3))
+            .abs()
+            .max((mu(4) - e_beta * c.powi(4)).abs());
+        if departure > 2.0 * SIGNED_DEPARTURE * e {
+            let cell = [e, e_beta, c, mu(3), mu(4)].map(|v| v as f32);
+            assert!(node_is_signed(cell), "signed pair {cell:?}");
+            signed += 1;
+        }
+    }
+    assert!(
+        signed > cases / 2,
+        "{signed} of {cases} signed pairs depart enough"
+    );
 }

@@ -3,6 +3,7 @@
 //! atomic with respect to readers of the old file.
 
 use bssrdf_testkit::files::{material, synthetic_table, tiny_builder, with_signed_floor, Raw};
+use bssrdf_zoo::format::spec::VERSION_MINOR;
 use bssrdf_zoo::format::{
     pack, unpack, AxisKind, Codec, Compression, Dtype, ExtraSection, Library, LibraryBuilder,
     SectionKind, TableData, Verify,
@@ -275,13 +276,16 @@ fn one_table(table: TableData, compression: Compression) -> Vec<u8> {
 
 #[test]
 fn writer_sets_the_signed_floor_bit_exactly_when_a_node_needs_it() {
-    // No node with E_β > E: format 1.1 without feature bits, readable by a 1.0 reader.
+    // No node with E_β > E: no feature bits, readable by every 1.x reader.
     let plain = Library::from_bytes(
         &tiny_builder().to_bytes(Compression::None).unwrap(),
         Verify::Full,
     )
     .unwrap();
-    assert_eq!((plain.version(), plain.required_features()), ((1, 2), 0));
+    assert_eq!(
+        (plain.version(), plain.required_features()),
+        ((1, VERSION_MINOR), 0)
+    );
     // E_β = E at every node is not a negative floor either.
     let mut table = synthetic_table(1.3, 2, 3, 5, false);
     for node in table.gwc.chunks_exact_mut(3) {
