@@ -33,6 +33,16 @@ fn c_of(s: f64) -> f64 {
 /// (module docs). `None` where some value is not finite or negative, or none is positive (the
 /// caller stores the zero profile).
 pub fn fit(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>) -> Option<TwoLobe> {
+    fit_with(phi, y, hint, true)
+}
+
+/// [`fit`] with lobes of one sign only (β₁, β₂ ≥ 0).
+pub fn fit_one_sign(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>) -> Option<TwoLobe> {
+    fit_with(phi, y, hint, false)
+}
+
+/// [`fit`], with signed pairs or without.
+fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Option<TwoLobe> {
     let n = phi.len();
     if n < 5 || y.len() != n || y.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
         return None;
@@ -62,6 +72,7 @@ pub fn fit(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>) -> Option<TwoLobe> {
         versine: &versine,
         y: &y,
         w: &w,
+        signed,
     };
     let s_max = -(1.0 - C_MAX_TWO_LOBES).ln();
     let s_of = |c: f64| -(1.0 - c.clamp(0.0, C_MAX_TWO_LOBES)).ln();
@@ -76,8 +87,9 @@ pub fn fit(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>) -> Option<TwoLobe> {
             let mut best = (f64::INFINITY, [0.0, 0.0]);
             for (a, &s1) in grid.iter().enumerate() {
                 for (b, &s2) in grid[..=a].iter().enumerate() {
-                    let at_pi = [pdf_wc(PI, c_of(s1)), pdf_wc(PI, c_of(s2))];
-                    let cost = problem.solve_columns([&columns[a], &columns[b]], at_pi).0;
+                    let cost = problem
+                        .solve_columns([&columns[a], &columns[b]], [c_of(s1), c_of(s2)])
+                        .0;
                     if cost < best.0 {
                         best = (cost, [s1, s2]);
                     }
@@ -88,9 +100,8 @@ pub fn fit(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>) -> Option<TwoLobe> {
     };
     // Coordinate refinement: halving steps; only the moved lobe is recomputed
     let mut lobes = [problem.lobe(c_of(s[0])), problem.lobe(c_of(s[1]))];
-    let at_pi = |s: f64| pdf_wc(PI, c_of(s));
     let mut cost = problem
-        .solve_columns([&lobes[0], &lobes[1]], [at_pi(s[0]), at_pi(s[1])])
+        .solve_columns([&lobes[0], &lobes[1]], [c_of(s[0]), c_of(s[1])])
         .0;
     while step > REFINE_TOLERANCE {
         let mut moved = false;
@@ -107,7 +118,7 @@ pub fn fit(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>) -> Option<TwoLobe> {
                 } else {
                     [&lobes[0], &trial]
                 };
-                let c = problem.solve_columns(pair, [at_pi(t[0]), at_pi(t[1])]).0;
+                let c = problem.solve_columns(pair, [c_of(t[0]), c_of(t[1])]).0;
                 if c < cost {
                     (cost, s, moved) = (c, t, true);
                     lobes[axis] = trial;
@@ -137,6 +148,8 @@ struct Problem<'a> {
     versine: &'a [f64],
     y: &'a [f64],
     w: &'a [f64],
+    /// Whether signed pairs are candidates.
+    signed: bool,
 }
 
 impl Problem<'_> {
@@ -155,11 +168,21 @@ impl Problem<'_> {
     /// best admissible one.
     fn solve(&self, c: [f64; 2]) -> (f64, [f64; 3]) {
         let (l1, l2) = (self.lobe(c[0]), self.lobe(c[1]));
-        self.solve_columns([&l1, &l2], c.map(|c| pdf_wc(PI, c)))
+        self.solve_columns([&l1, &l2], c)
+    }
+
+    /// Σ w (m − y)² = cᵀGc − 2c·b + Σ w y² of the coefficients `coef`.
+    fn cost(&self, g: &[[f64; 3]; 3], b: &[f64; 3], yy: f64, coef: [f64; 3]) -> f64 {
+        let quad: f64 = (0..3)
+            .map(|i| coef[i] * (0..3).map(|j| g[i][j] * coef[j]).sum::<f64>())
+            .sum();
+        let lin: f64 = (0..3).map(|i| coef[i] * b[i]).sum();
+        (quad - 2.0 * lin + yy).max(0.0)
     }
 
     /// [`Problem::solve`] from the lobes' values at the azimuths and at π.
-    fn solve_columns(&self, lobes: [&[f64]; 2], lobes_at_pi: [f64; 2]) -> (f64, [f64; 3]) {
+    fn solve_columns(&self, lobes: [&[f64]; 2], c: [f64; 2]) -> (f64, [f64; 3]) {
+        let lobes_at_pi = c.map(|c| pdf_wc(PI, c));
         // Gram matrix and right-hand side of the columns (1, pdf_WC(c₁), pdf_WC(c₂))
         let mut g = [[0.0; 3]; 3];
         let (mut b, mut yy) = ([0.0; 3], 0.0);
@@ -174,7 +197,8 @@ impl Problem<'_> {
             yy += w * y * y;
         }
         let at_pi = [1.0, lobes_at_pi[0], lobes_at_pi[1]];
-        let mut best = (f64::INFINITY, [0.0; 3]);
+        // The best pair of lobes of one sign, and the best signed pair
+        let (mut best, mut signed) = ((f64::INFINITY, [0.0; 3]), (f64::INFINITY, [0.0; 3]));
         // Each candidate is a basis of combinations of the columns (rows of T): coefficients
         // x in that basis give the profile's (α, β₁, β₂) = Tᵀx
         let pinned = |i: usize| {
@@ -212,19 +236,25 @@ impl Problem<'_> {
                 continue;
             };
             let coef: [f64; 3] = std::array::from_fn(|i| (0..m).map(|p| x[p] * t[p][i]).sum());
-            if coef[1] < 0.0 || coef[2] < 0.0 {
+            // β₁ ≥ 0; β₂ ≥ 0 with f(π) ≥ 0 (where both lobes have their minimum), or β₂ < 0 (a
+            // signed pair, the broader lobe negative) with the profile ≥ 0 at every φ
+            if coef[1] < 0.0 {
+                continue;
+            }
+            let cost = self.cost(&g, &b, yy, coef);
+            if coef[2] < 0.0 {
+                if self.signed
+                    && cost < signed.0
+                    && TwoLobe::new(coef[0], [coef[1], coef[2]], c).is_some()
+                {
+                    signed = (cost, coef);
+                }
                 continue;
             }
             let floor: f64 = (0..3).map(|i| coef[i] * at_pi[i]).sum();
             if floor < -1e-12 * (coef[0].abs() + coef[1] + coef[2]) {
                 continue;
             }
-            // Σ w (m − y)² = cᵀGc − 2c·b + Σ w y²
-            let quad: f64 = (0..3)
-                .map(|i| coef[i] * (0..3).map(|j| g[i][j] * coef[j]).sum::<f64>())
-                .sum();
-            let lin: f64 = (0..3).map(|i| coef[i] * b[i]).sum();
-            let cost = (quad - 2.0 * lin + yy).max(0.0);
             if index == 0 {
                 // The free least-squares solution is admissible: the problem is convex, so it
                 // is the constrained optimum too
@@ -234,7 +264,11 @@ impl Problem<'_> {
                 best = (cost, coef);
             }
         }
-        best
+        if signed.0 < best.0 {
+            signed
+        } else {
+            best
+        }
     }
 }
 

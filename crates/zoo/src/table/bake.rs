@@ -44,8 +44,8 @@ use crate::catmull_rom::Nodes;
 use crate::error::{Error, Result};
 use crate::fresnel::Moments;
 use crate::gwc::{
-    fit_three_anchors, fit_two_lobes, one_lobe_of, refine_minimax, FitBranch, Gwc, ANCHOR_COS,
-    C_MAX_FIT,
+    fit_three_anchors, fit_two_lobes, fit_two_lobes_one_sign, one_lobe_of, refine_minimax,
+    FitBranch, Gwc, TwoLobe, ANCHOR_COS, C_MAX_FIT,
 };
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
@@ -536,14 +536,59 @@ fn two_lobe_node(
         .map(|&p| (p, pbd.eval(theta, r, p, Rule::Fast)))
         .filter(|(_, v)| v.is_finite())
         .unzip();
-    match fit_two_lobes(&phi, &y, hint) {
-        Some(g) => {
-            let [m1, m2, m3, m4] = g.harmonics();
-            let (beta, c) = one_lobe_of(m1, m2);
-            ([r * g.integral(), r * beta, c, r * m3, r * m4], Some(g.c()))
+    let fit = fit_two_lobes(&phi, &y, hint).and_then(|g| {
+        if !g.is_signed() {
+            return Some(g);
         }
+        // A signed pair whose stored form rebuilds into another profile (an ill-conditioned
+        // pair: nearly equal concentrations and large, cancelling masses, which the f32
+        // harmonics do not carry) gives way to the best lobes of one sign
+        let error = |f: &dyn Fn(f64) -> f64| -> f64 {
+            phi.iter()
+                .zip(&y)
+                .map(|(&p, &v)| if v > 0.0 { (f(p) / v - 1.0).abs() } else { 0.0 })
+                .fold(0.0, f64::max)
+        };
+        let stored = stored_two_lobes(&g, r);
+        if error(&|p| stored.eval(p)) <= 2.0 * error(&|p| g.eval(p)) + STORED_TOLERANCE {
+            Some(g)
+        } else {
+            fit_two_lobes_one_sign(&phi, &y, hint)
+        }
+    });
+    match fit {
+        Some(g) => (two_lobe_cells(&g, r), Some(g.c())),
         None => ([0.0; 5], None),
     }
+}
+
+/// How much further than the fit itself (besides twice as far) a signed pair's stored form may
+/// be from PBD at the fit's azimuths, relative (`two_lobe_node`).
+const STORED_TOLERANCE: f64 = 1e-3;
+
+/// The values a two-lobe node stores for the profile `g` at radius `r`, in f64: (E, E_β, c) of
+/// the one lobe with its first two harmonics ([`one_lobe_of`]) and r·μ₃, r·μ₄.
+fn two_lobe_cells(g: &TwoLobe, r: f64) -> [f64; 5] {
+    let [m1, m2, m3, m4] = g.harmonics();
+    let (beta, c) = one_lobe_of(m1, m2);
+    let e = g.integral();
+    // The one lobe of μ₁ and μ₂ is ≥ 0 over the floor, as the format wants of every
+    // (E, E_β, c), for every pair of lobes of one sign; for a signed pair it may reach
+    // below, up to 0.25 % of E (far tails of the default bake at η = 1.05), and μ₁, μ₂
+    // are scaled down by that much
+    let beta = if c > 0.0 {
+        beta.min(e * (1.0 + c) / (2.0 * c))
+    } else {
+        beta
+    };
+    [r * e, r * beta, c, r * m3, r * m4]
+}
+
+/// The profile a lookup rebuilds at a node of `g` at radius `r` from its stored f32 values.
+fn stored_two_lobes(g: &TwoLobe, r: f64) -> TwoLobe {
+    let [e, e_beta, c, rm3, rm4] = two_lobe_cells(g, r).map(|v| f64::from(v as f32));
+    let m = [e_beta * c, e_beta * c * c, rm3, rm4].map(|m| m / r);
+    TwoLobe::from_moments(e / r, m)
 }
 
 /// Incidence at which the θ → 0 limit of the lobe mass is taken (radians).
