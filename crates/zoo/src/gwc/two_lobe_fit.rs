@@ -68,12 +68,7 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
     let y: Vec<f64> = y.iter().map(|v| v / scale).collect();
     // 1 − cos φ = 2 sin²(φ/2), without cancellation near φ = 0 where the sharp lobe is
     let versine: Vec<f64> = phi.iter().map(|&p| 2.0 * (0.5 * p).sin().powi(2)).collect();
-    let problem = Problem {
-        versine: &versine,
-        y: &y,
-        w: &w,
-        signed,
-    };
+    let problem = Problem::new(&versine, &y, &w, signed);
     let s_max = -(1.0 - C_MAX_TWO_LOBES).ln();
     let s_of = |c: f64| -(1.0 - c.clamp(0.0, C_MAX_TWO_LOBES)).ln();
     let (mut s, mut step) = match hint {
@@ -83,13 +78,11 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
         None => {
             let steps = (s_max / GRID_STEP).floor() as usize;
             let grid: Vec<f64> = (0..=steps).map(|k| k as f64 * GRID_STEP).collect();
-            let columns: Vec<Vec<f64>> = grid.iter().map(|&s| problem.lobe(c_of(s))).collect();
+            let columns: Vec<Column> = grid.iter().map(|&s| problem.lobe(c_of(s))).collect();
             let mut best = (f64::INFINITY, [0.0, 0.0]);
             for (a, &s1) in grid.iter().enumerate() {
                 for (b, &s2) in grid[..=a].iter().enumerate() {
-                    let cost = problem
-                        .solve_columns([&columns[a], &columns[b]], [c_of(s1), c_of(s2)])
-                        .0;
+                    let cost = problem.solve_columns([&columns[a], &columns[b]]).0;
                     if cost < best.0 {
                         best = (cost, [s1, s2]);
                     }
@@ -100,9 +93,7 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
     };
     // Coordinate refinement: halving steps; only the moved lobe is recomputed
     let mut lobes = [problem.lobe(c_of(s[0])), problem.lobe(c_of(s[1]))];
-    let mut cost = problem
-        .solve_columns([&lobes[0], &lobes[1]], [c_of(s[0]), c_of(s[1])])
-        .0;
+    let mut cost = problem.solve_columns([&lobes[0], &lobes[1]]).0;
     while step > REFINE_TOLERANCE {
         let mut moved = false;
         for axis in 0..2 {
@@ -113,12 +104,12 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
                     continue;
                 }
                 let trial = problem.lobe(c_of(t[axis]));
-                let pair: [&[f64]; 2] = if axis == 0 {
+                let pair = if axis == 0 {
                     [&trial, &lobes[1]]
                 } else {
                     [&lobes[0], &trial]
                 };
-                let c = problem.solve_columns(pair, [c_of(t[0]), c_of(t[1])]).0;
+                let c = problem.solve_columns(pair).0;
                 if c < cost {
                     (cost, s, moved) = (c, t, true);
                     lobes[axis] = trial;
@@ -129,8 +120,8 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
             step *= 0.5;
         }
     }
-    let c = [c_of(s[0]), c_of(s[1])];
-    let (_, [alpha, b1, b2]) = problem.solve(c);
+    let c = [lobes[0].c, lobes[1].c];
+    let (_, [alpha, b1, b2]) = problem.solve_columns([&lobes[0], &lobes[1]]);
     let (alpha, beta) = (alpha * scale, [b1 * scale, b2 * scale]);
     // The constraints keep the profile ≥ 0 to rounding; `from_table` caps a larger dip.
     TwoLobe::new(alpha, beta, c).or_else(|| {
@@ -143,32 +134,74 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
 }
 
 /// The linear part of [`fit`]: azimuths (as 1 − cos φ), values scaled to a largest 1,
-/// weights.
+/// weights, and the inner products of the floor's column (all ones) with itself and the values.
 struct Problem<'a> {
     versine: &'a [f64],
     y: &'a [f64],
     w: &'a [f64],
+    /// Σ w, Σ w·y and Σ (w·y)·y: the Gram entry, right-hand side and constant of the floor.
+    weight: f64,
+    data: f64,
+    data_square: f64,
     /// Whether signed pairs are candidates.
     signed: bool,
 }
 
-impl Problem<'_> {
-    /// pdf_WC(φₖ; c) at the azimuths, c ∈ [0, 1): (1 − c²)/(2π((1 − c)² + 2c(1 − cos φ))).
-    fn lobe(&self, c: f64) -> Vec<f64> {
-        let (a, b) = ((1.0 - c) * (1.0 + c) / TAU, (1.0 - c) * (1.0 - c));
-        self.versine
-            .iter()
-            .map(|&v| a / (b + 2.0 * c * v))
-            .collect()
+/// A lobe's column of the least squares: its concentration, its values at the azimuths and at
+/// π, and its inner products with the floor, itself and the values (Σ w·l, Σ (w·l)·l,
+/// Σ (w·l)·y), which do not depend on the other lobe: a step of the refinement moves one lobe
+/// and recomputes only the products of the two.
+struct Column {
+    c: f64,
+    values: Vec<f64>,
+    at_pi: f64,
+    floor: f64,
+    square: f64,
+    data: f64,
+}
+
+impl<'a> Problem<'a> {
+    fn new(versine: &'a [f64], y: &'a [f64], w: &'a [f64], signed: bool) -> Self {
+        let (mut weight, mut data, mut data_square) = (0.0, 0.0, 0.0);
+        for (&y, &w) in y.iter().zip(w) {
+            weight += w;
+            data += w * y;
+            data_square += w * y * y;
+        }
+        Problem {
+            versine,
+            y,
+            w,
+            weight,
+            data,
+            data_square,
+            signed,
+        }
     }
 
-    /// For concentrations `c`: the weighted squared relative error of the best (α, β₁, β₂)
-    /// with β ≥ 0 and f(π) ≥ 0, and those coefficients. Tries the free solution, then each
-    /// set of active constraints (a lobe left out, α pinned so that f(π) = 0), and keeps the
-    /// best admissible one.
-    fn solve(&self, c: [f64; 2]) -> (f64, [f64; 3]) {
-        let (l1, l2) = (self.lobe(c[0]), self.lobe(c[1]));
-        self.solve_columns([&l1, &l2], c)
+    /// The column of pdf_WC(φₖ; c) at the azimuths, c ∈ [0, 1):
+    /// (1 − c²)/(2π((1 − c)² + 2c(1 − cos φ))).
+    fn lobe(&self, c: f64) -> Column {
+        let (a, b) = ((1.0 - c) * (1.0 + c) / TAU, (1.0 - c) * (1.0 - c));
+        let values: Vec<f64> = self
+            .versine
+            .iter()
+            .map(|&v| a / (b + 2.0 * c * v))
+            .collect();
+        let (mut floor, mut square, mut data) = (0.0, 0.0, 0.0);
+        for ((&l, &y), &w) in values.iter().zip(self.y).zip(self.w) {
+            floor += w * l;
+            square += w * l * l;
+            data += w * l * y;
+        }
+        Column {
+            c,
+            values,
+            at_pi: pdf_wc(PI, c),
+            floor,
+            square,
+            data,
+        }
     }
 
     /// Σ w (m − y)² = cᵀGc − 2c·b + Σ w y² of the coefficients `coef`.
@@ -180,23 +213,26 @@ impl Problem<'_> {
         (quad - 2.0 * lin + yy).max(0.0)
     }
 
-    /// [`Problem::solve`] from the lobes' values at the azimuths and at π.
-    fn solve_columns(&self, lobes: [&[f64]; 2], c: [f64; 2]) -> (f64, [f64; 3]) {
-        let lobes_at_pi = c.map(|c| pdf_wc(PI, c));
-        // Gram matrix and right-hand side of the columns (1, pdf_WC(c₁), pdf_WC(c₂))
-        let mut g = [[0.0; 3]; 3];
-        let (mut b, mut yy) = ([0.0; 3], 0.0);
-        for (k, (&y, &w)) in self.y.iter().zip(self.w).enumerate() {
-            let col = [1.0, lobes[0][k], lobes[1][k]];
-            for i in 0..3 {
-                for j in 0..3 {
-                    g[i][j] += w * col[i] * col[j];
-                }
-                b[i] += w * col[i] * y;
-            }
-            yy += w * y * y;
+    /// For the lobes `l`: the weighted squared relative error of the best (α, β₁, β₂) with
+    /// β ≥ 0 and f(π) ≥ 0, or a signed pair ≥ 0 everywhere, and those coefficients. Tries the
+    /// free solution, then each set of active constraints (a lobe left out, α pinned so that
+    /// f(π) = 0), and keeps the best admissible one.
+    fn solve_columns(&self, l: [&Column; 2]) -> (f64, [f64; 3]) {
+        let c = [l[0].c, l[1].c];
+        // Gram matrix and right-hand side of the columns (1, pdf_WC(c₁), pdf_WC(c₂)); of the
+        // products of the two lobes both orders, each summed as (w·lᵢ)·lⱼ
+        let (mut g12, mut g21) = (0.0, 0.0);
+        for ((&a, &b), &w) in l[0].values.iter().zip(&l[1].values).zip(self.w) {
+            g12 += w * a * b;
+            g21 += w * b * a;
         }
-        let at_pi = [1.0, lobes_at_pi[0], lobes_at_pi[1]];
+        let g = [
+            [self.weight, l[0].floor, l[1].floor],
+            [l[0].floor, l[0].square, g12],
+            [l[1].floor, g21, l[1].square],
+        ];
+        let (b, yy) = ([self.data, l[0].data, l[1].data], self.data_square);
+        let at_pi = [1.0, l[0].at_pi, l[1].at_pi];
         // The best pair of lobes of one sign, and the best signed pair
         let (mut best, mut signed) = ((f64::INFINITY, [0.0; 3]), (f64::INFINITY, [0.0; 3]));
         // Each candidate is a basis of combinations of the columns (rows of T): coefficients
@@ -223,15 +259,13 @@ impl Problem<'_> {
         ];
         for (index, t) in candidates.into_iter().enumerate() {
             let m = t.len();
-            let mut a = [[0.0; 4]; 3];
-            for p in 0..m {
-                for q in 0..m {
-                    a[p][q] = (0..3)
-                        .map(|i| t[p][i] * (0..3).map(|j| g[i][j] * t[q][j]).sum::<f64>())
-                        .sum();
-                }
-                a[p][3] = (0..3).map(|i| t[p][i] * b[i]).sum();
-            }
+            let mut a = if index == 0 {
+                // The free solution's basis is the columns themselves: its normal equations are
+                // G and b (`normal_equations` of the identity, whose zeros and ones add nothing)
+                std::array::from_fn(|p| [g[p][0], g[p][1], g[p][2], b[p]])
+            } else {
+                normal_equations(t, &g, &b)
+            };
             let Some(x) = solve_small(&mut a, m) else {
                 continue;
             };
@@ -242,11 +276,16 @@ impl Problem<'_> {
                 continue;
             }
             let cost = self.cost(&g, &b, yy, coef);
+            let admissible_signed = |coef: [f64; 3]| {
+                self.signed && TwoLobe::new(coef[0], [coef[1], coef[2]], c).is_some()
+            };
             if coef[2] < 0.0 {
-                if self.signed
-                    && cost < signed.0
-                    && TwoLobe::new(coef[0], [coef[1], coef[2]], c).is_some()
-                {
+                if index == 0 && admissible_signed(coef) {
+                    // The free solution is admissible (profiles ≥ 0 everywhere are a convex
+                    // set): the optimum, as below
+                    return (cost, coef);
+                }
+                if cost < signed.0 && admissible_signed(coef) {
                     signed = (cost, coef);
                 }
                 continue;
@@ -270,6 +309,21 @@ impl Problem<'_> {
             best
         }
     }
+}
+
+/// The normal equations of the least squares in the basis whose vectors are the rows of `t`
+/// (m ≤ 3 of them): TGTᵀ augmented by Tb, in the first m rows and columns.
+fn normal_equations(t: &[[f64; 3]], g: &[[f64; 3]; 3], b: &[f64; 3]) -> [[f64; 4]; 3] {
+    let mut a = [[0.0; 4]; 3];
+    for (p, tp) in t.iter().enumerate() {
+        for (q, tq) in t.iter().enumerate() {
+            a[p][q] = (0..3)
+                .map(|i| tp[i] * (0..3).map(|j| g[i][j] * tq[j]).sum::<f64>())
+                .sum();
+        }
+        a[p][3] = (0..3).map(|i| tp[i] * b[i]).sum();
+    }
+    a
 }
 
 /// Solves the m × m system whose augmented rows are `a` (m ≤ 3, right-hand side in column 3)
@@ -297,4 +351,39 @@ fn solve_small(a: &mut [[f64; 4]; 3], m: usize) -> Option<[f64; 3]> {
         x[i] = (a[i][3] - s) / a[i][i];
     }
     x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::{SeedableRng, SplitMix64, UnitF64};
+
+    /// The free solution's shortcut takes G and b as they are: what `normal_equations` gives
+    /// in the identity basis, bit for bit, over random Gram matrices of every sign and scale
+    /// (and one of zeros).
+    #[test]
+    fn the_free_solution_uses_the_identity_basis_normal_equations() {
+        let mut rng = SplitMix64::seed_from_u64(3);
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        for case in 0..10_000 {
+            let mut value = || {
+                let v = (rng.next_f64() - 0.5) * 10f64.powf(40.0 * rng.next_f64() - 20.0);
+                if case == 0 {
+                    0.0
+                } else {
+                    v
+                }
+            };
+            let g: [[f64; 3]; 3] = std::array::from_fn(|_| std::array::from_fn(|_| value()));
+            let b: [f64; 3] = std::array::from_fn(|_| value());
+            let a = normal_equations(&identity, &g, &b);
+            for p in 0..3 {
+                let direct = [g[p][0], g[p][1], g[p][2], b[p]];
+                // (== holds 0 and −0 equal: a zero's sign changes no solution)
+                for (x, y) in a[p].iter().zip(direct) {
+                    assert!(x == &y, "case {case}, row {p}: {x} against {y}");
+                }
+            }
+        }
+    }
 }
