@@ -94,7 +94,7 @@ pub enum FormatError {
     #[error("section {section}: gwc-harmonics (two lobes) in a file without required feature bit 2 (harmonics)")]
     HarmonicsNotDeclared { section: usize },
     /// A `gwc-harmonics` node rebuilds into a signed pair but the file does not set required
-    /// feature bit 3: a 1.2 reader would read it as one lobe.
+    /// feature bit 3: readers of 1.2 read it as one lobe or as the pair (format-spec.md §4).
     #[error("table {table}: gwc-harmonics node {node} is a signed pair (a lobe less a broader one) in a file without required feature bit 3 (signed-lobes)")]
     SignedLobesNotDeclared { table: usize, node: usize },
     /// A directory entry's rank or dimensions are malformed.

@@ -174,7 +174,7 @@ fn check_table_values<'a>(
             None => {}
         }
     }
-    // A signed pair at a node needs bit 3 (§4): a 1.2 reader would read one lobe there
+    // A signed pair at a node needs bit 3 (§4), in a file of any minor: 1.2 had no one reading
     let params = slot.sections.get(&SectionKind::GwcParams.code());
     let harmonics = slot.sections.get(&SectionKind::Harmonics.code());
     if let (Some(&p), Some(&h), false) = (

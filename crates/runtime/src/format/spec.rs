@@ -85,7 +85,8 @@ pub mod required_features {
     /// four harmonics (format 1.2). Readers that ignore the section would read one lobe.
     pub const HARMONICS: u64 = 1 << 2;
     /// At least one `gwc-harmonics` node rebuilds into a signed pair, a sharp lobe less a
-    /// broader one (format 1.3). A 1.2 reader would read it as one lobe.
+    /// broader one (format 1.3). bssrdf-zoo readers of 1.2 read it as one lobe, later ones as
+    /// the pair: it had no one meaning there.
     pub const SIGNED_LOBES: u64 = 1 << 3;
     /// Every required feature this reader understands.
     pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR | HARMONICS | SIGNED_LOBES;

@@ -205,16 +205,8 @@ pub(crate) fn harmonic_shares_of(params: &[f32], harmonics: &[f32], n_r: usize) 
         })
         .collect();
     let shares = cells().flat_map(|(p, h)| {
-        let (e, e_beta, c) = (p[0], p[1], p[2]);
-        let inv = if e > 0.0 { 1.0 / e } else { 0.0 };
-        let share1 = e_beta * c * inv;
-        [
-            share1,
-            share1 * c,
-            h[0] * inv,
-            h[1] * inv,
-            if e > 0.0 { 1.0 } else { 0.0 },
-        ]
+        let [s1, s2, s3, s4] = node_shares([p[0], p[1], p[2], h[0], h[1]]);
+        [s1, s2, s3, s4, if p[0] > 0.0 { 1.0 } else { 0.0 }]
     });
     // Each window stays within its node's row
     let n_r = n_r.max(1);
@@ -241,24 +233,49 @@ pub const SIGNED_DEPARTURE: f64 = 1e-4;
 /// a negative broader lobe.
 pub fn node_is_signed(cell: [f32; 5]) -> bool {
     let [e, e_beta, c, h0, h1] = cell.map(f64::from);
-    let departure = (h0 - e_beta * c.powi(3))
+    let departure = (h0 - e_beta * c * c * c)
         .abs()
-        .max((h1 - e_beta * c.powi(4)).abs());
+        .max((h1 - e_beta * c * c * c * c).abs());
     e > 0.0
         && departure > SIGNED_DEPARTURE * e
         && crate::gwc::harmonics_are_signed([e_beta * c, e_beta * c * c, h0, h1])
 }
 
-/// The concentration of the sharper lobe a node of a two-lobe table rebuilds into from its
-/// own stored values (E, E_β, c, rμ₃, rμ₄) ([`crate::gwc::sharp_concentration`]), in f32.
-/// Lookups rebuild no lobe sharper than the sharpest node they blend: where the harmonics
-/// they blend are nearly those of one lobe, Prony's second root is ill-determined, and a sharp
-/// lobe of little mass put a spike at φ = 0: at η = 1.01, ρ′ = 0.5, θ = 75°, the largest error
-/// of 50,000 points drawn by the table's sampler was 14.9 % without the cap, 4.8 % with it
-/// (`examples/worst_points`).
-pub(crate) fn node_sharpness(cell: [f32; 5]) -> f32 {
-    let [e_beta, c, h0, h1] = [cell[1], cell[2], cell[3], cell[4]].map(f64::from);
-    crate::gwc::sharp_concentration([e_beta * c, e_beta * c * c, h0, h1]) as f32
+/// The shares of E of the harmonics of a node of a two-lobe table with stored values
+/// (E, E_β, c, rμ₃, rμ₄), (E_β·c, E_β·c², rμ₃, rμ₄)/E, 0 where E ≤ 0: what lookups blend, in
+/// f32 with their own operations (`lookup::two_lobe`).
+pub fn node_shares(cell: [f32; 5]) -> [f32; 4] {
+    let [e, e_beta, c, h0, h1] = cell;
+    let inv = if e > 0.0 { 1.0 / e } else { 0.0 };
+    let share1 = e_beta * c * inv;
+    [share1, share1 * c, h0 * inv, h1 * inv]
+}
+
+/// The concentration of the sharper lobe a node of a two-lobe table rebuilds into
+/// ([`crate::gwc::sharp_concentration`] of its [`node_shares`], which at the node are what a
+/// lookup rebuilds from), rounded to f32 and raised by one f32 step. Lookups rebuild no lobe
+/// sharper than the sharpest node they blend: where the harmonics they blend are nearly those
+/// of one lobe, Prony's second root is ill-determined, and a sharp lobe of little mass put a
+/// spike at φ = 0: at η = 1.01, ρ′ = 0.5, θ = 75°, the largest error of 50,000 points drawn by
+/// the table's sampler was 14.9 % without the cap, 4.8 % with it (`examples/worst_points`).
+/// The step up keeps a node's own root from being clamped by rounding, which would refuse a
+/// signed pair there and read one lobe (it did at 10 % of the signed nodes of the default
+/// bakes at η = 1.05 and 1.2, when the cap came from the f64 harmonics rounded to nearest).
+pub fn node_sharpness(cell: [f32; 5]) -> f32 {
+    let shares = node_shares(cell).map(f64::from);
+    next_f32_up(crate::gwc::sharp_concentration(shares) as f32)
+}
+
+/// The least f32 above the finite `x` (`f32::next_up`, which is newer than the crate's minimum
+/// Rust).
+fn next_f32_up(x: f32) -> f32 {
+    if x == 0.0 {
+        f32::from_bits(1)
+    } else if x > 0.0 {
+        f32::from_bits(x.to_bits() + 1)
+    } else {
+        f32::from_bits(x.to_bits() - 1)
+    }
 }
 
 /// Number of f32 values per node of the second lobe: E_β₂, c₂.

@@ -39,7 +39,9 @@
 //! (0.99, 89°) above 1 %, and the central difference at 80° left 1–2 points in 10⁵ at
 //! (0.99, 89°) at 1.0000–1.0002 % (docs/accuracy.md). The θ CDF integrates that same spline.
 
-use super::{check_rows, AngularTable, Axes, SubsetError, PARAMS_PER_NODE};
+use super::{
+    check_rows, node_shares, node_sharpness, AngularTable, Axes, SubsetError, PARAMS_PER_NODE,
+};
 use crate::catmull_rom::Nodes;
 use crate::error::{Error, Result};
 use crate::fresnel::Moments;
@@ -584,11 +586,16 @@ fn two_lobe_cells(g: &TwoLobe, r: f64) -> [f64; 5] {
     [r * e, r * beta, c, r * m3, r * m4]
 }
 
-/// The profile a lookup rebuilds at a node of `g` at radius `r` from its stored f32 values.
+/// The profile a lookup rebuilds at a node of `g` at radius `r` from its stored f32 values:
+/// from the node's shares of E in f32 ([`node_shares`]), capped at the node's sharpness
+/// ([`node_sharpness`]), as format-spec.md §10 has it. (A pair of nearly equal concentrations
+/// and large cancelling masses rebuilds from these into another profile than from its
+/// harmonics in f64.)
 fn stored_two_lobes(g: &TwoLobe, r: f64) -> TwoLobe {
-    let [e, e_beta, c, rm3, rm4] = two_lobe_cells(g, r).map(|v| f64::from(v as f32));
-    let m = [e_beta * c, e_beta * c * c, rm3, rm4].map(|m| m / r);
-    TwoLobe::from_moments(e / r, m)
+    let cell = two_lobe_cells(g, r).map(|v| v as f32);
+    let e_per_r = f64::from(cell[0]) / r;
+    let m = node_shares(cell).map(|s| f64::from(s) * e_per_r);
+    TwoLobe::from_moments_capped(e_per_r, m, f64::from(node_sharpness(cell)))
 }
 
 /// Incidence at which the θ → 0 limit of the lobe mass is taken (radians).

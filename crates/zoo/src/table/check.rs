@@ -62,7 +62,8 @@ pub const TAIL_POINTS: usize = 200;
 /// the default and fine grids ([`BOUNDS`]): issue 17's "no silent zeros".
 ///
 /// Down to it the default and fine tables are within 5.2 % of PBD at every η from 1.2 to 2.5
-/// (2.5 % from η = 1.33 up, where they have one lobe; 9.3 % at 1.15) and never 0 (`examples/tail_error`, 20,000 points per η leaning
+/// (2.5 % from η = 1.33 up, where they have one lobe; one point of 16,053 at 10.3 % at 1.15)
+/// and never 0 (`examples/tail_error`, 20,000 points per η leaning
 /// towards both ends of the albedo axis and large r; docs/accuracy.md, "The far tails"). Until the spline of E/(ρ′² f) at the ends of the
 /// albedo axis (`table::albedo`, "The ends of the axis"), the far tail below ρ′ = 0.078 was up to
 /// 25 % off at 10⁻¹² of the peak and 0 below ~10⁻¹¹ at ρ′ < 0.02, and this fraction was 10⁻⁸.

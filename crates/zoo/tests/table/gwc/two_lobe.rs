@@ -459,3 +459,56 @@ fn fit_refuses_samples_it_cannot_use() {
     assert!(fit_two_lobes(&phi, &y, None).is_none());
     assert!(fit_two_lobes(&phi[..4], &[1.0; 4], None).is_none());
 }
+
+/// A lookup at a node of a baked two-lobe table rebuilds that node's own profile, signed pairs
+/// included: the ratios f(φ)/f(0) at four azimuths, to 10⁻⁶ of the peak, against the rebuild of the node's stored
+/// values by format-spec.md §10 (Prony on its shares of E in f32, uncapped), at every node
+/// with energy of the coarse bakes at η = 1.05 and 1.2. (The cap on the rebuild once came from
+/// the node's f64 harmonics rounded to nearest, below the root of the f32 shares at 10 % of
+/// the signed nodes, which then read one lobe.)
+#[test]
+fn lookups_at_baked_nodes_rebuild_their_own_profile() {
+    use bssrdf_zoo::table::{
+        bake, node_is_signed, node_shares, GridPreset, Lobes, PARAMS_PER_NODE,
+    };
+    for eta in [1.05, 1.2] {
+        let grid = GridPreset::Coarse.grid(eta, Lobes::Two);
+        let table = bake(eta, Moments::Exact, &grid, false).unwrap().0;
+        let view = table.view();
+        let axes = table.axes();
+        let (rho, theta, r) = (
+            axes.rho().as_slice(),
+            axes.theta().as_slice(),
+            axes.r().as_slice(),
+        );
+        let (params, harmonics) = (table.params(), table.harmonics().unwrap());
+        let (mut nodes, mut signed) = (0, 0);
+        for (i, &x) in rho.iter().enumerate() {
+            for (j, &t) in theta.iter().enumerate() {
+                for (k, &rk) in r.iter().enumerate() {
+                    let n = (i * theta.len() + j) * r.len() + k;
+                    let p = &params[n * PARAMS_PER_NODE..][..3];
+                    let h = &harmonics[2 * n..][..2];
+                    if p[0] <= 0.0 || rk <= 0.0 {
+                        continue;
+                    }
+                    let cell = [p[0], p[1], p[2], h[0], h[1]];
+                    let e_per_r = f64::from(p[0]) / rk;
+                    let m = node_shares(cell).map(|s| f64::from(s) * e_per_r);
+                    let own = TwoLobe::from_moments(e_per_r, m);
+                    let at = |phi: f64| view.eval(x, t, rk, phi).unwrap();
+                    for phi in [PI / 8.0, PI / 4.0, PI / 2.0, PI] {
+                        let (lookup, stored) = (at(phi) / at(0.0), own.eval(phi) / own.eval(0.0));
+                        assert!(
+                            (lookup - stored).abs() < 1e-6,
+                            "eta {eta}, node ({i}, {j}, {k}), phi {phi}: {lookup} against {stored}"
+                        );
+                    }
+                    nodes += 1;
+                    signed += usize::from(node_is_signed(cell));
+                }
+            }
+        }
+        assert!(signed > 100, "eta {eta}: {signed} signed of {nodes} nodes");
+    }
+}
