@@ -221,10 +221,11 @@ pub(crate) fn harmonic_shares_of(params: &[f32], harmonics: &[f32], n_r: usize) 
 
 /// How far (relative to E) a node's stored r·μ₃ and r·μ₄ must depart from its one lobe's,
 /// E_β·c³ and E_β·c⁴, before [`node_is_signed`] calls it a signed pair. A reader without
-/// signed pairs reads such a node as its one lobe, whose profile lacks those differences, each
-/// a cosine of amplitude 2Δμ/E times the mean: ≤ 0.02 % of it below this. Rounding the one
-/// lobe's own harmonics to f32 departs by about 10⁻⁷ E, where Prony's roots are noise and
-/// may give any sign.
+/// signed pairs reads such a node as its one lobe, whose third and fourth harmonics then differ
+/// by cosines of amplitude 2Δμ/E times the mean, ≤ 0.02 % of it below this; the higher ones,
+/// which the pair's two roots set, can differ more (format-spec.md §10, "Signed nodes").
+/// Rounding the one lobe's own harmonics to f32 departs by about 10⁻⁷ E, where Prony's roots
+/// are noise and may give any sign.
 pub const SIGNED_DEPARTURE: f64 = 1e-4;
 
 /// Whether a node of a two-lobe table with stored values (E, E_β, c, rμ₃, rμ₄) is a signed
