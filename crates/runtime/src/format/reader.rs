@@ -3,6 +3,7 @@
 //! checked arithmetic against the bytes present and against a hard cap before it is used; all
 //! slicing goes through `get`. Nothing here panics on any input.
 
+use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use zerocopy::FromBytes;
@@ -142,11 +143,21 @@ fn section_bytes<'a>(
 }
 
 /// Little-endian f32 values of a byte run (a copy; used for validation only).
-fn f32_values(bytes: &[u8]) -> Vec<f32> {
+pub(crate) fn f32_values(bytes: &[u8]) -> Vec<f32> {
     bytes
         .chunks_exact(4)
         .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
         .collect()
+}
+
+/// The f32 values of a byte run: cast in place where it is aligned (sections are 256-byte
+/// aligned in an aligned map or buffer), else [`f32_values`], which keeps this correct for any
+/// input.
+fn f32_view(bytes: &[u8]) -> Cow<'_, [f32]> {
+    match <[f32]>::ref_from_bytes(bytes) {
+        Ok(values) => Cow::Borrowed(values),
+        Err(_) => Cow::Owned(f32_values(bytes)),
+    }
 }
 
 /// The values of one table's sections, in kind order: every value finite, and for
@@ -164,12 +175,9 @@ fn check_table_values<'a>(
         let bytes = data(index);
         match SectionKind::from_code(code) {
             // One pass for finiteness and the node rules.
-            Some(SectionKind::GwcParams) => match <[f32]>::ref_from_bytes(bytes) {
-                Ok(values) => check_gwc_nodes(t, &slot.header, values, signed_floor)?,
-                // Sections are 256-byte aligned in an aligned map or buffer, so the cast above
-                // succeeds; the copy only keeps this correct for any input.
-                Err(_) => check_gwc_nodes(t, &slot.header, &f32_values(bytes), signed_floor)?,
-            },
+            Some(SectionKind::GwcParams) => {
+                check_gwc_nodes(t, &slot.header, &f32_view(bytes), signed_floor)?
+            }
             Some(kind) => check_finite_bytes(t, kind, bytes)?,
             None => {}
         }
@@ -182,7 +190,7 @@ fn check_table_values<'a>(
         harmonics,
         required & required_features::SIGNED_LOBES != 0,
     ) {
-        if let Some(node) = first_signed_node(&f32_values(data(p)), &f32_values(data(h))) {
+        if let Some(node) = first_signed_node(&f32_view(data(p)), &f32_view(data(h))) {
             return Err(FormatError::SignedLobesNotDeclared { table: t, node });
         }
     }

@@ -12,7 +12,7 @@ use super::atomic::write_file_atomic;
 use super::error::{FormatError, FormatResult};
 use super::library::Library;
 use super::provenance::Provenance;
-use super::reader::Verify;
+use super::reader::{f32_values, first_signed_node, Verify};
 use super::records::{
     check_axis, check_finite, check_gwc_nodes, has_signed_floor, Material, TableHeader,
 };
@@ -392,13 +392,13 @@ impl LibraryBuilder {
             let values = |kind: SectionKind| {
                 table_sections
                     .get(&kind.code())
-                    .map(|s| f32_values_of(&s.bytes))
+                    .map(|s| f32_values(&s.bytes))
             };
             match (
                 values(SectionKind::GwcParams),
                 values(SectionKind::Harmonics),
             ) {
-                (Some(p), Some(h)) => super::reader::first_signed_node(&p, &h).is_some(),
+                (Some(p), Some(h)) => first_signed_node(&p, &h).is_some(),
                 _ => false,
             }
         });
@@ -436,15 +436,7 @@ impl LibraryBuilder {
 
 /// [`has_signed_floor`] of little-endian f32 bytes.
 fn has_signed_floor_bytes(bytes: &[u8]) -> bool {
-    has_signed_floor(&f32_values_of(bytes))
-}
-
-/// Little-endian f32 values of a section's raw bytes.
-fn f32_values_of(bytes: &[u8]) -> Vec<f32> {
-    bytes
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect()
+    has_signed_floor(&f32_values(bytes))
 }
 
 /// Places the sections one after another at aligned offsets and writes header and directory.

@@ -217,8 +217,7 @@ pub fn check(
                 }
             }
             let (mut coverage_points, mut coverage_max, mut silent_zeros) = (0, 0.0f64, 0);
-            // The coverage points, then the tail points, each a (ρ′, θ, r, φ)
-            let mut draws = Vec::with_capacity(COVERAGE_POINTS + TAIL_POINTS);
+            // The coverage points, then the tail points
             for k in 0..COVERAGE_POINTS + TAIL_POINTS {
                 let (rho, theta) = (uniform(rho), uniform(theta_deg).to_radians());
                 let r = if k < COVERAGE_POINTS {
@@ -227,9 +226,7 @@ pub fn check(
                     let far = (35.0 / (3.0 * (1.0 - rho)).sqrt()).min(r_last);
                     uniform([1.0f64.min(far), far])
                 };
-                draws.push((rho, theta, r, uniform([0.0, PI])));
-            }
-            for (rho, theta, r, phi) in draws {
+                let phi = uniform([0.0, PI]);
                 let pbd = Pbd::new(rho, boundary)?;
                 let truth = pbd.eval(theta, r, phi, Rule::Fast);
                 let peak = pbd.eval(theta, r_first, 0.0, Rule::Fast);
