@@ -69,7 +69,7 @@ types:
       - id: minor
         type: u2
         doc: |
-          Format minor version: 3 for format 1.3 (0 to 2 in files of formats 1.0 to 1.2).
+          Format minor version: 4 for format 1.4 (0 to 3 in files of formats 1.0 to 1.3).
           Minors only add; a newer minor is read as far as this description goes.
       - id: byte_order
         type: u4
@@ -92,10 +92,12 @@ types:
           (some section has codec 1), bit 1 `signed-floor` (since 1.1: some gwc-params node
           has E_β > E), bit 2 `harmonics` (since 1.2: some table has a gwc-harmonics
           section), bit 3 `signed-lobes` (since 1.3: some gwc-harmonics node is a sharp lobe
-          less a broader one). Bits 4 to 63 are reserved for later minors. Not checked here.
+          less a broader one), bit 4 `merged-roots` (since 1.4: the two-lobe tables rebuild a
+          merged pair where Prony's roots give no lobes). Bits 5 to 63 are reserved for later
+          minors. Not checked here.
       - id: optional_features
         type: u8
-        doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.3.
+        doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.4.
       - id: alignment
         type: u4
         valid:
@@ -124,6 +126,9 @@ types:
       signed_lobes:
         value: (required_features & 8) != 0
         doc: Required feature bit 3, `signed-lobes` (since 1.3).
+      merged_roots:
+        value: (required_features & 16) != 0
+        doc: Required feature bit 4, `merged-roots` (since 1.4).
       dir_end:
         value: 128 + 64 * section_count
         doc: End of the directory, where the padding before the first section starts.

@@ -16,8 +16,9 @@
  * how the values are interpreted, not how they are stored, and this reader prints the
  * stored values. So is required feature bit 2 (harmonics, format 1.2: a gwc-harmonics
  * section, kind 0x23, makes a table's profile two lobes); a file with such a section that
- * does not set the bit is rejected. So is required feature bit 3 (signed-lobes, format 1.3:
- * nodes of gwc-harmonics that are a sharp lobe less a broader one). It does not check the
+ * does not set the bit is rejected. So are required feature bits 3 (signed-lobes, format 1.3:
+ * nodes of gwc-harmonics that are a sharp lobe less a broader one) and 4 (merged-roots,
+ * format 1.4: how lookups rebuild two lobes from the harmonics). It does not check the
  * values themselves (finite, node rules and signed nodes of section 10). Files of any minor of major 1 are read, as section 4 requires of a
  * reader that implements every required bit the file sets.
  *
@@ -43,9 +44,9 @@
 #define CODEC_NONE 0u
 #define NO_TABLE 0xFFFFFFFFu
 /* Required feature bits this reader implements (section 4): bit 1, signed-floor, bit 2,
- * harmonics, and bit 3, signed-lobes (it prints stored values, whose storage no bit
- * changes). */
-#define KNOWN_REQUIRED 0xEu
+ * harmonics, bit 3, signed-lobes, and bit 4, merged-roots (it prints stored values, whose
+ * storage no bit changes). */
+#define KNOWN_REQUIRED 0x1Eu
 #define REQUIRED_HARMONICS 0x4u
 #define KIND_HARMONICS 0x23u
 

@@ -313,6 +313,15 @@ class Bssrdf(KaitaiStruct):
             return getattr(self, '_m_harmonics', None)
 
         @property
+        def merged_roots(self):
+            """Required feature bit 4, `merged-roots` (since 1.4)."""
+            if hasattr(self, '_m_merged_roots'):
+                return self._m_merged_roots
+
+            self._m_merged_roots = self.required_features & 16 != 0
+            return getattr(self, '_m_merged_roots', None)
+
+        @property
         def signed_floor(self):
             """Required feature bit 1, `signed-floor` (since 1.1)."""
             if hasattr(self, '_m_signed_floor'):

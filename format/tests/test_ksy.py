@@ -37,7 +37,7 @@ TINY_KINDS = [
 ]
 TABLE_KINDS = ["axis-rho", "axis-theta", "axis-r", "gwc-params", "radial-cdf"]
 TINY = {
-    "version": (1, 3),
+    "version": (1, 4),
     "required_features": 0,
     "optional_features": 0,
     "alignment": 256,
@@ -53,7 +53,7 @@ TINY = {
 # spec-example. Keys a line does not state are left out.
 MANIFEST = {
     "spec-example": {
-        "version": (1, 3),
+        "version": (1, 4),
         "required_features": 1 << 1,
         "optional_features": 0,
         "alignment": 256,
@@ -66,7 +66,7 @@ MANIFEST = {
     "tiny-packed": {**TINY, "required_features": 1 << 0, "codecs": {"zstd"}},
     "newer-minor": {
         **{k: v for k, v in TINY.items() if k != "optional_features"},
-        "version": (1, 4),
+        "version": (1, 5),
         "optional_features_set": 1,
         "header_reserved_zero": False,
         "unknown_entry_flags": True,
@@ -83,7 +83,13 @@ MANIFEST = {
     },
     "signed-lobes": {
         **TINY,
+        "version": (1, 3),
         "required_features": (1 << 2) | (1 << 3),
+        "section_kinds": TINY_KINDS + ["gwc-harmonics"],
+    },
+    "merged-roots": {
+        **TINY,
+        "required_features": (1 << 2) | (1 << 3) | (1 << 4),
         "section_kinds": TINY_KINDS + ["gwc-harmonics"],
     },
     "aligned-4096": {
@@ -170,7 +176,7 @@ def test_every_valid_vector_is_in_the_manifest():
 def test_spec_example_as_section_16_states():
     lib = parse_fully(REPO / "tests" / "data" / "valid" / "spec-example.bssrdf")
     h = lib.header
-    assert (h.section_count, h.file_size, h.header_crc) == (7, 2568, 0x14B96012)
+    assert (h.section_count, h.file_size, h.header_crc) == (7, 2568, 0xD76DAD8A)
     placed = [(e.offset, e.stored_len) for e in lib.directory]
     assert placed == [
         (0x300, 64), (0x400, 512), (0x600, 4), (0x700, 4), (0x800, 8), (0x900, 24), (0xA00, 8)

@@ -54,6 +54,7 @@ pub fn synthetic_table(
         cdf,
         theta_cdf,
         harmonics: None,
+        rebuild: Default::default(),
     }
 }
 
@@ -151,6 +152,7 @@ pub fn spec_example_builder() -> LibraryBuilder {
         cdf: vec![0.5, 1.0],
         theta_cdf: None,
         harmonics: None,
+        rebuild: Default::default(),
     };
     let t = b.add_table(table).unwrap() as u32;
     b.add_material(Material {

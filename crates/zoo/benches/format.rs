@@ -31,6 +31,7 @@ fn default_table() -> TableData {
         cdf: (0..n).map(|i| (i % 64) as f32 / 63.0).collect(),
         theta_cdf: Some(rho.iter().flat_map(|&p| [p; 10]).collect()),
         harmonics: None,
+        rebuild: Default::default(),
         rho,
         theta,
         r,

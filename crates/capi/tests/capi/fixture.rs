@@ -103,5 +103,6 @@ fn made_up(eta: f64, theta_sampling: bool) -> TableData {
         cdf,
         theta_cdf: theta_sampling.then_some(theta_cdf),
         harmonics: None,
+        rebuild: Default::default(),
     }
 }

@@ -8,6 +8,7 @@ use zerocopy::FromBytes;
 
 use super::Rgb;
 use crate::format::{self, Compression, LibraryBuilder, SectionKind, Verify};
+use crate::gwc::Rebuild;
 use crate::medium::{Boundary, Medium};
 use crate::table::{Axes, FileTable, TableRef};
 
@@ -31,6 +32,8 @@ struct Prepared {
     theta_cdf: Option<usize>,
     /// Position of the harmonics section of a two-lobe table.
     harmonics: Option<usize>,
+    /// How its lookups rebuild the lobes (the file's rule).
+    rebuild: Rebuild,
     /// A two-lobe table's `table::harmonic_shares_of`, computed at open: 24 bytes per node,
     /// which take its lookups from dividing 16 rows × 4 nodes each to one blend.
     shares: Option<Vec<f32>>,
@@ -49,7 +52,11 @@ impl Inner {
             floats(file, p.radial_cdf),
             p.theta_cdf.filter(|_| theta_cdf).map(|t| floats(file, t)),
         )
-        .prevalidated_harmonics(p.harmonics.map(|h| floats(file, h)), p.shares.as_deref())
+        .prevalidated_harmonics(
+            p.harmonics.map(|h| floats(file, h)),
+            p.rebuild,
+            p.shares.as_deref(),
+        )
     }
 }
 
@@ -157,9 +164,11 @@ impl Library {
                 radial_cdf: position(SectionKind::RadialCdf).ok_or_else(unlocated)?,
                 theta_cdf: position(SectionKind::ThetaCdf),
                 harmonics: position(SectionKind::Harmonics),
+                rebuild: view.rebuild(),
                 shares: view.harmonics().map(|h| {
                     let n_r = view.axes().dims().2;
-                    crate::table::harmonic_shares_of(table.record().gwc_params(), h, n_r)
+                    let params = table.record().gwc_params();
+                    crate::table::harmonic_shares_of(params, h, n_r, view.rebuild())
                 }),
             };
             // The arrays found by position must be the very ones `TableRef::new` just checked.

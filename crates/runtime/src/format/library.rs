@@ -11,6 +11,7 @@ use super::provenance::Provenance;
 use super::reader::{parse, Parsed, SectionInfo, Verify};
 use super::records::{Material, TableHeader};
 use super::spec::{AxisKind, Codec, FresnelMoments, ModelKind, SectionKind, VERSION_MAJOR};
+use crate::gwc::Rebuild;
 
 /// A validated library file, mapped or in memory. Cheap to share between threads.
 pub struct Library {
@@ -191,6 +192,13 @@ impl<'a> Table<'a> {
         self.header().fresnel
     }
 
+    /// How lookups rebuild the lobes of a two-lobe table from its harmonics: the file's rule,
+    /// [`Rebuild::MergedRoots`] where it sets required feature bit 4 (`merged-roots`, format
+    /// 1.4), else [`Rebuild::Roots`] (format-spec.md §10 step 4).
+    pub fn rebuild(&self) -> Rebuild {
+        rebuild_of(self.library.required_features())
+    }
+
     /// Dimensions (nρ, nθ, nr).
     pub fn dims(&self) -> [usize; 3] {
         let h = self.header();
@@ -249,5 +257,14 @@ impl<'a> Table<'a> {
             .sections
             .values()
             .map(move |&i| &library.parsed.entries[i])
+    }
+}
+
+/// The rule of [`Table::rebuild`] for a file's required features.
+pub(crate) fn rebuild_of(required: u64) -> Rebuild {
+    if required & super::spec::required_features::MERGED_ROOTS != 0 {
+        Rebuild::MergedRoots
+    } else {
+        Rebuild::Roots
     }
 }

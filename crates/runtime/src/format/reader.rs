@@ -190,7 +190,8 @@ fn check_table_values<'a>(
         harmonics,
         required & required_features::SIGNED_LOBES != 0,
     ) {
-        if let Some(node) = first_signed_node(&f32_view(data(p)), &f32_view(data(h))) {
+        let rebuild = super::library::rebuild_of(required);
+        if let Some(node) = first_signed_node(&f32_view(data(p)), &f32_view(data(h)), rebuild) {
             return Err(FormatError::SignedLobesNotDeclared { table: t, node });
         }
     }
@@ -198,12 +199,16 @@ fn check_table_values<'a>(
 }
 
 /// The first node (in storage order) of a two-lobe table's `gwc-params` and `gwc-harmonics`
-/// values that rebuilds into a signed pair (`table::node_is_signed`).
-pub(crate) fn first_signed_node(params: &[f32], harmonics: &[f32]) -> Option<usize> {
+/// values that rebuilds into a signed pair by `rebuild` (`table::node_is_signed`).
+pub(crate) fn first_signed_node(
+    params: &[f32],
+    harmonics: &[f32],
+    rebuild: crate::gwc::Rebuild,
+) -> Option<usize> {
     params
         .chunks_exact(3)
         .zip(harmonics.chunks_exact(2))
-        .position(|(p, h)| crate::table::node_is_signed([p[0], p[1], p[2], h[0], h[1]]))
+        .position(|(p, h)| crate::table::node_is_signed([p[0], p[1], p[2], h[0], h[1]], rebuild))
 }
 
 fn check_finite_bytes(table: usize, kind: SectionKind, bytes: &[u8]) -> FormatResult<()> {

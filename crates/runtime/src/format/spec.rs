@@ -15,8 +15,9 @@ pub const VERSION_MAJOR: u16 = 1;
 /// The minor version this crate writes; it reads every minor of its major. Minor 1 added the
 /// required feature bit 1, [`required_features::SIGNED_FLOOR`]; minor 2 the section
 /// [`SectionKind::Harmonics`] with required feature bit 2, [`required_features::HARMONICS`];
-/// minor 3 the required feature bit 3, [`required_features::SIGNED_LOBES`].
-pub const VERSION_MINOR: u16 = 3;
+/// minor 3 the required feature bit 3, [`required_features::SIGNED_LOBES`]; minor 4 the required
+/// feature bit 4, [`required_features::MERGED_ROOTS`].
+pub const VERSION_MINOR: u16 = 4;
 /// Written as a little-endian u32 at byte 16; a byte-swapped file shows `0x0D0C0B0A`.
 pub const BYTE_ORDER_MARK: u32 = 0x0A0B_0C0D;
 
@@ -88,8 +89,12 @@ pub mod required_features {
     /// broader one (format 1.3). bssrdf-zoo readers of 1.2 read it as one lobe, later ones as
     /// the pair: it had no one meaning there.
     pub const SIGNED_LOBES: u64 = 1 << 3;
+    /// The file's two-lobe tables rebuild their lobes with merged roots where Prony's have
+    /// none (format 1.4, `gwc::Rebuild::MergedRoots`). A 1.3 reader would read one lobe there,
+    /// at nodes too.
+    pub const MERGED_ROOTS: u64 = 1 << 4;
     /// Every required feature this reader understands.
-    pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR | HARMONICS | SIGNED_LOBES;
+    pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR | HARMONICS | SIGNED_LOBES | MERGED_ROOTS;
     /// Name of a required feature bit, for messages.
     pub fn name(bit: u32) -> &'static str {
         match bit {
@@ -97,6 +102,7 @@ pub mod required_features {
             1 => "signed-floor",
             2 => "harmonics",
             3 => "signed-lobes",
+            4 => "merged-roots",
             _ => "unknown",
         }
     }

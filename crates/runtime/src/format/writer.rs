@@ -23,6 +23,7 @@ use super::spec::{
     MAX_PROVENANCE_BYTES, MAX_SECTIONS, MAX_SECTION_BYTES, MAX_TABLES, MIN_ALIGNMENT, NO_TABLE,
     SECTION_REQUIRED, TABLE_RECORD_SIZE, VERSION_MAJOR, VERSION_MINOR,
 };
+use crate::gwc::Rebuild;
 
 /// How to store sections.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -66,6 +67,11 @@ pub struct TableData {
     /// For a two-lobe table, the profile's third and fourth harmonics times r, (rμ₃, rμ₄),
     /// `[nρ][nθ][nr][2]` (format-spec.md §10); the file then needs format 1.2's `harmonics` bit.
     pub harmonics: Option<Vec<f32>>,
+    /// How lookups rebuild a two-lobe table's lobes from its harmonics: with merged roots, as
+    /// this crate bakes ([`Rebuild::MergedRoots`], which sets format 1.4's `merged-roots` bit), or
+    /// as files without that bit are read ([`Rebuild::Roots`]). The two-lobe tables of a file
+    /// share one rule. Ignored for a table without harmonics.
+    pub rebuild: Rebuild,
 }
 
 /// A section of a kind this version does not define, for extensions and tests.
@@ -98,6 +104,8 @@ struct Pending {
 pub struct LibraryBuilder {
     alignment: u32,
     tables: Vec<(TableHeader, BTreeMap<u32, Pending>)>,
+    /// The rule of the two-lobe tables added so far ([`TableData::rebuild`]).
+    rebuild: Option<Rebuild>,
     file_sections: BTreeMap<u32, Pending>,
     materials: Vec<Material>,
     provenance: Option<Provenance>,
@@ -123,6 +131,7 @@ impl LibraryBuilder {
         LibraryBuilder {
             alignment: DEFAULT_ALIGNMENT,
             tables: Vec::new(),
+            rebuild: None,
             file_sections: BTreeMap::new(),
             materials: Vec::new(),
             provenance: None,
@@ -200,6 +209,15 @@ impl LibraryBuilder {
             put(SectionKind::ThetaCdf, albedo)?;
         }
         if let Some(harmonics) = &table.harmonics {
+            match self.rebuild {
+                Some(rule) if rule != table.rebuild => {
+                    return Err(invalid(format!(
+                        "table {index} rebuilds its lobes by {:?}, the earlier two-lobe tables by {rule:?}: a file has one rule (required feature bit 4, merged-roots)",
+                        table.rebuild
+                    )));
+                }
+                _ => self.rebuild = Some(table.rebuild),
+            }
             put(SectionKind::Harmonics, harmonics)?;
         }
         self.tables.push((header, sections));
@@ -301,6 +319,9 @@ impl LibraryBuilder {
                 let bytes = table.raw_section(info.kind).unwrap_or_default();
                 sections.insert(info.kind, pending(info, bytes));
             }
+            if table.harmonics().is_some() {
+                builder.rebuild = Some(table.rebuild());
+            }
             builder.tables.push((*table.header(), sections));
         }
         for info in library.sections().iter().filter(|s| s.table.is_none()) {
@@ -387,7 +408,10 @@ impl LibraryBuilder {
             .iter()
             .any(|(_, table_sections)| table_sections.contains_key(&SectionKind::Harmonics.code()));
         // The bit exactly when some node of some two-lobe table is a signed pair, so that
-        // files without one stay readable by 1.2 readers.
+        // files without one stay readable by 1.2 readers; by the two-lobe tables' rule, whose
+        // bit 4 a 1.3 reader refuses
+        let rebuild = self.rebuild.unwrap_or_default();
+        let merged_roots = harmonics && rebuild == Rebuild::MergedRoots;
         let signed_lobes = self.tables.iter().any(|(_, table_sections)| {
             let values = |kind: SectionKind| {
                 table_sections
@@ -398,7 +422,7 @@ impl LibraryBuilder {
                 values(SectionKind::GwcParams),
                 values(SectionKind::Harmonics),
             ) {
-                (Some(p), Some(h)) => first_signed_node(&p, &h).is_some(),
+                (Some(p), Some(h)) => first_signed_node(&p, &h, rebuild).is_some(),
                 _ => false,
             }
         });
@@ -412,6 +436,10 @@ impl LibraryBuilder {
             0
         } | if signed_lobes {
             required_features::SIGNED_LOBES
+        } else {
+            0
+        } | if merged_roots {
+            required_features::MERGED_ROOTS
         } else {
             0
         };

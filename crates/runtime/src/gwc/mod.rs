@@ -69,8 +69,8 @@ mod two_lobe;
 
 pub use sample::{uniform_azimuth, unit_interval};
 pub use two_lobe::{
-    harmonics_are_signed, one_lobe_of, sharp_concentration, TwoLobe, C_MAX_TWO_LOBES,
-    C_MIN_SECOND_LOBE,
+    harmonics_are_signed, one_lobe_of, sharp_concentration, Rebuild, TwoLobe, C_MAX_TWO_LOBES,
+    C_MIN_SECOND_LOBE, MERGED_DEPARTURE, MERGED_SPLIT,
 };
 
 use std::f64::consts::{PI, TAU};

@@ -116,22 +116,22 @@ impl TwoLobe {
     /// clamped into [[`C_MIN_SECOND_LOBE`], [`C_MAX_TWO_LOBES`]] (c₁ only from above), and β₁, β₂
     /// solve μ₁ and μ₂ for them. Where that has no admissible answer (the Hankel determinant
     /// μ₁μ₃ − μ₂² vanishing relative to μ₂², complex roots, c₁ above [`C_MAX_TWO_LOBES`],
-    /// clamped roots that meet, β₁ ≤ 0, β₂ < 0 for clamped roots), the one lobe of the first two
-    /// harmonics: c = μ₂/μ₁, β = μ₁/c. Then as [`TwoLobe::from_table`]. β₂ < 0 with the roots
-    /// as they are is a signed pair (module docs).
+    /// clamped roots that meet, β₁ ≤ 0, β₂ < 0 for clamped roots), the limit of a signed pair
+    /// whose roots merge, from the first three harmonics ([`Rebuild::MergedRoots`]), where it is
+    /// one; else the one lobe of the first two harmonics: c = μ₂/μ₁, β = μ₁/c. Then as
+    /// [`TwoLobe::from_table`]. β₂ < 0 is a signed pair (module docs).
     pub fn from_moments(e_per_r: f64, m: [f64; 4]) -> Self {
-        Self::from_moments_capped(e_per_r, m, C_MAX_TWO_LOBES)
+        Self::from_moments_capped(e_per_r, m, C_MAX_TWO_LOBES, Rebuild::MergedRoots)
     }
 
     /// [`TwoLobe::from_moments`] with the sharper lobe's concentration at most `cap` (clamped
-    /// as to [`C_MAX_TWO_LOBES`]): lookups pass the sharpest lobe of the nodes they blend
-    /// (`table::node_sharpness`).
-    pub fn from_moments_capped(e_per_r: f64, m: [f64; 4], cap: f64) -> Self {
-        let [m1, m2, m3, m4] = m;
-        if let Some((beta, c)) = prony(m1, m2, m3, m4, cap) {
+    /// as to [`C_MAX_TWO_LOBES`]), by the table's `rebuild`: lookups pass the sharpest lobe of
+    /// the nodes they blend (`table::node_sharpness`).
+    pub fn from_moments_capped(e_per_r: f64, m: [f64; 4], cap: f64, rebuild: Rebuild) -> Self {
+        if let Some((beta, c)) = prony(m, e_per_r, cap, rebuild) {
             return Self::from_table(e_per_r, beta, c);
         }
-        let (beta, c) = one_lobe_of(m1, m2);
+        let (beta, c) = one_lobe_of(m[0], m[1]);
         Self::from_table(e_per_r, [beta, 0.0], [c, c])
     }
 
@@ -289,9 +289,24 @@ impl TwoLobe {
     }
 }
 
+/// How the lookups of a two-lobe table rebuild its lobes from the harmonics they blend
+/// (format-spec.md §10 step 4): a table's files say which (required feature bit 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Rebuild {
+    /// Formats 1.2 and 1.3: the lobes of Prony's roots, else one lobe.
+    Roots,
+    /// Format 1.4, required feature bit 4 (`merged-roots`): the lobes of Prony's roots, else
+    /// the limit of a signed pair whose roots merge (format-spec.md §10 step 4b), else one
+    /// lobe. What this crate bakes.
+    #[default]
+    MergedRoots,
+}
+
 /// The lobes (β, c) with harmonics (μ₁ … μ₄), by Prony's method ([`TwoLobe::from_moments`]),
-/// `None` where they are not two admissible lobes.
-fn prony(m1: f64, m2: f64, m3: f64, m4: f64, cap: f64) -> Option<([f64; 2], [f64; 2])> {
+/// `None` where they are not two admissible lobes. `energy`: the profile's E/r in the units of
+/// `m`, which sets what counts as a signed pair whose roots have merged ([`merged_roots`]).
+fn prony(m: [f64; 4], energy: f64, cap: f64, rebuild: Rebuild) -> Option<([f64; 2], [f64; 2])> {
+    let [m1, m2, m3, m4] = m;
     let det = m1 * m3 - m2 * m2;
     // (NaN harmonics fail here too)
     if det.is_nan() || det.abs() <= 1e-9 * m2 * m2 {
@@ -300,13 +315,31 @@ fn prony(m1: f64, m2: f64, m3: f64, m4: f64, cap: f64) -> Option<([f64; 2], [f64
     let p = (m1 * m4 - m2 * m3) / det;
     let q = (m2 * m4 - m3 * m3) / det;
     let disc = p * p - 4.0 * q;
-    if disc.is_nan() || disc <= 0.0 {
-        return None;
-    }
-    // The larger root without cancellation, the smaller from the product q
-    let c1 = 0.5 * (p + p.signum() * disc.sqrt());
-    let c2 = if c1 != 0.0 { q / c1 } else { 0.0 };
-    let (c1, c2) = if c1 >= c2 { (c1, c2) } else { (c2, c1) };
+    // Two lobes of the four harmonics where they are admissible, else the limit of a signed
+    // pair of the first three ([`merged_roots`])
+    let roots = (disc > 0.0).then(|| {
+        // The larger root without cancellation, the smaller from the product q
+        let c1 = 0.5 * (p + p.signum() * disc.sqrt());
+        let c2 = if c1 != 0.0 { q / c1 } else { 0.0 };
+        if c1 >= c2 {
+            (c1, c2)
+        } else {
+            (c2, c1)
+        }
+    });
+    let merged = || match rebuild {
+        Rebuild::Roots => None,
+        Rebuild::MergedRoots => lobes_of(m, merged_roots(m, det, energy)?, cap),
+    };
+    roots
+        .and_then(|roots| lobes_of(m, roots, cap))
+        .or_else(merged)
+}
+
+/// The lobes (β, c) of [`prony`] with the roots (c₁ ≥ c₂) it found: `None` where they are not
+/// two admissible lobes.
+fn lobes_of(m: [f64; 4], (c1, c2): (f64, f64), cap: f64) -> Option<([f64; 2], [f64; 2])> {
+    let [m1, m2, ..] = m;
     // Roots outside [C_MIN_SECOND_LOBE, C_MAX_TWO_LOBES] are clamped into it and the masses
     // solved for the clamped pair: the same lobes where the roots lie inside, and continuous
     // across its edges. (Falling back to the one lobe of μ₁, μ₂ where c₂ crossed 0 jumped the
@@ -335,6 +368,44 @@ fn prony(m1: f64, m2: f64, m3: f64, m4: f64, cap: f64) -> Option<([f64; 2], [f64
     // the pair matched no harmonics of its own.
     let signs = b1 > 0.0 && (b2 >= 0.0 || inside);
     (signs && b1.is_finite() && b2.is_finite()).then_some(([b1, b2], [c1, c2]))
+}
+
+/// How far a signed pair's third harmonic must depart from that of the one lobe of its first
+/// two, relative to E/r, for the merged pair of [`Rebuild::MergedRoots`] (format-spec.md §10
+/// step 4b): the departure at which a node counts as a signed pair (`table::SIGNED_DEPARTURE`).
+/// Below it the harmonics may be those of one lobe rounded to f32, whose Prony roots are noise.
+pub const MERGED_DEPARTURE: f64 = 1e-4;
+
+/// Half the gap between the two lobes of a merged pair ([`Rebuild::MergedRoots`]), relative to
+/// the merged lobe's width 1 − c: the pair then departs from the limit by about MERGED_SPLIT² of
+/// the profile, and its masses are about 1/MERGED_SPLIT times its lobe part, which they cancel
+/// down to it.
+pub const MERGED_SPLIT: f64 = 1e-3;
+
+/// The roots c₁ > c₂ of a signed pair whose roots have merged, for harmonics whose roots by
+/// Prony's method give no admissible lobes ([`prony`]; `det` = μ₁μ₃ − μ₂²). Blending the
+/// harmonics of signed pairs whose roots lie close together, as PBD's do in far tails near
+/// grazing incidence, gives such harmonics, where [`Rebuild::Roots`] reads the one lobe of μ₁
+/// and μ₂: on the default table at η = 1.1 its largest error between nodes is 17 % against
+/// PBD, this pair's 6.8 % (`examples/rebuild_rules`, docs/accuracy.md).
+///
+/// The limit of a signed pair as its roots merge at c is a lobe and its derivative in c,
+/// μₙ = βcⁿ + γncⁿ⁻¹, for which det = −γ²c² < 0. Its first three harmonics put c at a root of
+/// μ₁z² − 2μ₂z + μ₃ = 0, z = (μ₂ ± √−det)/μ₁, with γ = (μ₂ − cμ₁)/c: the smaller root, whose
+/// γ > 0 sharpens the lobe, as a signed pair's negative broader lobe does (the larger would
+/// broaden it, a sharper negative lobe, which step 4 refuses). Where the harmonics are those of
+/// such a limit, p/2 is that root, so the profile is continuous where the two roots of Prony's
+/// method merge. The pair c ± [`MERGED_SPLIT`]·(1 − c) with masses solved for μ₁ and μ₂ stands
+/// for it. `None` where det ≥ 0 (no signed pair), μ₁ ≤ 0, or the departure of μ₃ from the one
+/// lobe of μ₁, μ₂, −det/μ₁, is at most [`MERGED_DEPARTURE`]·`energy` (E/r).
+fn merged_roots(m: [f64; 4], det: f64, energy: f64) -> Option<(f64, f64)> {
+    let [m1, m2, ..] = m;
+    if !(m1 > 0.0 && -det > MERGED_DEPARTURE * m1 * energy) {
+        return None;
+    }
+    let c = (m2 - (-det).sqrt()) / m1;
+    let split = MERGED_SPLIT * (1.0 - c);
+    Some((c + split, c - split))
 }
 
 /// The energy E/r the lobes (β, c) need for the profile to be ≥ 0 at every φ: −2π times the
@@ -380,20 +451,20 @@ fn lobes_minimum(beta: [f64; 2], c: [f64; 2]) -> f64 {
     least
 }
 
-/// The concentration of the sharper lobe of the profile with harmonics `m`
-/// ([`TwoLobe::from_moments`]), or of its one lobe where it has not two; 0 with none.
-pub fn sharp_concentration(m: [f64; 4]) -> f64 {
-    let [m1, m2, m3, m4] = m;
-    match prony(m1, m2, m3, m4, C_MAX_TWO_LOBES) {
+/// The concentration of the sharper lobe of the profile with harmonics `m` and E/r = 1
+/// ([`TwoLobe::from_moments_capped`] by `rebuild`), or of its one lobe where it has not two; 0
+/// with none.
+pub fn sharp_concentration(m: [f64; 4], rebuild: Rebuild) -> f64 {
+    match prony(m, 1.0, C_MAX_TWO_LOBES, rebuild) {
         Some((_, c)) => c[0],
-        None => one_lobe_of(m1, m2).1,
+        None => one_lobe_of(m[0], m[1]).1,
     }
 }
 
-/// Whether the profile with harmonics `m` is a signed pair ([`TwoLobe::from_moments`]).
-pub fn harmonics_are_signed(m: [f64; 4]) -> bool {
-    let [m1, m2, m3, m4] = m;
-    prony(m1, m2, m3, m4, C_MAX_TWO_LOBES).is_some_and(|(beta, _)| beta[1] < 0.0)
+/// Whether the profile with harmonics `m` and energy E/r `energy` (in the units of `m`) is a
+/// signed pair ([`TwoLobe::from_moments_capped`] by `rebuild`).
+pub fn harmonics_are_signed(m: [f64; 4], energy: f64, rebuild: Rebuild) -> bool {
+    prony(m, energy, C_MAX_TWO_LOBES, rebuild).is_some_and(|(beta, _)| beta[1] < 0.0)
 }
 
 /// The smallest concentration [`TwoLobe::from_moments`] gives the second lobe (see the clamp in

@@ -39,6 +39,7 @@ impl AngularTable {
             cdf: self.radial_cdf.clone(),
             theta_cdf: self.theta_cdf.clone(),
             harmonics: self.harmonics.clone(),
+            rebuild: self.rebuild,
         }
     }
 }
@@ -89,7 +90,9 @@ impl<'a> FileTable<'a> {
             self.table.theta_cdf(),
         )?;
         match self.table.harmonics() {
-            Some(harmonics) => view.with_harmonics(harmonics),
+            Some(harmonics) => Ok(view
+                .with_harmonics(harmonics)?
+                .with_rebuild(self.table.rebuild())),
             None => Ok(view),
         }
     }
@@ -116,7 +119,7 @@ impl<'a> FileTable<'a> {
             self.table.theta_cdf().map(<[f32]>::to_vec),
         )?;
         match self.table.harmonics() {
-            Some(harmonics) => table.with_harmonics(harmonics.to_vec()),
+            Some(harmonics) => table.with_harmonics_by(harmonics.to_vec(), self.table.rebuild()),
             None => Ok(table),
         }
     }

@@ -81,6 +81,7 @@ pub use subset::{check_rows, kept_rows, merge_runs, rows_for, RhoInterval, Subse
 
 use crate::catmull_rom::{End, Nodes};
 use crate::fresnel::Moments;
+use crate::gwc::Rebuild;
 use std::f64::consts::FRAC_PI_2;
 
 /// Number of f32 values per (ρ′, θ, r) node in the parameter array: E, E_β, c.
@@ -156,6 +157,8 @@ pub struct AngularTable {
     radial_cdf: Vec<f32>,
     theta_cdf: Option<Vec<f32>>,
     harmonics: Option<Vec<f32>>,
+    /// How lookups rebuild the lobes from the harmonics.
+    rebuild: Rebuild,
     /// [`harmonic_shares_of`] the params and harmonics, with them (derived, not stored in files).
     shares: Option<Vec<f32>>,
 }
@@ -172,6 +175,8 @@ pub struct TableRef<'a> {
     theta_cdf: Option<&'a [f32]>,
     /// the harmonics (rμ₃, rμ₄) per node, `[nρ][nθ][nr][2]`, for tables with a second lobe.
     harmonics: Option<&'a [f32]>,
+    /// How lookups rebuild the lobes from the harmonics (format-spec.md §10 step 4).
+    rebuild: Rebuild,
     /// [`harmonic_shares_of`] the params and harmonics, where the owner computed them (an
     /// [`AngularTable`], an opened `embed::Library`): lookups then blend them as they are
     /// instead of dividing row by row. `None` in views of raw arrays ([`TableRef::new`]).
@@ -188,8 +193,13 @@ pub(crate) const SHARES_PER_NODE: usize = 5;
 /// gives bit for bit what dividing row by row gives (tested in `lookup/tests.rs`). After these
 /// [`SHARES_PER_NODE`] values of every node, one more per node: the largest [`node_sharpness`]
 /// of the nodes with energy among it and the next three along r (the window a lookup from it
-/// reads; 0 with none). `n_r`: the radii per row.
-pub(crate) fn harmonic_shares_of(params: &[f32], harmonics: &[f32], n_r: usize) -> Vec<f32> {
+/// reads; 0 with none), by the table's `rebuild`. `n_r`: the radii per row.
+pub(crate) fn harmonic_shares_of(
+    params: &[f32],
+    harmonics: &[f32],
+    n_r: usize,
+    rebuild: Rebuild,
+) -> Vec<f32> {
     let cells = || {
         params
             .chunks_exact(PARAMS_PER_NODE)
@@ -198,7 +208,7 @@ pub(crate) fn harmonic_shares_of(params: &[f32], harmonics: &[f32], n_r: usize) 
     let sharpness: Vec<f32> = cells()
         .map(|(p, h)| {
             if p[0] > 0.0 {
-                node_sharpness([p[0], p[1], p[2], h[0], h[1]])
+                node_sharpness([p[0], p[1], p[2], h[0], h[1]], rebuild)
             } else {
                 0.0
             }
@@ -230,16 +240,16 @@ pub const SIGNED_DEPARTURE: f64 = 1e-4;
 
 /// Whether a node of a two-lobe table with stored values (E, E_β, c, rμ₃, rμ₄) is a signed
 /// pair, what required feature bit 3, `signed-lobes`, declares: its harmonics depart from its
-/// one lobe's by more than [`SIGNED_DEPARTURE`]·E, and format-spec.md §10 step 4 on them gives
-/// a negative broader lobe.
-pub fn node_is_signed(cell: [f32; 5]) -> bool {
+/// one lobe's by more than [`SIGNED_DEPARTURE`]·E, and format-spec.md §10 step 4 on them by the
+/// table's `rebuild` gives a negative broader lobe.
+pub fn node_is_signed(cell: [f32; 5], rebuild: Rebuild) -> bool {
     let [e, e_beta, c, h0, h1] = cell.map(f64::from);
     let departure = (h0 - e_beta * c * c * c)
         .abs()
         .max((h1 - e_beta * c * c * c * c).abs());
     e > 0.0
         && departure > SIGNED_DEPARTURE * e
-        && crate::gwc::harmonics_are_signed([e_beta * c, e_beta * c * c, h0, h1])
+        && crate::gwc::harmonics_are_signed([e_beta * c, e_beta * c * c, h0, h1], e, rebuild)
 }
 
 /// The shares of E of the harmonics of a node of a two-lobe table with stored values
@@ -254,7 +264,7 @@ pub fn node_shares(cell: [f32; 5]) -> [f32; 4] {
 
 /// The concentration of the sharper lobe a node of a two-lobe table rebuilds into
 /// ([`crate::gwc::sharp_concentration`] of its [`node_shares`], which at the node are what a
-/// lookup rebuilds from), rounded to f32 and raised by one f32 step. Lookups rebuild no lobe
+/// lookup rebuilds from, by the table's `rebuild`), rounded to f32 and raised by one f32 step. Lookups rebuild no lobe
 /// sharper than the sharpest node they blend: where the harmonics they blend are nearly those
 /// of one lobe, Prony's second root is ill-determined, and a sharp lobe of little mass put a
 /// spike at φ = 0: at η = 1.01, ρ′ = 0.5, θ = 75°, the largest error of 50,000 points drawn by
@@ -262,9 +272,9 @@ pub fn node_shares(cell: [f32; 5]) -> [f32; 4] {
 /// The step up keeps a node's own root from being clamped by rounding, which would refuse a
 /// signed pair there and read one lobe (it did at 10 % of the signed nodes of the default
 /// bakes at η = 1.05 and 1.2, when the cap came from the f64 harmonics rounded to nearest).
-pub fn node_sharpness(cell: [f32; 5]) -> f32 {
+pub fn node_sharpness(cell: [f32; 5], rebuild: Rebuild) -> f32 {
     let shares = node_shares(cell).map(f64::from);
-    next_f32_up(crate::gwc::sharp_concentration(shares) as f32)
+    next_f32_up(crate::gwc::sharp_concentration(shares, rebuild) as f32)
 }
 
 /// The least f32 above the finite `x` (`f32::next_up`, which is newer than the crate's minimum
@@ -334,12 +344,14 @@ impl<'a> TableRef<'a> {
             radial_cdf,
             theta_cdf,
             harmonics: None,
+            rebuild: Rebuild::default(),
             shares: None,
         })
     }
 
     /// This view with a second lobe, the harmonics (rμ₃, rμ₄) per node, `[nρ][nθ][nr][2]`: its length
-    /// checked against the axes and every value finite.
+    /// checked against the axes and every value finite. Its lobes are rebuilt as this crate
+    /// bakes them ([`Rebuild::MergedRoots`]; [`TableRef::with_rebuild`] for another rule).
     pub fn with_harmonics(self, harmonics: &'a [f32]) -> Result<Self, TableError> {
         let (nrho, ntheta, nr) = self.axes.dims();
         let expected = nrho * ntheta * nr * HARMONICS_PER_NODE;
@@ -367,6 +379,20 @@ impl<'a> TableRef<'a> {
         })
     }
 
+    /// This view with its lobes rebuilt by `rebuild` (a file's rule: required feature bit 4).
+    pub fn with_rebuild(self, rebuild: Rebuild) -> Self {
+        Self {
+            rebuild,
+            shares: None,
+            ..self
+        }
+    }
+
+    /// How lookups rebuild the lobes of a two-lobe table from its harmonics.
+    pub fn rebuild(&self) -> Rebuild {
+        self.rebuild
+    }
+
     /// A view of arrays that [`TableRef::new`] has already accepted with these axes, with
     /// `c_e = Boundary::new(eta, moments)?.c_e()` as `new` computes it: O(1), no checks and no
     /// Fresnel integration, for handles that rebuild their view on every lookup
@@ -387,19 +413,23 @@ impl<'a> TableRef<'a> {
             radial_cdf,
             theta_cdf,
             harmonics: None,
+            rebuild: Rebuild::default(),
             shares: None,
         }
     }
 
     /// [`TableRef::prevalidated`]'s view with a second lobe [`TableRef::with_harmonics`]
-    /// has already accepted with these axes, and its [`harmonic_shares_of`] if computed.
+    /// has already accepted with these axes, rebuilt by `rebuild`, and its
+    /// [`harmonic_shares_of`] by that rule if computed.
     pub(crate) fn prevalidated_harmonics(
         self,
         harmonics: Option<&'a [f32]>,
+        rebuild: Rebuild,
         shares: Option<&'a [f32]>,
     ) -> Self {
         Self {
             harmonics,
+            rebuild,
             shares: harmonics.and(shares),
             ..self
         }
@@ -451,22 +481,41 @@ impl AngularTable {
             radial_cdf,
             theta_cdf,
             harmonics: None,
+            rebuild: Rebuild::default(),
             shares: None,
         })
     }
 
-    /// This table with a second lobe (validated as in [`TableRef::with_harmonics`]).
+    /// This table with a second lobe (validated as in [`TableRef::with_harmonics`]), rebuilt as
+    /// this crate bakes ([`Rebuild::MergedRoots`]).
     pub fn with_harmonics(self, harmonics: Vec<f32>) -> Result<Self, TableError> {
+        self.with_harmonics_by(harmonics, Rebuild::default())
+    }
+
+    /// This table with a second lobe (validated as in [`TableRef::with_harmonics`]), rebuilt by
+    /// `rebuild` (a file's rule: required feature bit 4).
+    pub fn with_harmonics_by(
+        self,
+        harmonics: Vec<f32>,
+        rebuild: Rebuild,
+    ) -> Result<Self, TableError> {
         self.view().with_harmonics(&harmonics)?;
         Ok(Self {
             shares: Some(harmonic_shares_of(
                 &self.params,
                 &harmonics,
                 self.axes.dims().2,
+                rebuild,
             )),
             harmonics: Some(harmonics),
+            rebuild,
             ..self
         })
+    }
+
+    /// How lookups rebuild the lobes of a two-lobe table from its harmonics.
+    pub fn rebuild(&self) -> Rebuild {
+        self.rebuild
     }
 
     /// A lookup view.
@@ -479,6 +528,7 @@ impl AngularTable {
             radial_cdf: &self.radial_cdf,
             theta_cdf: self.theta_cdf.as_deref(),
             harmonics: self.harmonics.as_deref(),
+            rebuild: self.rebuild,
             shares: self.shares.as_deref(),
         }
     }

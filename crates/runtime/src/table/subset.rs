@@ -204,7 +204,9 @@ impl AngularTable {
             self.theta_cdf().map(|t| slice(t, n_theta)),
         )?;
         Ok(match self.harmonics() {
-            Some(h) => table.with_harmonics(slice(h, node * HARMONICS_PER_NODE))?,
+            Some(h) => {
+                table.with_harmonics_by(slice(h, node * HARMONICS_PER_NODE), self.rebuild())?
+            }
             None => table,
         })
     }
@@ -220,7 +222,7 @@ impl AngularTable {
             None,
         )?;
         Ok(match self.harmonics() {
-            Some(h) => table.with_harmonics(h.to_vec())?,
+            Some(h) => table.with_harmonics_by(h.to_vec(), self.rebuild())?,
             None => table,
         })
     }
@@ -245,6 +247,9 @@ impl AngularTable {
             if p.harmonics().is_some() != first.harmonics().is_some() {
                 return Err(SubsetError::Mismatch("number of lobes"));
             }
+            if p.rebuild() != first.rebuild() {
+                return Err(SubsetError::Mismatch("rebuild of the lobes (merged roots)"));
+            }
             rho.extend_from_slice(p.axes().rho().as_slice());
             params.extend_from_slice(p.params());
             radial.extend_from_slice(p.radial_cdf());
@@ -267,7 +272,7 @@ impl AngularTable {
             first.theta_cdf().map(|_| theta),
         )?;
         Ok(match first.harmonics() {
-            Some(_) => table.with_harmonics(harmonics)?,
+            Some(_) => table.with_harmonics_by(harmonics, first.rebuild())?,
             None => table,
         })
     }

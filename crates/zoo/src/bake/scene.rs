@@ -5,6 +5,7 @@ use serde_json::{json, Value};
 
 use super::{BakeError, BakedLibrary, BakedMaterial, Baker, OnProgress};
 use crate::format::{Compression, LibraryBuilder, ModelKind, Provenance, TableData};
+use crate::gwc::Rebuild;
 use crate::scene::{Integrator, Scene};
 use crate::table::{Lobes, HARMONICS_PER_NODE};
 
@@ -100,6 +101,7 @@ impl Baker {
                 theta_cdf: Some(vec![0.0; n_rho * n_theta]),
                 harmonics: (self.lobes_at(eta) == Lobes::Two)
                     .then(|| vec![0.0; n_rho * n_theta * n_r * HARMONICS_PER_NODE]),
+                rebuild: Rebuild::default(),
             })?;
         }
         for m in scene.materials() {

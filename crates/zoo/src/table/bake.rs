@@ -47,7 +47,7 @@ use crate::error::{Error, Result};
 use crate::fresnel::Moments;
 use crate::gwc::{
     fit_three_anchors, fit_two_lobes, fit_two_lobes_one_sign, one_lobe_of, refine_minimax,
-    FitBranch, Gwc, TwoLobe, ANCHOR_COS, C_MAX_FIT,
+    FitBranch, Gwc, Rebuild, TwoLobe, ANCHOR_COS, C_MAX_FIT,
 };
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
@@ -595,7 +595,13 @@ fn stored_two_lobes(g: &TwoLobe, r: f64) -> TwoLobe {
     let cell = two_lobe_cells(g, r).map(|v| v as f32);
     let e_per_r = f64::from(cell[0]) / r;
     let m = node_shares(cell).map(|s| f64::from(s) * e_per_r);
-    TwoLobe::from_moments_capped(e_per_r, m, f64::from(node_sharpness(cell)))
+    let rebuild = Rebuild::MergedRoots;
+    TwoLobe::from_moments_capped(
+        e_per_r,
+        m,
+        f64::from(node_sharpness(cell, rebuild)),
+        rebuild,
+    )
 }
 
 /// Incidence at which the θ → 0 limit of the lobe mass is taken (radians).

@@ -126,6 +126,15 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
     let signed = data.join("valid/signed-lobes.bssrdf");
     let (code, stdout) = run(&exe, &signed, 0, harmonics, 2);
     assert_eq!((code, stdout.as_str()), (0, "3ee624dd 0.449499995\n"));
+    // Format 1.4 with required feature bit 4: a merged pair's stored r·μ₃ at node (0, 0, 1), as
+    // the Rust reader reads it.
+    let merged = data.join("valid/merged-roots.bssrdf");
+    let library = Library::read(&merged, Verify::Full).unwrap();
+    let expected = library.table(0).unwrap().harmonics().unwrap()[2];
+    let (code, stdout) = run(&exe, &merged, 0, harmonics, 2);
+    assert_eq!(code, 0, "{stdout}");
+    let bits = stdout.split_whitespace().next().unwrap();
+    assert_eq!(u32::from_str_radix(bits, 16).unwrap(), expected.to_bits());
     for (file, why) in [
         ("invalid/bad-magic", "magic"),
         ("invalid/unsupported-major", "version"),

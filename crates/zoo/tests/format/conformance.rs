@@ -398,7 +398,7 @@ fn two_lobes(declared: bool) -> Raw {
 
 /// The two-lobe tiny library with node (0, 0, 1) a signed pair: r·μₙ of β = (1, −0.5) at
 /// c = (0.8, 0.5), so (E_β, c) = (0.587379, 0.936364) for r·μ₁ = 0.55, r·μ₂ = 0.515 and
-/// (r·μ₃, r·μ₄) = (0.4495, 0.37835), with E = 1. Bit 2, and bit 3 if `declared`.
+/// (r·μ₃, r·μ₄) = (0.4495, 0.37835), with E = 1. Format 1.3: bit 2, and bit 3 if `declared`.
 fn signed_lobes(declared: bool) -> Raw {
     let mut secs = tiny_two_lobes_sections();
     let put = |data: &mut Vec<u8>, at: usize, values: &[f32]| {
@@ -411,6 +411,30 @@ fn signed_lobes(declared: bool) -> Raw {
     let harmonics = secs.iter().position(|s| s.kind == kind::HARMONICS).unwrap();
     put(&mut secs[harmonics].data, 2, &[0.4495, 0.378_35]);
     let required = (1 << 2) | if declared { 1 << 3 } else { 0 };
+    Raw::build(3, required, 0, 256, &secs)
+}
+
+/// The two-lobe tiny library with node (0, 0, 1) the limit of a signed pair whose roots merge
+/// at c = 0.7 (format-spec.md §10 step 4b): r·μₙ = cⁿ + γncⁿ⁻¹ with γ = 0.1 (a lobe of mass 1
+/// plus γ times its derivative in c), with r·μ₄ lowered by 10⁻³ so that Prony's roots are
+/// complex, stored as (E, E_β, c) = (1.2, μ₁²/μ₂, μ₂/μ₁) and (r·μ₃, r·μ₄). Read with merged roots,
+/// a signed pair; without, one lobe. Required feature bits `required`.
+fn merged_roots(required: u64) -> Raw {
+    let mut secs = tiny_two_lobes_sections();
+    let mu = |n: i32| 0.7f64.powi(n) + 0.1 * f64::from(n) * 0.7f64.powi(n - 1);
+    let put = |data: &mut Vec<u8>, at: usize, values: &[f64]| {
+        for (k, &v) in values.iter().enumerate() {
+            data[4 * (at + k)..4 * (at + k + 1)].copy_from_slice(&(v as f32).to_le_bytes());
+        }
+    };
+    let gwc = secs.iter().position(|s| s.kind == kind::GWC).unwrap();
+    put(
+        &mut secs[gwc].data,
+        3,
+        &[1.2, mu(1) * mu(1) / mu(2), mu(2) / mu(1)],
+    );
+    let harmonics = secs.iter().position(|s| s.kind == kind::HARMONICS).unwrap();
+    put(&mut secs[harmonics].data, 2, &[mu(3), mu(4) * 0.999]);
     Raw::build(VERSION_MINOR, required, 0, 256, &secs)
 }
 
@@ -479,6 +503,11 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
     out.push(("two-lobes", two_lobes(true).bytes));
     // A signed pair at one node, required feature bits 2 and 3.
     out.push(("signed-lobes", signed_lobes(true).bytes));
+    // A merged pair at one node, required feature bits 2, 3 and 4.
+    out.push((
+        "merged-roots",
+        merged_roots((1 << 2) | (1 << 3) | (1 << 4)).bytes,
+    ));
     // Page alignment, one albedo row, no materials, no provenance, no θ CDF.
     let mut b = LibraryBuilder::new();
     b.set_alignment(4096).unwrap();

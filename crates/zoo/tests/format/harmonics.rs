@@ -11,7 +11,9 @@
 use bssrdf_testkit::files::{
     kind, synthetic_table, tiny_builder, tiny_two_lobes_sections, Raw, Sec,
 };
-use bssrdf_zoo::format::spec::required_features::{HARMONICS, SIGNED_FLOOR, SIGNED_LOBES, ZSTD};
+use bssrdf_zoo::format::spec::required_features::{
+    HARMONICS, MERGED_ROOTS, SIGNED_FLOOR, SIGNED_LOBES, ZSTD,
+};
 use bssrdf_zoo::format::spec::VERSION_MINOR;
 use bssrdf_zoo::format::{
     pack, unpack, Compression, Library, LibraryBuilder, SectionKind, TableData, Verify,
@@ -519,10 +521,11 @@ fn the_writer_sets_bit_2_exactly_when_a_table_has_harmonics() {
         1.3, 2, 3, 4, false,
     )))
     .unwrap();
-    assert_eq!(features(&b, Compression::None), HARMONICS);
+    // (and bit 4: this crate's two-lobe tables rebuild with merged roots)
+    assert_eq!(features(&b, Compression::None), HARMONICS | MERGED_ROOTS);
     assert_eq!(
         features(&b, Compression::Zstd { level: 3 }),
-        HARMONICS | ZSTD
+        HARMONICS | MERGED_ROOTS | ZSTD
     );
     // The two-lobe file is canonical: the writer rewrites it byte for byte.
     let library = Library::from_bytes(&two_lobes().bytes, Verify::Full).unwrap();
@@ -581,21 +584,29 @@ fn the_writer_sets_bit_3_exactly_when_a_node_is_a_signed_pair() {
             .required_features()
     };
     let one_lobe = with_harmonics_of_one_lobe(synthetic_table(1.3, 2, 3, 4, false));
-    assert_eq!(features(one_lobe.clone()), HARMONICS);
+    assert_eq!(features(one_lobe.clone()), HARMONICS | MERGED_ROOTS);
     // Node 5 made the vector `signed-lobes`' pair: β = (1, −0.5) at c = (0.8, 0.5), E = 1
     let mut signed = one_lobe;
     signed.gwc[15..18].copy_from_slice(&[1.0, 0.587_379, 0.936_364]);
     signed.harmonics.as_mut().unwrap()[10..12].copy_from_slice(&[0.4495, 0.378_35]);
-    assert_eq!(features(signed), HARMONICS | SIGNED_LOBES);
+    assert_eq!(features(signed), HARMONICS | SIGNED_LOBES | MERGED_ROOTS);
 }
 
 /// `node_is_signed` over random one-lobe nodes in f32 (none is signed) and the same nodes with
 /// a broader negative lobe of 5 % of the sharp one's mass added: each is, where its harmonics
-/// depart from its one lobe's by more than twice `SIGNED_DEPARTURE` (most do).
+/// depart from its one lobe's by more than twice `SIGNED_DEPARTURE` (most do); by either rule of
+/// the rebuild (merged roots never count one lobe's rounding as a signed pair).
 #[test]
 fn node_is_signed_tells_one_lobe_from_a_signed_pair() {
+    use bssrdf_zoo::gwc::Rebuild;
     use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
-    use bssrdf_zoo::table::{node_is_signed, SIGNED_DEPARTURE};
+    use bssrdf_zoo::table::SIGNED_DEPARTURE;
+    let node_is_signed = |cell: [f32; 5]| {
+        let [roots, merged] = [Rebuild::Roots, Rebuild::MergedRoots]
+            .map(|r| bssrdf_zoo::table::node_is_signed(cell, r));
+        assert_eq!(roots, merged, "{cell:?}");
+        roots
+    };
     let mut rng = SplitMix64::seed_from_u64(17);
     let mut uniform = move || rng.next_f64();
     let (cases, mut signed) = (10_000, 0);
@@ -622,4 +633,133 @@ fn node_is_signed_tells_one_lobe_from_a_signed_pair() {
         signed > cases / 2,
         "{signed} of {cases} signed pairs depart enough"
     );
+}
+
+/// The vector `merged-roots`' sections: its node (0, 0, 1) is the limit of a signed pair whose
+/// roots merge at c = 0.7, r·μₙ = cⁿ + 0.1·n·cⁿ⁻¹, E = 1.2, with complex Prony roots.
+fn merged_roots_sections() -> Vec<Sec> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/valid/merged-roots.bssrdf");
+    Raw::new(std::fs::read(path).unwrap()).sections()
+}
+
+/// The node (E, E_β, c, r·μ₃, r·μ₄) of table 0 at index `node`, as `table::node_is_signed` takes it.
+fn cell(library: &Library, node: usize) -> [f32; 5] {
+    let table = library.table(0).unwrap();
+    let (p, h) = (table.gwc_params(), table.harmonics().unwrap());
+    [
+        p[3 * node],
+        p[3 * node + 1],
+        p[3 * node + 2],
+        h[2 * node],
+        h[2 * node + 1],
+    ]
+}
+
+/// §4, bit 4 (`merged-roots`): a file that sets it is read with step 4b of §10, a file that
+/// does not (of any minor) without. The vector's node is a merged pair only with the bit: read
+/// so, it is the limit of its signed pair, whose profile is computed here by definition; read
+/// without, the one lobe of its first two harmonics. Its signed pair needs bit 3 exactly when
+/// the bit is set.
+#[test]
+fn bit_4_says_how_a_file_rebuilds_merged_roots() {
+    use bssrdf_zoo::gwc::{Rebuild, TwoLobe};
+    use bssrdf_zoo::table::{node_is_signed, node_shares, node_sharpness};
+    use std::f64::consts::{PI, TAU};
+    let secs = merged_roots_sections();
+    let read = |library: &Library| {
+        let rebuild = library.table(0).unwrap().rebuild();
+        let cell = cell(library, 1);
+        let e = f64::from(cell[0]);
+        let m = node_shares(cell).map(|s| f64::from(s) * e);
+        let cap = f64::from(node_sharpness(cell, rebuild));
+        (
+            TwoLobe::from_moments_capped(e, m, cap, rebuild),
+            node_is_signed(cell, rebuild),
+        )
+    };
+    // With bit 4: a lobe of mass 1 at c = 0.7 plus 0.1 times its derivative in c, over the
+    // floor of the rest of E = 1.2
+    let merged = assert_accepted(
+        "bit 4",
+        &build(
+            VERSION_MINOR,
+            HARMONICS | SIGNED_LOBES | MERGED_ROOTS,
+            &secs,
+        ),
+    );
+    assert_eq!(merged.table(0).unwrap().rebuild(), Rebuild::MergedRoots);
+    let (profile, signed) = read(&merged);
+    assert!(signed && profile.is_signed(), "{profile:?}");
+    let c = 0.7f64;
+    for k in 0..=16 {
+        let phi = PI * f64::from(k) / 16.0;
+        let (x, d) = (phi.cos(), 1.0 + c * c - 2.0 * c * phi.cos());
+        let lobe = (1.0 - c * c) / (TAU * d);
+        let derivative = (2.0 * x * (1.0 + c * c) - 4.0 * c) / (TAU * d * d);
+        let expected = 0.2 / TAU + lobe + 0.1 * derivative;
+        let got = profile.eval(phi);
+        assert!(
+            (got - expected).abs() <= 1e-5 * expected,
+            "phi {phi}: {got} against {expected}"
+        );
+    }
+    // Without it, at the minor this crate writes and at 1.3: one lobe, not signed, so bit 3 is
+    // not needed either
+    for minor in [VERSION_MINOR, 3] {
+        let library = assert_accepted("no bit 4", &build(minor, HARMONICS, &secs));
+        assert_eq!(library.table(0).unwrap().rebuild(), Rebuild::Roots);
+        let (profile, signed) = read(&library);
+        assert!(!signed && profile.beta()[1] == 0.0, "{profile:?}");
+    }
+    // With bit 4 and without bit 3 the signed pair is undeclared
+    let undeclared = build(VERSION_MINOR, HARMONICS | MERGED_ROOTS, &secs);
+    let err = Library::from_bytes(&undeclared.bytes, Verify::Full).unwrap_err();
+    assert_eq!(err.code(), "signed-lobes-not-declared", "{err}");
+    assert!(err.to_string().contains("node 1 "), "{err}");
+}
+
+/// §4, bit 4, the writer's side: set on a file whose two-lobe tables rebuild with merged roots
+/// (every table this crate bakes), not on one without two-lobe tables; a table read from a
+/// file without the bit keeps its rule through a rewrite (`pack`, `unpack`), and two-lobe
+/// tables of both rules cannot share a file.
+#[test]
+fn the_writer_sets_bit_4_for_tables_rebuilt_with_merged_roots() {
+    use bssrdf_zoo::gwc::Rebuild;
+    let features = |tables: Vec<TableData>| {
+        let mut b = LibraryBuilder::new();
+        for t in tables {
+            b.add_table(t)?;
+        }
+        let bytes = b.to_bytes(Compression::None)?;
+        Ok::<_, bssrdf_zoo::format::FormatError>(
+            Library::from_bytes(&bytes, Verify::Full)?.required_features(),
+        )
+    };
+    let one_lobe = synthetic_table(1.3, 2, 3, 4, false);
+    let two_lobes = with_harmonics_of_one_lobe(one_lobe.clone());
+    assert_eq!(features(vec![one_lobe.clone()]).unwrap(), 0);
+    assert_eq!(
+        features(vec![two_lobes.clone()]).unwrap(),
+        HARMONICS | MERGED_ROOTS
+    );
+    let roots = TableData {
+        rebuild: Rebuild::Roots,
+        ..two_lobes.clone()
+    };
+    assert_eq!(features(vec![roots.clone(), one_lobe]).unwrap(), HARMONICS);
+    let err = features(vec![two_lobes, roots]).unwrap_err();
+    assert!(err.to_string().contains("one rule"), "{err}");
+    // A 1.3 file's rule survives a rewrite
+    let dir = tempfile::tempdir().unwrap();
+    let (old, packed) = (
+        dir.path().join("old.bssrdf"),
+        dir.path().join("packed.bssrdf"),
+    );
+    std::fs::write(&old, &build(3, HARMONICS, &merged_roots_sections()).bytes).unwrap();
+    pack(&old, &packed, 3).unwrap();
+    unpack(&packed, &packed).unwrap();
+    let library = Library::read(&packed, Verify::Full).unwrap();
+    assert_eq!(library.required_features(), HARMONICS);
+    assert_eq!(library.table(0).unwrap().rebuild(), Rebuild::Roots);
 }

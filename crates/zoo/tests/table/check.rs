@@ -53,29 +53,42 @@ fn the_default_table_passes_with_its_spread_points_down_to_1e_12_of_the_peak() {
     }
 }
 
-/// The tail points see what r log-uniform over the whole axis crossed in too few points: the
-/// default table at η = 1.05 is 20–40 % off PBD at ρ′ < 0.08, θ ≥ 79° and r ≈ 14–17, where PBD
-/// is 10⁻¹²–10⁻⁹ of its peak (`examples/tail_error`); its check fails there, and only there,
-/// on a coverage point, its weighted mean well within the bound.
-#[test]
-fn the_far_tail_near_grazing_at_eta_1_05_fails_the_check() {
-    let eta = 1.05;
+fn default_bake(eta: f64) -> AngularTable {
     let grid = GridPreset::Default.grid(eta, Lobes::for_eta(eta));
-    let table = bake(eta, Moments::Exact, &grid, false).unwrap().0;
-    let result = check(&table.view(), Moments::Exact, CHECK_BOUNDS).unwrap();
+    bake(eta, Moments::Exact, &grid, false).unwrap().0
+}
+
+/// The tail points see what r log-uniform over the whole axis crossed in too few points: the
+/// default table at η = 1.01 is 10–80 % off PBD at ρ′ < 0.1, θ ≥ 75° and r ≈ 13–20, where PBD
+/// is 10⁻¹²–10⁻⁹ of its peak (`examples/tail_error`); its check fails there, and only there,
+/// on coverage points, its weighted means within the bound.
+#[test]
+fn the_far_tail_near_grazing_at_eta_1_01_fails_the_check() {
+    let result = check(&default_bake(1.01).view(), Moments::Exact, CHECK_BOUNDS).unwrap();
     let failed: Vec<_> = result.failures().collect();
-    assert_eq!(failed.len(), 1, "{failed:?}");
-    let r = failed[0];
-    assert_eq!(
-        (r.rho[0] as f32, r.theta_deg),
-        (0.001, [75.0, 85.0]),
-        "{r:?}"
-    );
-    assert!(r.coverage_max_rel_error > 0.15, "{r:?}");
-    assert!(
-        r.mean_rel_error < 0.5 * CHECK_BOUNDS.mean_rel_error,
-        "{r:?}"
-    );
+    assert!(!failed.is_empty());
+    for r in failed {
+        assert_eq!(r.rho[0] as f32, 0.001, "{r:?}");
+        assert!(r.theta_deg[0] >= 75.0, "{r:?}");
+        assert!(
+            r.coverage_max_rel_error > CHECK_BOUNDS.coverage_rel_error,
+            "{r:?}"
+        );
+        assert!(r.mean_rel_error < CHECK_BOUNDS.mean_rel_error, "{r:?}");
+    }
+}
+
+/// At η = 1.05 and 1.1 the same far tails failed the check (25 % and 13 % off at ρ′ < 0.1,
+/// θ 75–85°) while lookups read the one lobe of μ₁, μ₂ where the harmonics they blend have
+/// merged Prony roots; rebuilt as the limit of a signed pair (`gwc::MERGED_DEPARTURE`), they
+/// pass.
+#[test]
+fn the_far_tails_near_grazing_at_eta_1_05_and_1_1_pass_the_check() {
+    for eta in [1.05, 1.1] {
+        let result = check(&default_bake(eta).view(), Moments::Exact, CHECK_BOUNDS).unwrap();
+        let failed: Vec<_> = result.failures().collect();
+        assert!(failed.is_empty(), "eta {eta}: {failed:?}");
+    }
 }
 
 #[test]

@@ -37,6 +37,7 @@ fn table(eta: f64, rho: &[f32]) -> TableData {
         cdf,
         theta_cdf: Some(theta_cdf),
         harmonics: None,
+        rebuild: Default::default(),
     }
 }
 

@@ -59,7 +59,7 @@ impl TableRef<'_> {
                 weight[k] += if e[k] > 0.0 { w } else { 0.0 };
                 if e[k] > 0.0 && w != 0.0 {
                     let cell = [p[3 * k], p[3 * k + 1], p[3 * k + 2], h[2 * k], h[2 * k + 1]];
-                    sharpest = sharpest.max(node_sharpness(cell));
+                    sharpest = sharpest.max(node_sharpness(cell, self.rebuild));
                 }
             }
         };
@@ -165,7 +165,7 @@ impl TableRef<'_> {
                 None => (a, 0.0),
             };
             let m = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
-            return TwoLobe::from_moments_capped(e_per_r, m, cap);
+            return TwoLobe::from_moments_capped(e_per_r, m, cap, self.rebuild);
         }
         let weights = node_weights(first, w);
         let mut share = [0.0; 4];
@@ -176,7 +176,7 @@ impl TableRef<'_> {
                 }
             }
         }
-        TwoLobe::from_moments_capped(e_per_r, share.map(|x| x * e_per_r), cap)
+        TwoLobe::from_moments_capped(e_per_r, share.map(|x| x * e_per_r), cap, self.rebuild)
     }
 
     /// [`TableRef::eval`] of a table with a second lobe: the cell of [`TableRef::cell_from`]
