@@ -302,6 +302,16 @@ pub enum Rebuild {
     MergedRoots,
 }
 
+impl Rebuild {
+    /// The rule's name in reports: `roots` or `merged-roots` (the feature bit's name).
+    pub fn name(self) -> &'static str {
+        match self {
+            Rebuild::Roots => "roots",
+            Rebuild::MergedRoots => "merged-roots",
+        }
+    }
+}
+
 /// The lobes (β, c) with harmonics (μ₁ … μ₄), by Prony's method ([`TwoLobe::from_moments`]),
 /// `None` where they are not two admissible lobes. `energy`: the profile's E/r in the units of
 /// `m`, which sets what counts as a signed pair whose roots have merged ([`merged_roots`]).
@@ -373,7 +383,8 @@ fn lobes_of(m: [f64; 4], (c1, c2): (f64, f64), cap: f64) -> Option<([f64; 2], [f
 /// How far a signed pair's third harmonic must depart from that of the one lobe of its first
 /// two, relative to E/r, for the merged pair of [`Rebuild::MergedRoots`] (format-spec.md §10
 /// step 4b): the departure at which a node counts as a signed pair (`table::SIGNED_DEPARTURE`).
-/// Below it the harmonics may be those of one lobe rounded to f32, whose Prony roots are noise.
+/// One lobe's harmonics rounded to f32 depart by at most about 1.5·10⁻⁷ of E/r, where Prony's
+/// roots are noise.
 pub const MERGED_DEPARTURE: f64 = 1e-4;
 
 /// Half the gap between the two lobes of a merged pair ([`Rebuild::MergedRoots`]), relative to
@@ -390,20 +401,33 @@ pub const MERGED_SPLIT: f64 = 1e-3;
 /// PBD, this pair's 6.8 % (`examples/rebuild_rules`, docs/accuracy.md).
 ///
 /// The limit of a signed pair as its roots merge at c is a lobe and its derivative in c,
-/// μₙ = βcⁿ + γncⁿ⁻¹, for which det = −γ²c² < 0. Its first three harmonics put c at a root of
-/// μ₁z² − 2μ₂z + μ₃ = 0, z = (μ₂ ± √−det)/μ₁, with γ = (μ₂ − cμ₁)/c: the smaller root, whose
-/// γ > 0 sharpens the lobe, as a signed pair's negative broader lobe does (the larger would
-/// broaden it, a sharper negative lobe, which step 4 refuses). Where the harmonics are those of
-/// such a limit, p/2 is that root, so the profile is continuous where the two roots of Prony's
-/// method merge. The pair c ± [`MERGED_SPLIT`]·(1 − c) with masses solved for μ₁ and μ₂ stands
-/// for it. `None` where det ≥ 0 (no signed pair), μ₁ ≤ 0, or the departure of μ₃ from the one
-/// lobe of μ₁, μ₂, −det/μ₁, is at most [`MERGED_DEPARTURE`]·`energy` (E/r).
+/// μₙ = βcⁿ + γncⁿ⁻¹, for which det = −γ²c² < 0: μ₃ departs from the one lobe of μ₁ and μ₂
+/// (μ₂²/μ₁) by −det/μ₁. Its first three harmonics put c at a root of μ₁z² − 2μ₂z + μ₃ = 0,
+/// z = (μ₂ ± √−det)/μ₁, with γ = (μ₂ − cμ₁)/c: the smaller root, whose γ > 0 (for c > 0)
+/// sharpens the lobe, as a signed pair's negative broader lobe does (the larger would broaden
+/// it, a sharper negative lobe, which step 4 refuses). Where the harmonics are those of such a
+/// limit, p/2 is that root, so the profile is continuous where the two roots of Prony's method
+/// merge.
+///
+/// `None` where det ≥ 0 (no signed pair), μ₁ ≤ 0, or the departure is at most the allowance
+/// a = [`MERGED_DEPARTURE`]·`energy` (E/r), that is −det ≤ A = a·μ₁. From A to 4A, s = √−det
+/// (which grows with γ) is replaced by 2(√−det − √A), which rises from 0 to s there at twice
+/// its rate, so that the pair meets the one lobe where the departure falls to a instead of
+/// jumping to it. The pair c ± [`MERGED_SPLIT`]·(1 − c) with masses solved for μ₁ and μ₂
+/// stands for the limit.
 fn merged_roots(m: [f64; 4], det: f64, energy: f64) -> Option<(f64, f64)> {
     let [m1, m2, ..] = m;
-    if !(m1 > 0.0 && -det > MERGED_DEPARTURE * m1 * energy) {
+    let allowance = MERGED_DEPARTURE * m1 * energy;
+    if !(det < 0.0 && m1 > 0.0 && -det > allowance) {
         return None;
     }
-    let c = (m2 - (-det).sqrt()) / m1;
+    let s = (-det).sqrt();
+    let s = if -det >= 4.0 * allowance {
+        s
+    } else {
+        2.0 * (s - allowance.sqrt())
+    };
+    let c = (m2 - s) / m1;
     let split = MERGED_SPLIT * (1.0 - c);
     Some((c + split, c - split))
 }

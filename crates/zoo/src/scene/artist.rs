@@ -137,7 +137,10 @@ impl ReflectanceCurve {
         .map_err(crate::Error::from)?;
         if let Some(harmonics) = table.harmonics() {
             curve = curve
-                .with_harmonics(columns(harmonics, crate::table::HARMONICS_PER_NODE))
+                .with_harmonics_by(
+                    columns(harmonics, crate::table::HARMONICS_PER_NODE),
+                    table.rebuild(),
+                )
                 .map_err(crate::Error::from)?;
         }
         Ok(Self { table: curve })

@@ -555,6 +555,19 @@ fn bit_2_without_a_harmonics_section_reads_every_table_as_one_lobe() {
     assert!(library.table(0).unwrap().harmonics().is_none());
 }
 
+/// §4, bit 4: a reader "MUST read a file that sets it without" a harmonics section: nothing is
+/// read differently.
+#[test]
+fn bit_4_without_a_harmonics_section_is_read() {
+    let one_lobe = Raw::new(tiny_builder().to_bytes(Compression::None).unwrap()).sections();
+    let library = assert_accepted(
+        "bit 4, no harmonics",
+        &build(VERSION_MINOR, MERGED_ROOTS, &one_lobe),
+    );
+    assert_eq!(library.required_features(), MERGED_ROOTS);
+    assert!(library.table(0).unwrap().harmonics().is_none());
+}
+
 /// §4: "a feature bit means the same in a file of any minor": a 1.0 or 1.1 file that sets bit 2
 /// is read as a 1.2 file would be, with its harmonics; without the bit its harmonics section
 /// is still refused.
@@ -762,4 +775,74 @@ fn the_writer_sets_bit_4_for_tables_rebuilt_with_merged_roots() {
     let library = Library::read(&packed, Verify::Full).unwrap();
     assert_eq!(library.required_features(), HARMONICS);
     assert_eq!(library.table(0).unwrap().rebuild(), Rebuild::Roots);
+}
+
+/// §4, bit 4, through the lookups renderers use: a table of a file that sets the bit and of one
+/// that does not (the vector `merged-roots` and the same sections without the bit) reads the same
+/// through `FileTable` (shares blended row by row) and `embed::Library` (shares computed at
+/// open, by the file's rule), bit for bit; and the two files read differently at the merged
+/// node and next to it.
+#[test]
+fn lookups_through_every_path_take_the_files_rule() {
+    use bssrdf_zoo::format::AxisKind;
+    use bssrdf_zoo::gwc::Rebuild;
+    use bssrdf_zoo::table::FileTable;
+    let secs = merged_roots_sections();
+    let files = [
+        (
+            HARMONICS | SIGNED_LOBES | MERGED_ROOTS,
+            Rebuild::MergedRoots,
+        ),
+        (HARMONICS, Rebuild::Roots),
+    ];
+    let mut read = Vec::new();
+    for (bits, rule) in files {
+        let bytes = build(VERSION_MINOR, bits, &secs).bytes;
+        let file = Library::from_bytes(&bytes, Verify::Full).unwrap();
+        let table = file.table(0).unwrap();
+        let (rho, theta, r) = (
+            table.axis(AxisKind::Rho),
+            table.axis(AxisKind::Theta),
+            table.axis(AxisKind::R),
+        );
+        let points: Vec<[f64; 4]> = [0.0, 0.3, 1.0, 2.0, 3.0]
+            .iter()
+            .flat_map(|&phi| {
+                [
+                    [rho[0], theta[0], r[1]],
+                    [rho[0], theta[0], 0.5 * (r[1] + r[2])],
+                ]
+                .map(|[a, b, c]| [f64::from(a), f64::from(b), f64::from(c), phi])
+            })
+            .collect();
+        let file_table = FileTable::new(table).unwrap();
+        let by_file = file_table.view().unwrap();
+        assert_eq!(by_file.rebuild(), rule);
+        let embedded = bssrdf_zoo::embed::Library::from_format(
+            Library::from_bytes(&bytes, Verify::Full).unwrap(),
+        )
+        .unwrap();
+        let by_embed = embedded.view(0).unwrap();
+        assert_eq!(by_embed.rebuild(), rule);
+        let values: Vec<f64> = points
+            .iter()
+            .map(|&[x, t, k, phi]| {
+                let (a, b) = (by_file.eval(x, t, k, phi), by_embed.eval(x, t, k, phi));
+                assert_eq!(
+                    a.map(f64::to_bits),
+                    b.map(f64::to_bits),
+                    "{rule:?} at {x} {t} {k} {phi}"
+                );
+                a.unwrap()
+            })
+            .collect();
+        read.push(values);
+    }
+    // At the node, φ = 0: the merged pair against the one lobe
+    assert!(
+        (read[0][0] / read[1][0] - 1.0).abs() > 1e-3,
+        "{} against {}",
+        read[0][0],
+        read[1][0]
+    );
 }

@@ -241,3 +241,54 @@ fn bad_row_ranges_are_errors_not_panics() {
     // Rows that do not increase across the parts.
     assert!(AngularTable::concat_rows(&[a.clone(), a]).is_err());
 }
+
+/// A two-lobe table keeps its rule of rebuilding the lobes (format 1.4, bit 4) through every
+/// subset, and tables of both rules are not joined: the same harmonics read by the two rules
+/// are two profiles.
+#[test]
+fn subsets_keep_the_rule_of_the_rebuild() {
+    use bssrdf_zoo::gwc::Rebuild;
+    use bssrdf_zoo::table::Lobes;
+    let grid = GridPreset::Coarse.grid(1.2, Lobes::Two);
+    let merged = bssrdf_zoo::table::bake_lobes(1.2, Moments::Exact, &grid, true, Lobes::Two)
+        .unwrap()
+        .0;
+    let n = merged.axes().rho().as_slice().len();
+    let copy = merged
+        .subset_rows(0..n)
+        .unwrap()
+        .without_theta_sampling()
+        .unwrap();
+    assert_eq!(copy.rebuild(), Rebuild::MergedRoots);
+    // The same table read as a file without bit 4 reads it
+    let roots = AngularTable::from_parts(
+        copy.eta(),
+        copy.moments(),
+        copy.axes().clone(),
+        copy.params().to_vec(),
+        copy.radial_cdf().to_vec(),
+        None,
+    )
+    .unwrap()
+    .with_harmonics_by(copy.harmonics().unwrap().to_vec(), Rebuild::Roots)
+    .unwrap();
+    for part in [
+        roots.subset_rows(0..n / 2).unwrap(),
+        roots.without_theta_sampling().unwrap(),
+        AngularTable::concat_rows(&[
+            roots.subset_rows(0..n / 2).unwrap(),
+            roots.subset_rows(n / 2..n).unwrap(),
+        ])
+        .unwrap(),
+    ] {
+        assert_eq!(part.rebuild(), Rebuild::Roots);
+        assert_eq!(part.view().rebuild(), Rebuild::Roots);
+    }
+    let plain = merged.without_theta_sampling().unwrap();
+    let err = AngularTable::concat_rows(&[
+        roots.subset_rows(0..n / 2).unwrap(),
+        plain.subset_rows(n / 2..n).unwrap(),
+    ])
+    .unwrap_err();
+    assert!(err.to_string().contains("rebuild"), "{err}");
+}

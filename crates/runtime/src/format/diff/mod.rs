@@ -184,6 +184,11 @@ fn compare_table_fields(ta: &Table<'_>, tb: &Table<'_>, differences: &mut Vec<Di
     );
     let lobes = |t: &Table<'_>| MetaValue::Count(if t.harmonics().is_some() { 2 } else { 1 });
     differ(Field::Lobes, lobes(ta), lobes(tb));
+    // The same harmonics read by two rules are two profiles (format 1.4, bit 4)
+    if ta.harmonics().is_some() && tb.harmonics().is_some() {
+        let rebuild = |t: &Table<'_>| MetaValue::Text(t.rebuild().name().to_owned());
+        differ(Field::Rebuild, rebuild(ta), rebuild(tb));
+    }
 }
 
 /// Compares every section of a pair of tables value by value on the nodes both hold.

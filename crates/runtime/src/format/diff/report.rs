@@ -122,6 +122,9 @@ pub enum Field {
     ThetaCdf,
     /// A table's number of wrapped Cauchy lobes (1, or 2 with `gwc-harmonics`).
     Lobes,
+    /// How a two-lobe table's lookups rebuild its lobes (`gwc::Rebuild::name`; compared where
+    /// both tables have two lobes).
+    Rebuild,
     /// Whether a material of that name is in the file.
     Present,
     /// A material's source.
@@ -142,7 +145,7 @@ pub enum Field {
 
 impl Field {
     /// The field's name in reports: `counterpart`, `tables`, `compressed`, `fresnel_moments`,
-    /// `dims`, `axis-rho`, `axis-theta`, `axis-r`, `theta-cdf`, `lobes`, `present`, `source`,
+    /// `dims`, `axis-rho`, `axis-theta`, `axis-r`, `theta-cdf`, `lobes`, `rebuild`, `present`, `source`,
     /// `sigma_s`, `sigma_a`, `g`, `eta`, `albedo_range`, `value`.
     pub fn name(self) -> &'static str {
         match self {
@@ -156,6 +159,7 @@ impl Field {
             Field::Axis(AxisKind::R) => "axis-r",
             Field::ThetaCdf => "theta-cdf",
             Field::Lobes => "lobes",
+            Field::Rebuild => "rebuild",
             Field::Present => "present",
             Field::Source => "source",
             Field::SigmaS => "sigma_s",
@@ -206,7 +210,7 @@ pub enum MetaValue {
     Fresnel(FresnelMoments),
     /// A table's axis.
     Axis(AxisSummary),
-    /// A material's source.
+    /// A text: a material's source, a table's rebuild.
     Text(String),
     /// One value per RGB channel (σs, σa in mm⁻¹; g).
     PerChannel([f64; 3]),

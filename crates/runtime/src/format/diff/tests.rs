@@ -445,6 +445,33 @@ fn sections_only_one_table_has_are_differences_not_values() {
     assert_eq!(report.tables()[0].values_compared(), 4 * NODES);
 }
 
+/// The same harmonics read by the two rules of format 1.4 (bit 4) are two profiles: a
+/// difference, though every stored value is equal.
+#[test]
+fn two_lobe_tables_read_by_different_rules_differ() {
+    let merged = two_lobes(table(1.3, &RHO));
+    let roots = TableData {
+        rebuild: crate::gwc::Rebuild::Roots,
+        ..merged.clone()
+    };
+    let report = compare(
+        &plain(vec![roots]),
+        &plain(vec![merged]),
+        Tolerance::default(),
+    );
+    let fields: Vec<(Field, &MetaValue, &MetaValue)> = report
+        .differences()
+        .iter()
+        .map(|d| (d.field, &d.a, &d.b))
+        .collect();
+    let text = |s: &str| MetaValue::Text(s.into());
+    assert_eq!(
+        fields,
+        [(Field::Rebuild, &text("roots"), &text("merged-roots"))]
+    );
+    assert_eq!(report.outside_tolerance(), 0);
+}
+
 #[test]
 fn materials_are_compared_and_provenance_and_compression_only_listed() {
     let tables = || vec![table(1.3, &RHO)];
@@ -536,6 +563,7 @@ fn names_are_the_reports_spellings() {
         (Field::Axis(AxisKind::R), "axis-r"),
         (Field::ThetaCdf, "theta-cdf"),
         (Field::Lobes, "lobes"),
+        (Field::Rebuild, "rebuild"),
         (Field::Present, "present"),
         (Field::Source, "source"),
         (Field::SigmaS, "sigma_s"),
