@@ -408,6 +408,15 @@ fn tables_pair_at_the_same_index_else_by_shared_albedo_nodes() {
     );
 }
 
+/// The report's metadata differences as (field, A's value, B's value).
+fn fields(report: &LibraryDiff) -> Vec<(Field, &MetaValue, &MetaValue)> {
+    report
+        .differences()
+        .iter()
+        .map(|d| (d.field, &d.a, &d.b))
+        .collect()
+}
+
 #[test]
 fn sections_only_one_table_has_are_differences_not_values() {
     let mut bare = table(1.3, &RHO);
@@ -417,11 +426,7 @@ fn sections_only_one_table_has_are_differences_not_values() {
         &plain(vec![two_lobes(table(1.3, &RHO))]),
         Tolerance::default(),
     );
-    let fields: Vec<(Field, &MetaValue, &MetaValue)> = report
-        .differences()
-        .iter()
-        .map(|d| (d.field, &d.a, &d.b))
-        .collect();
+    let fields = fields(&report);
     assert_eq!(
         fields,
         [
@@ -459,11 +464,7 @@ fn two_lobe_tables_read_by_different_rules_differ() {
         &plain(vec![merged]),
         Tolerance::default(),
     );
-    let fields: Vec<(Field, &MetaValue, &MetaValue)> = report
-        .differences()
-        .iter()
-        .map(|d| (d.field, &d.a, &d.b))
-        .collect();
+    let fields = fields(&report);
     let text = |s: &str| MetaValue::Text(s.into());
     assert_eq!(
         fields,
