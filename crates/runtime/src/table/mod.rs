@@ -264,10 +264,10 @@ pub fn node_shares(cell: [f32; 5]) -> [f32; 4] {
 
 /// The concentration of the sharper lobe a node of a two-lobe table rebuilds into
 /// ([`crate::gwc::sharp_concentration`] of its [`node_shares`], which at the node are what a
-/// lookup rebuilds from, by the table's `rebuild`), rounded to f32 and raised by one f32 step. Lookups rebuild no lobe
-/// sharper than the sharpest node they blend: where the harmonics they blend are nearly those
-/// of one lobe, Prony's second root is ill-determined, and a sharp lobe of little mass put a
-/// spike at φ = 0: at η = 1.01, ρ′ = 0.5, θ = 75°, the largest error of 50,000 points drawn by
+/// lookup rebuilds from, by the table's `rebuild`), rounded to f32 and raised by one f32 step.
+/// Lookups rebuild no lobe sharper than the sharpest node they blend: where the harmonics they
+/// blend are nearly those of one lobe, Prony's second root is ill-determined, and a sharp lobe
+/// of little mass put a spike at φ = 0: at η = 1.01, ρ′ = 0.5, θ = 75°, the largest error of 50,000 points drawn by
 /// the table's sampler was 14.9 % without the cap, 4.8 % with it (`examples/worst_points`).
 /// The step up keeps a node's own root from being clamped by rounding, which would refuse a
 /// signed pair there and read one lobe (it did at 10 % of the signed nodes of the default

@@ -145,8 +145,8 @@ pub enum Field {
 
 impl Field {
     /// The field's name in reports: `counterpart`, `tables`, `compressed`, `fresnel_moments`,
-    /// `dims`, `axis-rho`, `axis-theta`, `axis-r`, `theta-cdf`, `lobes`, `rebuild`, `present`, `source`,
-    /// `sigma_s`, `sigma_a`, `g`, `eta`, `albedo_range`, `value`.
+    /// `dims`, `axis-rho`, `axis-theta`, `axis-r`, `theta-cdf`, `lobes`, `rebuild`, `present`,
+    /// `source`, `sigma_s`, `sigma_a`, `g`, `eta`, `albedo_range`, `value`.
     pub fn name(self) -> &'static str {
         match self {
             Field::Counterpart => "counterpart",
