@@ -480,9 +480,10 @@ impl Pbd {
         let mut left = [0.0f64; LEVELS.len()];
         let mut n_left = 0;
         let f_entry = f(0.0);
-        for level in LEVELS {
-            if t_min > 0.0 && f_entry > level {
-                left[n_left] = level_crossings(sigma_tr, beam, level).0;
+        let crossings = LEVELS.map(|level| level_crossings(sigma_tr, beam, level));
+        for (level, &(falling, _)) in LEVELS.iter().zip(&crossings) {
+            if t_min > 0.0 && f_entry > *level {
+                left[n_left] = falling;
                 n_left += 1;
             }
         }
@@ -499,8 +500,8 @@ impl Pbd {
         ts[k] = t_min;
         k += 1;
         // Right, likewise outward.
-        for level in LEVELS {
-            ts[k] = level_crossings(sigma_tr, beam, level).1;
+        for &(_, rising) in &crossings {
+            ts[k] = rising;
             k += 1;
         }
         let to_u = |t: f64| ((t - beam.t_star) / beam.h).asinh();

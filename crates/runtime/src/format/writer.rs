@@ -212,8 +212,9 @@ impl LibraryBuilder {
             match self.rebuild {
                 Some(rule) if rule != table.rebuild => {
                     return Err(invalid(format!(
-                        "table {index} rebuilds its lobes by {:?}, the earlier two-lobe tables by {rule:?}: a file has one rule (required feature bit 4, merged-roots)",
-                        table.rebuild
+                        "table {index} rebuilds its lobes by the rule {}, the earlier two-lobe tables by {}: a file has one rule (required feature bit 4, merged-roots)",
+                        table.rebuild.name(),
+                        rule.name()
                     )));
                 }
                 _ => self.rebuild = Some(table.rebuild),
