@@ -6,7 +6,7 @@ use super::eval::MomentsArg;
 use super::CliError;
 use bssrdf_zoo::bake::{BakeError, BakedLibrary, Baker, MaterialSpec, OnProgress, Progress};
 use bssrdf_zoo::format::{Compression, LibraryBuilder};
-use bssrdf_zoo::materials::{Library as MaterialLibrary, Material};
+use bssrdf_zoo::materials::{Library as MaterialLibrary, Material, Origin};
 use bssrdf_zoo::scene::artist::{self, ReflectanceCurve};
 use bssrdf_zoo::scene::DEFAULT_ETA;
 use bssrdf_zoo::table::{AngularTable, GridPreset, Lobes};
@@ -224,9 +224,9 @@ impl Session {
     }
 
     /// After the bake: an error (exit 1) naming the regions above the bound of the bake's
-    /// check, unless `accept` (`--accept-error`), which only reports them on stderr (not with
-    /// `quiet`).
-    pub fn verdict(&self, baked: &BakedLibrary, accept: bool, quiet: bool) -> Result<(), CliError> {
+    /// check, unless `accept` (`--accept-error`), which returns them as a warning for the
+    /// summary instead (stderr, and the `warnings` of `--json`).
+    pub fn verdict(&self, baked: &BakedLibrary, accept: bool) -> Result<Option<String>, CliError> {
         let mut failures = Vec::new();
         for result in baked.tables().iter().map(|t| t.check()) {
             for r in result.failures() {
@@ -248,16 +248,13 @@ impl Session {
             }
         }
         if failures.is_empty() {
-            return Ok(());
+            return Ok(None);
         }
         let regions = failures.join("\n");
         if accept {
-            if !quiet {
-                self.bar.suspend(|| {
-                    eprintln!("warning: written with --accept-error; the bake's check found these regions above its bound:\n{regions}")
-                });
-            }
-            Ok(())
+            Ok(Some(format!(
+                "written with --accept-error; the bake's check found these regions above its bound:\n{regions}"
+            )))
         } else {
             self.bar.finish_and_clear();
             Err(CliError::Check(format!(
@@ -305,16 +302,38 @@ pub(super) fn bake_error(e: BakeError) -> CliError {
 }
 
 /// `x` rounded to 3 decimals, for band edges such as the critical angle 48.590329…°.
-/// Refuses an output that is one of the bake's inputs (the scene, the material files).
+/// Refuses an output that is one of the bake's inputs (the scene, the material files: the
+/// `--materials` file, or each `*.toml` of its folder).
 pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliError> {
+    // A folder that cannot be listed reads no file here; loading it reports why
+    let material_files: Vec<PathBuf> = args
+        .materials
+        .iter()
+        .flat_map(|m| MaterialLibrary::files_of(m).unwrap_or_default())
+        .collect();
     let mut inputs: Vec<(&str, &Path)> = Vec::new();
     if let Some(scene) = &args.scene {
         inputs.push(("--scene", scene.as_path()));
     }
-    if let Some(m) = &args.materials {
-        inputs.push(("--materials", m.as_path()));
+    for file in &material_files {
+        inputs.push(("--materials", file.as_path()));
     }
     super::output::check(&[("-o", output)], &inputs)
+}
+
+/// Refuses `--materials` when none of the bake's `materials` comes from its files: the flag
+/// would be accepted and change nothing.
+pub(super) fn check_materials_used<'m>(
+    args: &BakeArgs,
+    mut materials: impl Iterator<Item = &'m Material>,
+) -> Result<(), CliError> {
+    let from_files = materials.any(|m| matches!(m.origin(), Origin::File(_)));
+    if args.materials.is_some() && !from_files {
+        return Err(CliError::input(
+            "--materials adds files to look material names up in; name a MATERIAL from them, or drop --materials",
+        ));
+    }
+    Ok(())
 }
 
 /// The material of --sigma-s/--sigma-a or --reflectance/--mfp, validated before any bake.
@@ -383,12 +402,13 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
             MaterialSpec::named(m).map_err(|e| CliError::input(e.to_string()))
         })
         .collect::<Result<_, CliError>>()?;
+    let named: Vec<&Material> = args
+        .materials_named
+        .iter()
+        .filter_map(|name| library.get(name).ok())
+        .collect();
+    check_materials_used(&args, named.into_iter())?;
     let custom = custom(&args, &library)?;
-    if args.materials.is_some() && materials.is_empty() && custom.is_none() {
-        return Err(CliError::input(
-            "--materials adds files to look material names up in; name a MATERIAL from them, or drop --materials",
-        ));
-    }
     let mut etas: Vec<f64> = materials.iter().map(MaterialSpec::eta).collect();
     etas.extend(custom.as_ref().map(MaterialSpec::eta));
     // A bare table: --eta with no material.
@@ -448,7 +468,7 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
             })
         })
         .collect();
-    session.verdict(&baked, args.accept_error, args.quiet)?;
+    let accepted = session.verdict(&baked, args.accept_error)?;
     let bytes = session.write(baked.builder(), &output)?;
     let summary = Summary {
         output: &output,
@@ -458,7 +478,7 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
         seconds: baked.seconds(),
         tables,
         materials,
-        warnings: baked.warnings().to_vec(),
+        warnings: baked.warnings().iter().cloned().chain(accepted).collect(),
     };
     summary.print(&args, &session)?;
     Ok(ExitCode::SUCCESS)

@@ -28,6 +28,7 @@ pub fn run(
     let library = super::materials::library(args.materials.as_deref())?;
     let scene = Scene::from_toml_str(&text, &library, &mut |eta| session.curve(baker, eta))
         .map_err(|e| CliError::input(format!("{}: {e}", path.display())))?;
+    super::bake::check_materials_used(args, scene.materials().iter().map(|m| m.material()))?;
     let baked = session
         .bake(true, |progress| baker.bake_scene(&scene, Some(progress)))?
         .map_err(|e| match e {
@@ -56,7 +57,7 @@ pub fn run(
         Integrator::Path => "path",
         Integrator::Particle => "particle",
     };
-    session.verdict(&baked, args.accept_error, args.quiet)?;
+    let accepted = session.verdict(&baked, args.accept_error)?;
     let bytes = session.write(baked.builder(), &output)?;
     let summary = Summary {
         output: &output,
@@ -66,7 +67,7 @@ pub fn run(
         seconds: baked.seconds(),
         tables,
         materials,
-        warnings: baked.warnings().to_vec(),
+        warnings: baked.warnings().iter().cloned().chain(accepted).collect(),
     };
     summary.print(args, session)?;
     Ok(ExitCode::SUCCESS)

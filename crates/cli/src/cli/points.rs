@@ -144,9 +144,6 @@ pub fn read(path: &Path, material_rho: Option<f64>) -> Result<Rows, CliError> {
     for record in reader.records() {
         let record = record.map_err(bad)?;
         let line = record.position().map_or(0, |p| p.line());
-        if record.iter().all(str::is_empty) {
-            continue;
-        }
         let number = |at: usize, column: &str| -> Result<f64, CliError> {
             let text = record.get(at).unwrap_or("");
             text.parse().map_err(|_| {

@@ -28,6 +28,20 @@ fn a_table_above_its_bound_is_refused_unless_accepted() {
     let quiet = bssrdf(d, &[&bake[..], &["--accept-error", "-q"]].concat());
     ok(&quiet);
     assert_eq!(text(&quiet.stderr), "");
+
+    // --json carries the same warning, also with -q
+    let json = ok(&bssrdf(
+        d,
+        &[&bake[..], &["--accept-error", "-q", "--json"]].concat(),
+    ));
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let warnings = json["warnings"].as_array().unwrap();
+    assert!(
+        warnings.iter().any(|w| w.as_str().is_some_and(|w| w
+            .starts_with("written with --accept-error")
+            && w.contains("eta 1, rho"))),
+        "{json}"
+    );
 }
 
 #[test]

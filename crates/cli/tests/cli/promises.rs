@@ -378,6 +378,11 @@ fn points_files_are_read_whole_and_checked_first() {
         ),
         ("rho,theta_deg,r,phi_deg\n0.9,0,1\n", "points file stdin"),
         ("", "is empty"),
+        // A row of empty fields is a row: refused, not dropped (rows in = rows out)
+        (
+            "rho,theta_deg,r,phi_deg\n0.9,0,1,0\n,,,\n0.9,0,1,0\n",
+            "stdin:3: column rho = \"\" is not a number",
+        ),
     ] {
         fails_with(&with_stdin(d, &eval, input), 2, needle);
     }
@@ -708,6 +713,38 @@ fn render_refuses_flags_it_would_ignore() {
         2,
         "--materials adds files to look material names up in",
     );
+    // Nor when the materials named come from the built-in library only
+    fails_with(
+        &bssrdf(
+            d,
+            &["bake", "skin1", "--materials", "m.toml", "-o", "t.bssrdf"],
+        ),
+        2,
+        "--materials adds files to look material names up in",
+    );
+    assert!(!d.join("t.bssrdf").exists());
+    // A file of a --materials folder is an input too: never the output
+    std::fs::create_dir(d.join("mats")).unwrap();
+    std::fs::copy(d.join("m.toml"), d.join("mats/m.toml")).unwrap();
+    let before = std::fs::read(d.join("mats/m.toml")).unwrap();
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "bake",
+                "mine",
+                "--materials",
+                "mats",
+                "--grid",
+                "coarse",
+                "-o",
+                "mats/m.toml",
+            ],
+        ),
+        2,
+        "refusing to overwrite an input",
+    );
+    assert_eq!(std::fs::read(d.join("mats/m.toml")).unwrap(), before);
 }
 
 #[test]

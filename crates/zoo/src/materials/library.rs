@@ -5,7 +5,7 @@ use super::builtin::BUILTIN;
 use super::suggest::suggest;
 use super::{Material, MaterialError, Origin};
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Materials by id, iterated in id order.
 #[derive(Debug, Clone, Default)]
@@ -78,35 +78,10 @@ impl Library {
     }
 
     /// Loads a user's material file, or every `*.toml` file directly inside a directory
-    /// (sorted by name; subdirectories are not entered). Returns how many materials were added.
-    /// All or nothing: on any error the library is left as it was.
+    /// ([`Library::files_of`]). Returns how many materials were added. All or nothing: on any
+    /// error the library is left as it was.
     pub fn load_path(&mut self, path: impl AsRef<Path>) -> Result<usize, MaterialError> {
-        let path = path.as_ref();
-        let io = |source| MaterialError::Io {
-            path: path.to_path_buf(),
-            source,
-        };
-        let files = if std::fs::metadata(path).map_err(io)?.is_dir() {
-            let mut files = Vec::new();
-            for entry in std::fs::read_dir(path).map_err(io)? {
-                let file = entry.map_err(io)?.path();
-                let is_toml = file
-                    .extension()
-                    .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-                if is_toml && file.is_file() {
-                    files.push(file);
-                }
-            }
-            if files.is_empty() {
-                return Err(MaterialError::EmptyDirectory {
-                    path: path.to_path_buf(),
-                });
-            }
-            files.sort();
-            files
-        } else {
-            vec![path.to_path_buf()]
-        };
+        let files = Self::files_of(path.as_ref())?;
         let mut staged = self.clone();
         for file in &files {
             let text = std::fs::read_to_string(file).map_err(|source| MaterialError::Io {
@@ -117,6 +92,36 @@ impl Library {
         }
         *self = staged;
         Ok(files.len())
+    }
+
+    /// The files [`Library::load_path`] reads for `path`: the path itself, or for a directory
+    /// every `*.toml` file directly inside it, sorted by name (subdirectories are not entered).
+    /// A directory without one is [`MaterialError::EmptyDirectory`].
+    pub fn files_of(path: &Path) -> Result<Vec<PathBuf>, MaterialError> {
+        let io = |source| MaterialError::Io {
+            path: path.to_path_buf(),
+            source,
+        };
+        if !std::fs::metadata(path).map_err(io)?.is_dir() {
+            return Ok(vec![path.to_path_buf()]);
+        }
+        let mut files = Vec::new();
+        for entry in std::fs::read_dir(path).map_err(io)? {
+            let file = entry.map_err(io)?.path();
+            let is_toml = file
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+            if is_toml && file.is_file() {
+                files.push(file);
+            }
+        }
+        if files.is_empty() {
+            return Err(MaterialError::EmptyDirectory {
+                path: path.to_path_buf(),
+            });
+        }
+        files.sort();
+        Ok(files)
     }
 
     /// The material with this id or alias. Case and surrounding white space are ignored, and
