@@ -405,7 +405,7 @@ impl Baker {
             .with_settings(settings)?
             .with_quadrature(json!({
                 "rule": "fast",
-                "description": "composite 8-point Gauss-Legendre in u, t = t* + h sinh u, panels at the closest approach and at 3, 12, 46 nats of the exponent",
+                "description": crate::pbd::fast_rule_description(),
                 "points_per_panel": crate::pbd::FAST_POINTS_PER_PANEL,
             }))?
             .with_accuracy(json!({ "tables": accuracy }))?;
