@@ -231,8 +231,8 @@ pub fn run(args: DiffArgs) -> Result<ExitCode, CliError> {
             } else {
                 "DIFFERENT"
             },
-            args.tolerance,
-            args.abs_tolerance,
+            super::show(args.tolerance),
+            super::show(args.abs_tolerance),
             outside
         )?;
     }

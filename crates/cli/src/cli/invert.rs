@@ -225,7 +225,7 @@ fn invert_and_print(
         })
         .to_string()
     } else {
-        let text: Vec<String> = rho.iter().map(f64::to_string).collect();
+        let text: Vec<String> = rho.iter().copied().map(show).collect();
         text.join(",")
     };
     let stdout = std::io::stdout();

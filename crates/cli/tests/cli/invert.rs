@@ -29,6 +29,8 @@ fn invert_gives_the_librarys_reduced_albedo_and_its_json_keys() {
         ("0", "0.2,0.5,0.9"),
         ("60", "0.5"),
         ("89.9", "0.001,0,0.01"),
+        // ρ′ of about 1e-15: printed in exponent form, not as 15 zeros, to every bit
+        ("0", "1e-30"),
     ] {
         let out = ok(&bssrdf(
             d,
@@ -42,6 +44,7 @@ fn invert_gives_the_librarys_reduced_albedo_and_its_json_keys() {
             ],
         ));
         let theta = theta_deg.parse::<f64>().unwrap().to_radians();
+        assert!(!out.contains("0.000000"), "{out}");
         let printed: Vec<f64> = out.trim().split(',').map(|v| v.parse().unwrap()).collect();
         let wanted: Vec<f64> = values.split(',').map(|v| v.parse().unwrap()).collect();
         assert_eq!(printed.len(), wanted.len());
