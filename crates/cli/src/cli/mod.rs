@@ -137,6 +137,18 @@ pub fn with_threads<T: Send>(
     }
 }
 
+/// Refuses fewer photons than a walk takes (`walk`, `zoo`, `render`): every estimate comes
+/// with its standard error, which needs two.
+pub fn check_photons(photons: u64) -> Result<(), CliError> {
+    let min = bssrdf_zoo::walk::MIN_PHOTONS;
+    if photons < min {
+        return Err(CliError::input(format!(
+            "--photons {photons} is outside the valid range: at least {min} (a standard error needs two)"
+        )));
+    }
+    Ok(())
+}
+
 /// Refuses a --threads outside [1, MAX_THREADS] before any work.
 pub fn check_threads(threads: Option<usize>) -> Result<(), CliError> {
     match threads {

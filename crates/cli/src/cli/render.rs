@@ -160,6 +160,7 @@ pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
     if let Some(files) = &args.diff {
         return run_diff(&args, files);
     }
+    super::check_photons(args.photons)?;
     check_used(&args)?;
     let material = material(&args)?;
     let config = config(&args, args.model)?;

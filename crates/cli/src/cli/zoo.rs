@@ -44,6 +44,7 @@ pub struct ZooArgs {
 }
 
 pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
+    super::check_photons(args.photons)?;
     let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
     if !args.models.is_empty() {
         for (k, model) in args.models.iter().enumerate() {
@@ -64,6 +65,7 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
             .map(|c| parse_case(c))
             .collect::<Result<_, _>>()?;
     }
+    check_critical(&args, &config.cases)?;
     super::check_threads(args.threads)?;
     // Per case: its reference walk, then each model.
     let bar = super::progress::bar(
@@ -100,6 +102,35 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Below η = 1 light enters only up to the critical angle asin η: refuses a case beyond it,
+/// naming it (the default cases' 60° and 89° lie beyond it for η < 0.87 and η < 0.9998).
+/// An η outside its domain is left to the comparison's own check.
+fn check_critical(args: &ZooArgs, cases: &[(f64, f64)]) -> Result<(), CliError> {
+    if !(0.75..1.0).contains(&args.eta) {
+        return Ok(());
+    }
+    let critical = args.eta.asin().to_degrees();
+    match cases
+        .iter()
+        .find(|case| case.1.to_radians().sin() > args.eta)
+    {
+        Some(&(rho, theta)) => Err(CliError::input(format!(
+            "{} case {}:{} lies beyond the critical angle of --eta {}: light enters only up to asin(eta) = {} deg; give --cases with theta in [0, {}]",
+            if args.cases.is_empty() {
+                "the default"
+            } else {
+                "the --cases"
+            },
+            super::show(rho),
+            super::show(theta),
+            super::show(args.eta),
+            super::show_deg(critical),
+            super::show_deg(critical),
+        ))),
+        None => Ok(()),
+    }
 }
 
 fn parse_case(text: &str) -> Result<(f64, f64), CliError> {

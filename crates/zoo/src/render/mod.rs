@@ -187,11 +187,11 @@ impl Config {
                 cone_deg: self.cone.to_degrees(),
             });
         }
-        if !(1..=MAX_PHOTONS).contains(&self.photons) {
+        if !(crate::walk::MIN_PHOTONS..=MAX_PHOTONS).contains(&self.photons) {
             return Err(crate::Error::CountOutOfRange {
                 name: "photons",
                 value: self.photons,
-                min: 1,
+                min: crate::walk::MIN_PHOTONS,
                 max: MAX_PHOTONS,
             }
             .into());

@@ -119,6 +119,10 @@ use transport::Medium;
 /// Photons per block: the unit of parallel work and of the fixed summation order.
 pub const BLOCK: u64 = 1024;
 
+/// The fewest photons a walk takes: every estimate comes with its standard error, which needs
+/// two.
+pub const MIN_PHOTONS: u64 = 2;
+
 /// Shape of the medium.
 /// In JSON one shape for both: `{"kind": "half-space"}`, `{"kind": "slab", "thickness": τ}`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -188,11 +192,12 @@ impl Config {
                 max: self.eta.asin(),
             });
         }
-        if self.photons == 0 {
+        // A standard error needs two photons; every estimate of the walk carries one
+        if self.photons < MIN_PHOTONS {
             return Err(Error::CountOutOfRange {
                 name: "photons",
-                value: 0,
-                min: 1,
+                value: self.photons,
+                min: MIN_PHOTONS,
                 max: u64::MAX,
             });
         }

@@ -599,7 +599,16 @@ fn invalid_configs_are_rejected() {
             Error::CountOutOfRange {
                 name: "photons",
                 value: 0,
-                min: 1,
+                min: 2,
+                max: u64::MAX,
+            },
+        ),
+        (
+            Config { photons: 1, ..ok() },
+            Error::CountOutOfRange {
+                name: "photons",
+                value: 1,
+                min: 2,
                 max: u64::MAX,
             },
         ),
