@@ -1,4 +1,5 @@
-//! Checks on the files a command writes: no two outputs on one file, no output on an input.
+//! Checks on the files a command writes, before its work: each one writable as what it is,
+//! no two outputs on one file, no output on an input.
 
 use super::CliError;
 use std::path::{Path, PathBuf};
@@ -23,6 +24,10 @@ fn identity(path: &Path) -> PathBuf {
 /// with what it is on the command line (`"-o"`, `"--scene"`, `"the PNG preview"`), which the
 /// message names.
 pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), CliError> {
+    // A folder (or a device that is no stream) is refused now, not after the work
+    for (_, path) in outputs {
+        bssrdf_zoo::format::check_writable(path).map_err(|e| CliError::input(e.to_string()))?;
+    }
     let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| identity(p)).collect();
     for (i, (what, path)) in outputs.iter().enumerate() {
         for (j, (other, other_path)) in outputs.iter().enumerate().take(i) {

@@ -2,6 +2,7 @@
 //! the walk is the physics, not a model of it).
 
 use super::CliError;
+use bssrdf_zoo::walk::bins::{MAX_PHI, MAX_RADIAL};
 use bssrdf_zoo::walk::{self, Bins, Config, Geometry};
 use clap::Args;
 use std::io::Write;
@@ -33,7 +34,8 @@ pub struct WalkArgs {
     #[arg(long, value_name = "TAU")]
     slab: Option<f64>,
     /// Bins of the profile: r_min,r_max in mean free paths (0 < r_min < r_max), then the
-    /// radial and φ bin counts, whole numbers in [1, 1e6].
+    /// radial and φ bin counts, whole numbers in [1, 10000] and [1, 3600], with
+    /// (radial + 1) × φ ≤ 262144.
     #[arg(long, value_name = "R_MIN,R_MAX,NR,NPHI", value_parser = parse_bins)]
     bins: Option<[f64; 4]>,
     /// Write the binned exitance R(r, φ) with standard errors to this CSV file.
@@ -57,12 +59,16 @@ fn parse_bins(text: &str) -> Result<[f64; 4], String> {
 
 pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     super::check_range("--theta", args.theta, 0.0..90.0)?;
-    if args.photons < 2 {
+    // Below η = 1 no light enters beyond the critical angle (the walk's own check, in degrees)
+    if (0.75..1.0).contains(&args.eta) && args.theta.to_radians().sin() > args.eta {
+        let critical = super::show_deg(args.eta.asin().to_degrees());
         return Err(CliError::input(format!(
-            "--photons {} is outside the valid range: at least 2 (a standard error needs two)",
-            args.photons
+            "--theta {} is outside the valid range at --eta {}: [0, {critical}] deg, below the critical angle asin(eta) (beyond it no light enters)",
+            super::show(args.theta),
+            super::show(args.eta)
         )));
     }
+    super::check_photons(args.photons)?;
     let mut config = Config::new(args.albedo, args.g, args.eta, args.theta.to_radians());
     config.photons = args.photons;
     config.seed = args.seed;
@@ -70,12 +76,13 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
         config.geometry = Geometry::Slab { thickness: tau };
     }
     if let Some(b) = args.bins {
-        let count = |v: f64, name: &str| {
-            if v.fract() == 0.0 && (1.0..=1e6).contains(&v) {
+        // Whole numbers here; their ranges are the bins' own (`Bins::new`)
+        let count = |v: f64, name: &str, max: usize| {
+            if v.fract() == 0.0 && (1.0..=max as f64).contains(&v) {
                 Ok(v as usize)
             } else {
                 Err(CliError::input(format!(
-                    "--bins {name} = {} must be a whole number in [1, 1e6]",
+                    "--bins {name} = {} must be a whole number in [1, {max}]",
                     super::show(v)
                 )))
             }
@@ -83,11 +90,14 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
         config.bins = Bins::new(
             b[0],
             b[1],
-            count(b[2], "radial count")?,
-            count(b[3], "phi count")?,
+            count(b[2], "radial count", MAX_RADIAL)?,
+            count(b[3], "phi count", MAX_PHI)?,
         )?;
     }
     config.validate()?;
+    if let Some(path) = &args.profile {
+        super::output::check(&[("--profile", path)], &[])?;
+    }
     let start = Instant::now();
     let bar = super::progress::bar(config.photons, "photons", args.quiet);
     bar.set_message("walking");
@@ -99,8 +109,9 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     if let Some(path) = &args.profile {
         let mut csv = Vec::new();
         result.to_csv(&mut csv)?;
+        // The writer's errors name the file already
         bssrdf_zoo::format::write_file_atomic(path, &csv)
-            .map_err(|e| CliError::input(format!("cannot write {}: {e}", path.display())))?;
+            .map_err(|e| CliError::input(e.to_string()))?;
     }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());

@@ -471,11 +471,83 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         2,
         "expected 4 comma-separated numbers",
     );
+    // Below eta = 1, incidences beyond the critical angle are refused in degrees, by flag
     fails_with(
-        &bssrdf(d, &["walk", "--albedo", "0.9", "--photons", "1"]),
+        &bssrdf(
+            d,
+            &["walk", "--albedo", "0.5", "--eta", "0.75", "--theta", "60"],
+        ),
         2,
-        "--photons 1 is outside the valid range",
+        "--theta 60 is outside the valid range at --eta 0.75: [0, 48.59] deg",
     );
+    fails_with(
+        &bssrdf(d, &["zoo", "-q", "--eta", "0.75"]),
+        2,
+        "the default case 0.5:60 lies beyond the critical angle of --eta 0.75",
+    );
+    fails_with(
+        &bssrdf(
+            d,
+            &["zoo", "-q", "--eta", "0.75", "--cases", "0.9:10,0.9:50"],
+        ),
+        2,
+        "the --cases case 0.9:50 lies beyond the critical angle",
+    );
+    // An output that cannot be written is refused before the work (10⁸ photons would take
+    // minutes), and named once
+    std::fs::create_dir(d.join("folder")).unwrap();
+    let o = bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "0.9",
+            "--photons",
+            "100000000",
+            "--profile",
+            "folder",
+        ],
+    );
+    fails_with(
+        &o,
+        2,
+        "cannot write folder: it is a folder, not a regular file",
+    );
+    assert_eq!(text(&o.stderr).matches("cannot write").count(), 1);
+    // Every walk estimate has its standard error: one photon is refused by each command
+    for args in [
+        &["walk", "--albedo", "0.9", "--photons", "1"][..],
+        &[
+            "zoo",
+            "-q",
+            "--photons",
+            "1",
+            "--cases",
+            "0.9:0",
+            "--models",
+            "pbd",
+        ],
+        &[
+            "render",
+            "--preset",
+            "figure-10",
+            "--theta",
+            "30",
+            "--grid",
+            "coarse",
+            "--photons",
+            "1",
+            "-o",
+            "one.exr",
+        ],
+    ] {
+        fails_with(
+            &bssrdf(d, args),
+            2,
+            "--photons 1 is outside the valid range: at least 2",
+        );
+    }
+    assert!(!d.join("one.exr").exists());
     for args in [
         &["bake", "--eta", "1.33", "-q", "--threads", "100000"][..],
         &["walk", "--albedo", "0.9", "--threads", "100000"],

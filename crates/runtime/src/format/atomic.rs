@@ -45,19 +45,35 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
             let target = fs::canonicalize(path).unwrap_or(target);
             replace(&target, bytes, Some(&meta))
         }
-        Ok(meta) => Err(FormatError::io(
-            "write",
-            path,
-            io::Error::other(format!(
-                "it is {}, not a regular file",
-                describe(&meta.file_type())
-            )),
-        )),
+        Ok(meta) => Err(not_regular(path, &meta)),
         Err(e) if e.kind() == io::ErrorKind::NotFound && !through_fd => {
             replace(&target, bytes, None)
         }
         Err(e) => Err(FormatError::io("inspect", path, e)),
     }
+}
+
+/// Refuses, before any work is done for it, an output that [`write_file_atomic`] would refuse
+/// for what it is: an existing folder, or another file that is neither regular nor a stream
+/// (a missing folder or a permission shows at the write itself).
+pub fn check_writable(path: &Path) -> FormatResult<()> {
+    match fs::metadata(path) {
+        Ok(meta) if meta.is_file() || is_stream(&meta.file_type()) => Ok(()),
+        Ok(meta) => Err(not_regular(path, &meta)),
+        Err(_) => Ok(()),
+    }
+}
+
+/// The refusal of an output that is not a regular file (nor a stream).
+fn not_regular(path: &Path, meta: &fs::Metadata) -> FormatError {
+    FormatError::io(
+        "write",
+        path,
+        io::Error::other(format!(
+            "it is {}, not a regular file",
+            describe(&meta.file_type())
+        )),
+    )
 }
 
 /// Whether `path` lies in a folder of open file descriptors (`/proc/PID/fd`, `/proc/self/fd`,

@@ -41,7 +41,7 @@ mod records;
 pub mod spec;
 mod writer;
 
-pub use atomic::write_file_atomic;
+pub use atomic::{check_writable, write_file_atomic};
 pub use error::{FormatError, FormatResult};
 pub use library::{Library, Table};
 pub use provenance::{json_number, Provenance, KEY_ACCURACY};
