@@ -56,11 +56,12 @@ pub struct RenderArgs {
     #[arg(long, value_enum)]
     preset: Option<Preset>,
     /// Scattering coefficients σs per channel, mm⁻¹ (with --sigma-a, --eta, --g).
-    #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_a")]
+    #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_a",
+          allow_hyphen_values = true)]
     sigma_s: Option<[f64; 3]>,
     /// Absorption coefficients σa per channel, mm⁻¹.
     #[arg(long, value_name = "R,G,B", value_parser = rgb, requires = "sigma_s",
-          conflicts_with_all = ["material", "preset"])]
+          conflicts_with_all = ["material", "preset"], allow_hyphen_values = true)]
     sigma_a: Option<[f64; 3]>,
     /// Relative index of refraction η in [0.75, 2.5] with --sigma-s [default: 1.33].
     #[arg(long, requires = "sigma_s", conflicts_with_all = ["material", "preset"])]
@@ -85,7 +86,8 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1_000_000)]
     photons: u64,
     /// Picture size in pixels.
-    #[arg(long, value_name = "W,H", value_parser = size, default_value = "256,256")]
+    #[arg(long, value_name = "W,H", value_parser = size, default_value = "256,256",
+          allow_hyphen_values = true)]
     size: (usize, usize),
     /// Width of the picture along the plane of incidence, mm (square pixels).
     #[arg(long, value_name = "MM", default_value_t = 10.0)]

@@ -36,7 +36,8 @@ pub struct WalkArgs {
     /// Bins of the profile: r_min,r_max in mean free paths (0 < r_min < r_max), then the
     /// radial and φ bin counts, whole numbers in [1, 10000] and [1, 3600], with
     /// (radial + 1) × φ ≤ 262144.
-    #[arg(long, value_name = "R_MIN,R_MAX,NR,NPHI", value_parser = parse_bins)]
+    #[arg(long, value_name = "R_MIN,R_MAX,NR,NPHI", value_parser = parse_bins,
+          allow_hyphen_values = true)]
     bins: Option<[f64; 4]>,
     /// Write the binned exitance R(r, φ) with standard errors to this CSV file.
     #[arg(long, value_name = "OUT.csv")]

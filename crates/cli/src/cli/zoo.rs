@@ -26,7 +26,12 @@ pub struct ZooArgs {
     #[arg(long, value_enum, value_delimiter = ',')]
     models: Vec<ModelKind>,
     /// Cases as RHO:THETA_DEG pairs, comma-separated (default: ρ′ 0.5, 0.9, 0.99 × θ 0, 60, 89).
-    #[arg(long, value_delimiter = ',', value_name = "RHO:THETA")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "RHO:THETA",
+        allow_hyphen_values = true
+    )]
     cases: Vec<String>,
     /// Write SVG figures (error against time; profiles over the walk) into this folder.
     #[arg(long, value_name = "DIR")]

@@ -441,6 +441,40 @@ fn negative_numbers_are_values() {
             "--rho -0.5",
         ),
         (&["sample", "t.bssrdf", "--rho", "-0.5"], "--rho -0.5"),
+        // Comma lists that start with a negative number are values too
+        (
+            &["walk", "--albedo", "0.9", "--bins", "-1,1,2,2"],
+            "r_min = -1 must be > 0",
+        ),
+        (&["zoo", "--cases", "-0.5:0"], "--cases rho -0.5 is outside"),
+        (
+            &[
+                "render",
+                "--sigma-s",
+                "-1,1,1",
+                "--sigma-a",
+                "1,1,1",
+                "--theta",
+                "30",
+                "-o",
+                "x.exr",
+            ],
+            "sigma_s[0] (red) = -1 is negative",
+        ),
+        (
+            &[
+                "render",
+                "--preset",
+                "figure-10",
+                "--theta",
+                "30",
+                "--size",
+                "-1,1",
+                "-o",
+                "x.exr",
+            ],
+            "invalid value '-1,1' for '--size <W,H>'",
+        ),
     ] {
         fails_with(&bssrdf(d, args), 2, needle);
     }
