@@ -5,7 +5,7 @@
 //! back: `bssrdf sample FILE --rho 0.9 | bssrdf eval FILE --points -`.
 
 use super::points::Point;
-use super::values::check_kept;
+use super::values::{check_kept, check_theta_kept};
 use super::{check_range, CliError};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
@@ -114,6 +114,9 @@ impl Evaluator<'_> {
         check_range(names[1], p.theta_deg, 0.0..=90.0)?;
         check_r(names[2], p.r)?;
         check_range(names[3], p.phi_deg, ..)?;
+        if let (ModelKind::Table, Some(t)) = (self.model, &self.table) {
+            check_theta_kept(names[1], p.theta_deg, t)?;
+        }
         match (self.model, &self.table) {
             (ModelKind::Table | ModelKind::Perpendicular, Some(t)) => match self.material {
                 Some((rho, _)) => check_kept("the material's rho'", rho, t),

@@ -61,6 +61,9 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
     super::check_range("--theta", theta_deg, 0.0..=90.0)?;
     // Both modes: nothing is written before ρ′ is known to be inside the kept rows.
     super::values::check_kept(rho_name, rho, &view)?;
+    if !args.path_tracing {
+        super::values::check_theta_kept("--theta", theta_deg, &view)?;
+    }
     let mut rng = SplitMix64::seed_from_u64(args.seed);
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());

@@ -111,10 +111,12 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             bar.inc(1);
         }
         let kept = view.axes().rho().as_slice();
+        let kept_theta = view.axes().theta().as_slice();
         checked_tables.push(Checked {
             index: *index,
             eta: view.eta(),
             kept: (kept[0], kept[kept.len() - 1]),
+            kept_theta: (kept_theta[0], kept_theta[kept_theta.len() - 1]),
             rows,
         });
     }
@@ -136,8 +138,15 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
     };
     let reason = |t: &Checked, row: &ValidationRow| {
         let (lo, hi) = t.kept;
+        let (theta_lo, theta_hi) = t.kept_theta;
         if row.rho < lo || row.rho > hi {
             format!("rho outside the albedo rows this table keeps, [{lo}, {hi}]")
+        } else if !(theta_lo..=theta_hi).contains(&row.theta_deg.to_radians()) {
+            format!(
+                "theta outside the incidence range this table keeps, [{}, {}] deg",
+                super::show_deg(theta_lo.to_degrees()),
+                super::show_deg(theta_hi.to_degrees())
+            )
         } else {
             "no light leaves: no point to check".to_string()
         }
@@ -278,5 +287,7 @@ struct Checked {
     index: usize,
     eta: f64,
     kept: (f64, f64),
+    /// The θ axis's first and last node, radians.
+    kept_theta: (f64, f64),
     rows: Vec<ValidationRow>,
 }

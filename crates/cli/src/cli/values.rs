@@ -81,6 +81,25 @@ pub fn exactly<T: FromStr, const N: usize>(text: &str, shape: &str) -> Result<[T
         .map_err(|_| format!("expected {N} comma-separated numbers {shape}, got {count}"))
 }
 
+/// Refuses an incidence outside the θ axis `table` keeps (a subset of the angles may start
+/// above 0 or end below 90°): the table is never extrapolated. `theta_deg` as given, in
+/// degrees; compared in radians, as the lookups do.
+pub fn check_theta_kept(name: &str, theta_deg: f64, table: &TableRef<'_>) -> Result<(), CliError> {
+    let nodes = table.axes().theta().as_slice();
+    let (Some(&lo), Some(&hi)) = (nodes.first(), nodes.last()) else {
+        return Err(CliError::input("the table has no incidence angles"));
+    };
+    if (lo..=hi).contains(&theta_deg.to_radians()) {
+        return Ok(());
+    }
+    Err(CliError::input(format!(
+        "{name} {} is outside the incidence range this table keeps, [{}, {}] deg: the table is never extrapolated",
+        show(theta_deg),
+        show_deg(lo.to_degrees()),
+        show_deg(hi.to_degrees())
+    )))
+}
+
 /// Refuses a ρ′ outside the albedo rows `table` keeps: the table is never extrapolated.
 /// `name` says where ρ′ came from (`--rho`, `column rho`, `--material skin1`).
 pub fn check_kept(name: &str, rho: f64, table: &TableRef<'_>) -> Result<(), CliError> {

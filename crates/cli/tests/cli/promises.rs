@@ -899,3 +899,66 @@ fn channel_needs_a_material() {
         assert!(o.stdout.is_empty());
     }
 }
+
+/// A table that keeps only some angles (here 45° to 90°, a valid file: format-spec.md allows
+/// any subset of the axes) refuses an incidence outside them by name, in eval, sample and
+/// validate, instead of "no value" or "no light leaves".
+#[test]
+fn an_incidence_outside_the_kept_angles_is_named() {
+    use bssrdf_zoo::format::{Compression, LibraryBuilder, Provenance};
+    use bssrdf_zoo::fresnel::Moments;
+    use bssrdf_zoo::table::{bake, Grid};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut grid = Grid::ferrier(12, 3, 12);
+    grid.theta = vec![45f64.to_radians(), 70f64.to_radians(), 90f64.to_radians()];
+    let (table, _) = bake(1.33, Moments::Exact, &grid, true).unwrap();
+    let mut builder = LibraryBuilder::new();
+    builder.add_table(table.to_table_data()).unwrap();
+    builder.set_provenance(Provenance::new("test: angles 45 to 90 deg"));
+    builder
+        .write_atomic(d.join("high.bssrdf"), Compression::None)
+        .unwrap();
+    let needle = "--theta 10 is outside the incidence range this table keeps, [45, 90] deg";
+    let eval = [
+        "eval",
+        "high.bssrdf",
+        "--rho",
+        "0.5",
+        "--theta",
+        "10",
+        "--r",
+        "1",
+    ];
+    fails_with(&bssrdf(d, &eval), 2, needle);
+    let sample = [
+        "sample",
+        "high.bssrdf",
+        "--rho",
+        "0.5",
+        "--theta",
+        "10",
+        "-n",
+        "2",
+    ];
+    fails_with(&bssrdf(d, &sample), 2, needle);
+    ok(&bssrdf(
+        d,
+        &[
+            "eval",
+            "high.bssrdf",
+            "--rho",
+            "0.5",
+            "--theta",
+            "60",
+            "--r",
+            "1",
+        ],
+    ));
+    let validate = text(&bssrdf(d, &["validate", "high.bssrdf", "--samples", "50"]).stdout);
+    assert!(
+        validate
+            .contains("skipped: theta outside the incidence range this table keeps, [45, 90] deg"),
+        "{validate}"
+    );
+}
