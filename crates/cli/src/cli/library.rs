@@ -2,7 +2,7 @@
 
 use super::CliError;
 use bssrdf_zoo::format::{FormatError, Library, Verify};
-use bssrdf_zoo::materials::{Material, Rgb};
+use bssrdf_zoo::materials::{Material, Origin, Rgb};
 use bssrdf_zoo::medium::{ETA_MAX, ETA_MIN};
 use bssrdf_zoo::table::FileTable;
 use clap::{Args, ValueEnum};
@@ -180,9 +180,11 @@ impl TableChoice {
                 // A material stored in the file first, else the named-material library.
                 if let Some(m) = library.material(name) {
                     let c = self.channel().index();
-                    let found =
-                        Material::from_coefficients(&m.name, m.sigma_s, m.sigma_a, m.g, m.eta)
-                            .map_err(|e| CliError::input(e.to_string()))?;
+                    let origin = Origin::Record(path.to_path_buf());
+                    let found = Material::from_coefficients_of(
+                        origin, &m.name, m.sigma_s, m.sigma_a, m.g, m.eta,
+                    )
+                    .map_err(|e| CliError::input(e.to_string()))?;
                     Some((found, m.tables[c] as usize))
                 } else {
                     let lib = super::materials::library(self.materials.as_deref())?;
@@ -268,7 +270,8 @@ impl TableChoice {
                 return Err(CliError::input(format!("{message}: give one or the other")));
             }
         }
-        let table = FileTable::new(record).map_err(|e| CliError::input(e.to_string()))?;
+        let table = FileTable::new(record)
+            .map_err(|e| CliError::input(format!("{file}: table {index}: {e}")))?;
         let material = material.map(|(m, _)| {
             let ch = m.channel(self.channel());
             let (rho, st) = (ch.rho_prime(), ch.sigma_t_prime());

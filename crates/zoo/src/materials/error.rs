@@ -2,6 +2,7 @@
 //! "built-in materials/…", or "inline material") and, where there is one, the field and the bad
 //! value, so that a message alone is enough to fix the file.
 
+use crate::error::Number;
 use std::path::PathBuf;
 use thiserror::Error;
 
@@ -35,21 +36,21 @@ pub enum MaterialError {
         count: usize,
     },
     /// A number is NaN or infinite.
-    #[error("{file}: {field} = {value} is not a finite number")]
+    #[error("{file}: {field} = {} is not a finite number", Number(*value))]
     NotFinite {
         file: String,
         field: String,
         value: f64,
     },
     /// A coefficient that must be non-negative is negative.
-    #[error("{file}: {field} = {value} is negative; it must be >= 0")]
+    #[error("{file}: {field} = {} is negative; it must be >= 0", Number(*value))]
     Negative {
         file: String,
         field: String,
         value: f64,
     },
     /// The Henyey–Greenstein g is outside the open interval (−1, 1).
-    #[error("{file}: {field} = {value} is outside (-1, 1)")]
+    #[error("{file}: {field} = {} is outside (-1, 1)", Number(*value))]
     AsymmetryOutOfRange {
         file: String,
         field: String,
@@ -57,8 +58,9 @@ pub enum MaterialError {
     },
     /// `coefficients = "reduced"` states σ′s with g = 0, but a g is not 0.
     #[error(
-        "{file}: {field} = {value}, but coefficients = \"reduced\" gives sigma_s' with g = 0; \
-         set g to 0 or give unreduced coefficients"
+        "{file}: {field} = {}, but coefficients = \"reduced\" gives sigma_s' with g = 0; \
+         set g to 0 or give unreduced coefficients",
+        Number(*value)
     )]
     ReducedWithAsymmetry {
         file: String,
@@ -66,7 +68,12 @@ pub enum MaterialError {
         value: f64,
     },
     /// The relative index of refraction is outside the models' domain.
-    #[error("{file}: eta = {value} is outside [{min}, {max}]")]
+    #[error(
+        "{file}: eta = {} is outside [{}, {}]",
+        Number(*value),
+        Number(*min),
+        Number(*max)
+    )]
     EtaOutOfRange {
         file: String,
         value: f64,

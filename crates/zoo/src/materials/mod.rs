@@ -148,6 +148,8 @@ pub enum Origin {
     File(PathBuf),
     /// Built from coefficients in code or on the command line.
     Inline,
+    /// A material record of this library file (`.bssrdf`).
+    Record(PathBuf),
 }
 
 impl fmt::Display for Origin {
@@ -156,6 +158,7 @@ impl fmt::Display for Origin {
             Origin::Builtin(file) => write!(f, "built-in {file}"),
             Origin::File(path) => write!(f, "{}", path.display()),
             Origin::Inline => f.write_str("inline material"),
+            Origin::Record(path) => write!(f, "{}, material record", path.display()),
         }
     }
 }
@@ -196,7 +199,19 @@ impl Material {
         g: [f64; 3],
         eta: f64,
     ) -> Result<Self, MaterialError> {
-        let origin = Origin::Inline;
+        Self::from_coefficients_of(Origin::Inline, id, sigma_s, sigma_a, g, eta)
+    }
+
+    /// [`Material::from_coefficients`] with the origin its errors name (a library file's
+    /// material record, say).
+    pub fn from_coefficients_of(
+        origin: Origin,
+        id: &str,
+        sigma_s: [f64; 3],
+        sigma_a: [f64; 3],
+        g: [f64; 3],
+        eta: f64,
+    ) -> Result<Self, MaterialError> {
         let file = origin.to_string();
         parse::check_id(&file, "id", id)?;
         let channels =

@@ -398,3 +398,21 @@ fn materials_from_coefficients_join_the_library() {
         Err(MaterialError::DuplicateId { .. })
     ));
 }
+
+/// Errors print numbers in the messages' one form (1e300, not 301 digits) and name where the
+/// material came from: a library file's material record by its path.
+#[test]
+fn material_errors_print_numbers_shortest_and_name_a_record_by_its_file() {
+    let record = Origin::Record(PathBuf::from("lib.bssrdf"));
+    let err = Material::from_coefficients_of(record, "wax", [1.0; 3], [0.1; 3], [0.0; 3], 1e300)
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        err,
+        "lib.bssrdf, material record: eta = 1e300 is outside [0.75, 2.5]"
+    );
+    let err = Material::from_coefficients("wax", [-1e-300, 1.0, 1.0], [0.1; 3], [0.0; 3], 1.3)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("= -1e-300 is negative"), "{err}");
+}
