@@ -84,6 +84,13 @@ pub enum TableError {
     /// The axes stored in a file are not valid spline nodes.
     #[error("a table axis is not strictly increasing and finite")]
     Axes,
+    /// An axis of a file's table has fewer than two nodes: a valid file (format-spec.md allows
+    /// any subset of the axes, including one node), but the lookups interpolate along every
+    /// axis.
+    #[error(
+        "axis {axis} has {len} node(s): lookups interpolate along every axis and need at least 2 (the file itself is valid)"
+    )]
+    AxisTooShort { axis: &'static str, len: usize },
     /// The relative index of refraction is outside the models' domain.
     #[error("eta = {} is outside [{}, {}]", Number(*value), Number(*min), Number(*max))]
     Eta { value: f64, min: f64, max: f64 },

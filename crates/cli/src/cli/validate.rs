@@ -81,9 +81,9 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
                 .tables()
                 .enumerate()
                 .map(|(i, record)| {
-                    FileTable::new(record)
-                        .map(|t| (i, t))
-                        .map_err(|e| CliError::input(format!("table {i}: {e}")))
+                    FileTable::new(record).map(|t| (i, t)).map_err(|e| {
+                        CliError::input(format!("{}: table {i}: {e}", args.file.display()))
+                    })
                 })
                 .collect::<Result<_, _>>()?
         } else {

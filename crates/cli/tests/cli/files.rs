@@ -124,6 +124,29 @@ fn inspect_names_the_required_features() {
     let example = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../tests/data/valid/spec-example.bssrdf");
     std::fs::copy(example, dir.path().join("example.bssrdf")).unwrap();
+    // Valid with one albedo node and one angle, but the lookups need two per axis: they say
+    // so, naming the file, the table and the axis
+    for args in [
+        &[
+            "eval",
+            "example.bssrdf",
+            "--rho",
+            "0.5",
+            "--theta",
+            "0",
+            "--r",
+            "1",
+        ][..],
+        &["validate", "example.bssrdf"],
+        &["sample", "example.bssrdf", "--rho", "0.5", "-n", "1"],
+        &["invert", "example.bssrdf", "--reflectance", "0.1"],
+    ] {
+        fails_with(
+            &bssrdf(dir.path(), args),
+            2,
+            "example.bssrdf: table 0: axis rho has 1 node(s): lookups interpolate along every axis and need at least 2 (the file itself is valid)",
+        );
+    }
     let human = ok(&bssrdf(dir.path(), &["inspect", "example.bssrdf"]));
     assert!(
         human.contains("features required 0x2 (signed-floor) optional 0x0"),

@@ -63,6 +63,13 @@ impl<'a> FileTable<'a> {
                 .map(|&v| f64::from(v))
                 .collect::<Vec<f64>>()
         };
+        for kind in [AxisKind::Rho, AxisKind::Theta, AxisKind::R] {
+            let len = table.axis(kind).len();
+            if len < 2 {
+                let axis = kind.name();
+                return Err(TableError::AxisTooShort { axis, len });
+            }
+        }
         let axes = Axes::new(
             axis(AxisKind::Rho),
             axis(AxisKind::Theta),
