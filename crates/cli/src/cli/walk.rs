@@ -125,8 +125,9 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
         }
         writeln!(out, "{json}")?;
     } else {
+        let photons = result.photons();
         let show =
-            |name: &str, e: walk::Estimate| format!("{name:<22} {:.6} ± {:.6}", e.value, e.stderr);
+            |name: &str, e: walk::Estimate| format!("{name:<22} {}", estimate_text(e, photons));
         writeln!(
             out,
             "{}",
@@ -156,4 +157,20 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// An estimate and its standard error as text: six decimals, or in exponent form below 10⁻³
+/// (where six decimals would print a nonzero value as 0). An estimate no photon scored is 0
+/// with no spread; its error bar is then the 95 % upper bound 3/N (the "rule of three"), said
+/// as such rather than "0 ± 0".
+fn estimate_text(e: walk::Estimate, photons: u64) -> String {
+    if e.value == 0.0 && e.stderr == 0.0 {
+        let bound = (3.0 / photons as f64).min(1.0);
+        return format!("0 (no photon scored; below {bound:.1e} at 95 %)");
+    }
+    if e.value.abs() >= 1e-3 {
+        format!("{:.6} ± {:.6}", e.value, e.stderr)
+    } else {
+        format!("{:.4e} ± {:.1e}", e.value, e.stderr)
+    }
 }

@@ -500,6 +500,37 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
     ));
     let profile = std::fs::read_to_string(d.join("p.csv")).unwrap();
     assert!(profile.lines().count() > 40, "{profile}");
+    // Small estimates keep their digits (exponent form), and every slab estimate has its error
+    let dark = ok(&bssrdf(
+        d,
+        &["walk", "--albedo", "0.001", "--photons", "1000"],
+    ));
+    let multiple = dark.lines().find(|l| l.starts_with("multiple")).unwrap();
+    assert!(
+        multiple.contains("e-") && !multiple.contains("0.000000"),
+        "{dark}"
+    );
+    let slab: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "0.9",
+            "--photons",
+            "1000",
+            "--slab",
+            "1",
+            "--json",
+        ],
+    )))
+    .unwrap();
+    for key in [
+        "unscattered_transmittance",
+        "total_transmittance",
+        "truncated_weight",
+    ] {
+        assert!(slab[format!("{key}_stderr")].is_number(), "{key} in {slab}");
+    }
     fails_with(
         &bssrdf(d, &["walk", "--albedo", "0.9", "--bins", "0.01,100,10"]),
         2,

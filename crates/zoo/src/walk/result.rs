@@ -273,7 +273,10 @@ struct Summary<'a> {
     total_transmittance_stderr: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     unscattered_transmittance: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    unscattered_transmittance_stderr: Option<f64>,
     truncated_weight: f64,
+    truncated_weight_stderr: f64,
     photons: u64,
     seed: u64,
     scattering_events: u64,
@@ -304,7 +307,11 @@ impl Serialize for WalkResult {
             total_transmittance: t.map(|e| e.value),
             total_transmittance_stderr: t.map(|e| e.stderr),
             unscattered_transmittance: self.transmittance(Component::Unscattered).map(|e| e.value),
+            unscattered_transmittance_stderr: self
+                .transmittance(Component::Unscattered)
+                .map(|e| e.stderr),
             truncated_weight: self.truncated_weight.value,
+            truncated_weight_stderr: self.truncated_weight.stderr,
             photons: c.photons,
             seed: c.seed,
             scattering_events: self.scattering_events,
