@@ -114,8 +114,13 @@ impl Evaluator<'_> {
         check_range(names[1], p.theta_deg, 0.0..=90.0)?;
         check_r(names[2], p.r)?;
         check_range(names[3], p.phi_deg, ..)?;
-        if let (ModelKind::Table, Some(t)) = (self.model, &self.table) {
-            check_theta_kept(names[1], p.theta_deg, t)?;
+        match (self.model, &self.table) {
+            (ModelKind::Table, Some(t)) => check_theta_kept(names[1], p.theta_deg, t)?,
+            // The perpendicular model reads the table's θ = 0 rows, whatever θ is
+            (ModelKind::Perpendicular, Some(t)) => {
+                check_theta_kept("the perpendicular model's theta", 0.0, t)?
+            }
+            _ => {}
         }
         match (self.model, &self.table) {
             (ModelKind::Table | ModelKind::Perpendicular, Some(t)) => match self.material {

@@ -112,11 +112,16 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         }
         let kept = view.axes().rho().as_slice();
         let kept_theta = view.axes().theta().as_slice();
+        let theta_kept = rows
+            .iter()
+            .map(|row| (row.theta_deg, view.keeps_theta(row.theta_deg.to_radians())))
+            .collect();
         checked_tables.push(Checked {
             index: *index,
             eta: view.eta(),
             kept: (kept[0], kept[kept.len() - 1]),
             kept_theta: (kept_theta[0], kept_theta[kept_theta.len() - 1]),
+            theta_kept,
             rows,
         });
     }
@@ -140,8 +145,16 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         let (lo, hi) = t.kept;
         let (theta_lo, theta_hi) = t.kept_theta;
         if row.rho < lo || row.rho > hi {
-            format!("rho outside the albedo rows this table keeps, [{lo}, {hi}]")
-        } else if !(theta_lo..=theta_hi).contains(&row.theta_deg.to_radians()) {
+            format!(
+                "rho outside the albedo rows this table keeps, [{}, {}]",
+                super::show(lo),
+                super::show(hi)
+            )
+        } else if t
+            .theta_kept
+            .iter()
+            .any(|&(theta, kept)| theta == row.theta_deg && !kept)
+        {
             format!(
                 "theta outside the incidence range this table keeps, [{}, {}] deg",
                 super::show_deg(theta_lo.to_degrees()),
@@ -289,5 +302,7 @@ struct Checked {
     kept: (f64, f64),
     /// The θ axis's first and last node, radians.
     kept_theta: (f64, f64),
+    /// Each case's θ (degrees) and whether the θ axis holds it (`TableRef::keeps_theta`).
+    theta_kept: Vec<(f64, bool)>,
     rows: Vec<ValidationRow>,
 }

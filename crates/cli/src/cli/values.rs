@@ -18,6 +18,12 @@ pub fn show_deg(v: f64) -> String {
     show((v * 1000.0).round() / 1000.0)
 }
 
+/// An upper bound in degrees as messages print it: rounded down to 3 decimals, so that the
+/// printed value itself lies within the bound (the critical angle asin η).
+pub fn show_deg_below(v: f64) -> String {
+    show((v * 1000.0).floor() / 1000.0)
+}
+
 /// An azimuth in degrees as radians, reduced to [−180°, 180°] first: whole turns are exact in
 /// degrees but not after multiplying by π/180 (360° would become sin φ = −2.4e-16, not 0).
 pub fn azimuth_radians(phi_deg: f64) -> f64 {
@@ -83,15 +89,16 @@ pub fn exactly<T: FromStr, const N: usize>(text: &str, shape: &str) -> Result<[T
 
 /// Refuses an incidence outside the θ axis `table` keeps (a subset of the angles may start
 /// above 0 or end below 90°): the table is never extrapolated. `theta_deg` as given, in
-/// degrees; compared in radians, as the lookups do.
+/// degrees; compared in radians as the lookups take it (`TableRef::keeps_theta`: an end node
+/// given in degrees counts as the node).
 pub fn check_theta_kept(name: &str, theta_deg: f64, table: &TableRef<'_>) -> Result<(), CliError> {
+    if table.keeps_theta(theta_deg.to_radians()) {
+        return Ok(());
+    }
     let nodes = table.axes().theta().as_slice();
     let (Some(&lo), Some(&hi)) = (nodes.first(), nodes.last()) else {
         return Err(CliError::input("the table has no incidence angles"));
     };
-    if (lo..=hi).contains(&theta_deg.to_radians()) {
-        return Ok(());
-    }
     Err(CliError::input(format!(
         "{name} {} is outside the incidence range this table keeps, [{}, {}] deg: the table is never extrapolated",
         show(theta_deg),

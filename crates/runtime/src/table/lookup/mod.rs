@@ -34,6 +34,9 @@ pub use batch::{PathSamplesMut, RadialSamplesMut, SamplesMut};
 pub use separable::RadialSample;
 pub use world::{reduced_to_mm, MediumRef, World};
 
+/// Half an f32 step, relative: how far an f64 value can lie from the f32 it rounds to.
+const F32_HALF_STEP: f64 = 1.0 / (1u32 << 24) as f64;
+
 /// One draw of the exit point (algorithm 2), in the units of the lookup that drew it: reduced
 /// units from [`TableRef`] and the models (r in mean free paths, the density per mfp²), world
 /// units from [`World`] and the renderer handles (mm, mm⁻²).
@@ -172,14 +175,41 @@ impl<'a> TableRef<'a> {
         Some(self.slice_of(&rho_weights.energy, &theta_weights, blend))
     }
 
-    /// The Catmull-Rom weights along θ, `None` outside the axis; hot cells apart, see
-    /// `Nodes::hot_weights`.
+    /// The Catmull-Rom weights along θ, `None` outside the axis ([`TableRef::snap_theta`] at
+    /// its ends); hot cells apart, see `Nodes::hot_weights`.
     #[inline(always)]
     pub(super) fn theta_weights(&self, theta: f64) -> Option<Weights> {
         match self.axes.theta().hot_weights(theta) {
             Some(w) => Some(w),
-            None => self.axes.theta().weights(theta),
+            None => self.axes.theta().weights(self.snap_theta(theta)),
         }
+    }
+
+    /// θ, or the first or last node of the θ axis where θ lies outside it by at most f32
+    /// rounding (2⁻²⁴ of the node): the axes are stored in f32, and an angle given in f64 lies
+    /// up to that far from its node (45° = π/4 just below the f32 node of a table kept from
+    /// 45°), which counts as the node.
+    pub fn snap_theta(&self, theta: f64) -> f64 {
+        let nodes = self.axes.theta().as_slice();
+        let (Some(&first), Some(&last)) = (nodes.first(), nodes.last()) else {
+            return theta;
+        };
+        let near = |node: f64| (theta - node).abs() <= node.abs() * F32_HALF_STEP;
+        if theta < first && near(first) {
+            first
+        } else if theta > last && near(last) {
+            last
+        } else {
+            theta
+        }
+    }
+
+    /// Whether the θ axis holds θ (radians), its ends as [`TableRef::snap_theta`] takes them:
+    /// where the lookups at θ have weights along θ.
+    pub fn keeps_theta(&self, theta: f64) -> bool {
+        let nodes = self.axes.theta().as_slice();
+        let theta = self.snap_theta(theta);
+        matches!((nodes.first(), nodes.last()), (Some(&lo), Some(&hi)) if (lo..=hi).contains(&theta))
     }
 
     /// S ≈ slope·ln(1/r) + const as r → 0, slope = ρ′² C_E cos θ′/π: sources at depth t ≫ r
