@@ -305,12 +305,7 @@ pub(super) fn bake_error(e: BakeError) -> CliError {
 /// Refuses an output that is one of the bake's inputs (the scene, the material files: the
 /// `--materials` file, or each `*.toml` of its folder).
 pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliError> {
-    // A folder that cannot be listed reads no file here; loading it reports why
-    let material_files: Vec<PathBuf> = args
-        .materials
-        .iter()
-        .flat_map(|m| MaterialLibrary::files_of(m).unwrap_or_default())
-        .collect();
+    let material_files = super::materials::input_files(args.materials.as_deref());
     let mut inputs: Vec<(&str, &Path)> = Vec::new();
     if let Some(scene) = &args.scene {
         inputs.push(("--scene", scene.as_path()));

@@ -1,6 +1,6 @@
 //! Opening library files and choosing a table in them, shared by eval, sample and validate.
 
-use super::CliError;
+use super::{show, CliError};
 use bssrdf_zoo::format::{FormatError, Library, Verify};
 use bssrdf_zoo::materials::{Material, Origin, Rgb};
 use bssrdf_zoo::medium::{ETA_MAX, ETA_MIN};
@@ -91,7 +91,7 @@ fn list_etas(library: &Library) -> String {
     library
         .tables()
         .enumerate()
-        .map(|(i, t)| format!("{} (table {i})", t.eta()))
+        .map(|(i, t)| format!("{} (table {i})", show(t.eta())))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -161,8 +161,9 @@ impl TableChoice {
             .clone();
         if let Some(eta) = self.eta.filter(|&e| !same_eta(e, m.eta())) {
             return Err(CliError::input(format!(
-                "--eta {eta} conflicts with --material {name}, whose eta is {}: give one or the other",
-                m.eta()
+                "--eta {} conflicts with --material {name}, whose eta is {}: give one or the other",
+                show(eta),
+                show(m.eta())
             )));
         }
         Ok(Some(m))
@@ -179,6 +180,11 @@ impl TableChoice {
             Some(name) => {
                 // A material stored in the file first, else the named-material library.
                 if let Some(m) = library.material(name) {
+                    if self.materials.is_some() {
+                        return Err(CliError::input(format!(
+                            "--materials adds files to look --material up in, but {name} is a material of {file}: drop --materials"
+                        )));
+                    }
                     let c = self.channel().index();
                     let origin = Origin::Record(path.to_path_buf());
                     let found = Material::from_coefficients_of(
@@ -192,6 +198,11 @@ impl TableChoice {
                         .get(name)
                         .map_err(|e| CliError::input(e.to_string()))?
                         .clone();
+                    if self.materials.is_some() && !matches!(m.origin(), Origin::File(_)) {
+                        return Err(CliError::input(format!(
+                            "--materials adds files to look --material up in, but {name} is built in: drop --materials"
+                        )));
+                    }
                     // Of the tables with the material's η, one whose albedo rows hold the
                     // channel's ρ′ (a scene bake keeps several such tables), else the first.
                     let rho = m.channel(self.channel()).rho_prime();
@@ -210,7 +221,7 @@ impl TableChoice {
                             CliError::input(format!(
                                 "{file} has no table for material {:?} (eta = {}); its tables: {}; bake one with `bssrdf bake {}`",
                                 m.id(),
-                                m.eta(),
+                                show(m.eta()),
                                 list_etas(library),
                                 m.id()
                             ))
@@ -222,9 +233,10 @@ impl TableChoice {
         if let (Some(eta), Some((m, _))) = (self.eta, &material) {
             if !same_eta(eta, m.eta()) {
                 return Err(CliError::input(format!(
-                    "--eta {eta} conflicts with --material {}, whose eta is {}: give one or the other",
+                    "--eta {} conflicts with --material {}, whose eta is {}: give one or the other",
+                    show(eta),
                     m.id(),
-                    m.eta()
+                    show(m.eta())
                 )));
             }
         }
@@ -235,7 +247,8 @@ impl TableChoice {
                     .position(|t| same_eta(t.eta(), eta))
                     .ok_or_else(|| {
                         CliError::input(format!(
-                            "--eta {eta}: {file} has no table at this eta; its tables: {}",
+                            "--eta {}: {file} has no table at this eta; its tables: {}",
+                            show(eta),
                             list_etas(library)
                         ))
                     })?,
@@ -257,13 +270,16 @@ impl TableChoice {
             let held = record.eta();
             let conflict = match (&material, self.eta) {
                 (Some((m, _)), _) if !same_eta(m.eta(), held) => Some(format!(
-                    "--table {table} holds eta {held}, but --material {} has eta {}",
+                    "--table {table} holds eta {}, but --material {} has eta {}",
+                    show(held),
                     m.id(),
-                    m.eta()
+                    show(m.eta())
                 )),
-                (None, Some(eta)) if !same_eta(eta, held) => {
-                    Some(format!("--table {table} holds eta {held}, not --eta {eta}"))
-                }
+                (None, Some(eta)) if !same_eta(eta, held) => Some(format!(
+                    "--table {table} holds eta {}, not --eta {}",
+                    show(held),
+                    show(eta)
+                )),
                 _ => None,
             };
             if let Some(message) = conflict {

@@ -27,6 +27,15 @@ pub fn library(extra: Option<&std::path::Path>) -> Result<Library, CliError> {
     Ok(library)
 }
 
+/// The files a command reads for `--materials PATH` (the file, or each `*.toml` of the
+/// folder): inputs that no output may replace. A folder that cannot be listed gives none here;
+/// loading it reports why.
+pub fn input_files(extra: Option<&std::path::Path>) -> Vec<std::path::PathBuf> {
+    extra
+        .map(|path| Library::files_of(path).unwrap_or_default())
+        .unwrap_or_default()
+}
+
 pub fn run(args: MaterialsArgs) -> Result<ExitCode, CliError> {
     let library = library(args.materials.as_deref())?;
     let stdout = std::io::stdout();

@@ -157,7 +157,9 @@ pub fn read(path: &Path, material_rho: Option<f64>) -> Result<Rows, CliError> {
                 let rho = number(at, "rho")?;
                 if (rho - m).abs() > 1e-12 * m.abs().max(1.0) {
                     return Err(CliError::input(format!(
-                        "{name}:{line}: column rho = {rho} conflicts with --material, whose rho' is {m} on this channel: drop the column or the flag"
+                        "{name}:{line}: column rho = {} conflicts with --material, whose rho' is {} on this channel: drop the column or the flag",
+                        super::show(rho),
+                        super::show(m)
                     )));
                 }
                 m

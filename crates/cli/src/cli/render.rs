@@ -3,7 +3,7 @@
 //! differences (figure 1c). All the work is in `bssrdf_zoo::render`.
 
 use super::CliError;
-use bssrdf_zoo::materials::Material;
+use bssrdf_zoo::materials::{Material, Origin};
 use bssrdf_zoo::models::ModelKind;
 use bssrdf_zoo::render::{
     self, difference, Band, Config, Difference, Orders, Part, Render, Renderer,
@@ -202,7 +202,13 @@ pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
 fn material(args: &RenderArgs) -> Result<Material, CliError> {
     if let Some(name) = &args.material {
         let library = super::materials::library(args.materials.as_deref())?;
-        return library.get(name).cloned().map_err(input);
+        let m = library.get(name).cloned().map_err(input)?;
+        if args.materials.is_some() && !matches!(m.origin(), Origin::File(_)) {
+            return Err(CliError::input(format!(
+                "--materials adds files to look --material up in, but {name} is built in: drop --materials"
+            )));
+        }
+        return Ok(m);
     }
     if args.preset == Some(Preset::Figure10) {
         return Ok(render::figure_10_material());
@@ -325,8 +331,9 @@ fn check_outputs(args: &RenderArgs) -> Result<(), CliError> {
     if let Some(files) = &args.diff {
         inputs.extend(files.iter().map(|f| ("--diff", f.as_path())));
     }
-    if let Some(m) = &args.materials {
-        inputs.push(("--materials", m.as_path()));
+    let material_files = super::materials::input_files(args.materials.as_deref());
+    for file in &material_files {
+        inputs.push(("--materials", file.as_path()));
     }
     super::output::check(&outputs, &inputs)
 }

@@ -62,7 +62,7 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     super::check_range("--theta", args.theta, 0.0..90.0)?;
     // Below η = 1 no light enters beyond the critical angle (the walk's own check, in degrees)
     if (0.75..1.0).contains(&args.eta) && args.theta.to_radians().sin() > args.eta {
-        let critical = super::show_deg(args.eta.asin().to_degrees());
+        let critical = super::values::show_deg_below(args.eta.asin().to_degrees());
         return Err(CliError::input(format!(
             "--theta {} is outside the valid range at --eta {}: [0, {critical}] deg, below the critical angle asin(eta) (beyond it no light enters)",
             super::show(args.theta),

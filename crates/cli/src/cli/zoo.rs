@@ -72,6 +72,17 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     }
     check_critical(&args, &config.cases)?;
     super::check_threads(args.threads)?;
+    // The plots' folder is made now, not after the walks
+    if let Some(dir) = &args.plot {
+        if dir.exists() && !dir.is_dir() {
+            return Err(CliError::input(format!(
+                "--plot {} is a file, not a folder for the figures",
+                dir.display()
+            )));
+        }
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::input(format!("cannot create {}: {e}", dir.display())))?;
+    }
     // Per case: its reference walk, then each model.
     let bar = super::progress::bar(
         compare::progress_steps(&config),
@@ -88,8 +99,6 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     })??;
     bar.finish_and_clear();
     if let Some(dir) = &args.plot {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::input(format!("cannot create {}: {e}", dir.display())))?;
         let files = compare::write_svgs(&report, dir).map_err(|e| {
             CliError::input(format!("cannot write plots into {}: {e}", dir.display()))
         })?;
@@ -131,8 +140,8 @@ fn check_critical(args: &ZooArgs, cases: &[(f64, f64)]) -> Result<(), CliError> 
             super::show(rho),
             super::show(theta),
             super::show(args.eta),
-            super::show_deg(critical),
-            super::show_deg(critical),
+            super::values::show_deg_below(critical),
+            super::values::show_deg_below(critical),
         ))),
         None => Ok(()),
     }

@@ -506,10 +506,8 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         &["walk", "--albedo", "0.001", "--photons", "1000"],
     ));
     let multiple = dark.lines().find(|l| l.starts_with("multiple")).unwrap();
-    assert!(
-        multiple.contains("e-") && !multiple.contains("0.000000"),
-        "{dark}"
-    );
+    let (value, error) = multiple.split_once(" ± ").expect(&dark);
+    assert!(value.contains("e-") && error.contains("e-"), "{dark}");
     let slab: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
         d,
         &[
@@ -860,6 +858,67 @@ fn render_refuses_flags_it_would_ignore() {
         "--materials adds files to look material names up in",
     );
     assert!(!d.join("t.bssrdf").exists());
+    // Nor next to a material the command finds elsewhere (built in, or in the file)
+    ok(&bssrdf(
+        d,
+        &["bake", "skin1", "--grid", "coarse", "-q", "-o", "s.bssrdf"],
+    ));
+    for (args, needle) in [
+        (
+            &[
+                "eval",
+                "s.bssrdf",
+                "--material",
+                "skin1",
+                "--materials",
+                "m.toml",
+                "--theta",
+                "0",
+                "--r",
+                "1",
+            ][..],
+            "but skin1 is a material of s.bssrdf: drop --materials",
+        ),
+        (
+            &[
+                "render",
+                "--material",
+                "skin1",
+                "--materials",
+                "m.toml",
+                "--theta",
+                "30",
+                "-o",
+                "r.exr",
+            ],
+            "but skin1 is built in: drop --materials",
+        ),
+    ] {
+        fails_with(&bssrdf(d, args), 2, needle);
+    }
+    // Outputs that cannot be written are refused before the work
+    fails_with(
+        &bssrdf(d, &["bake", "--eta", "1.33", "-q", "-o", "nodir/x.bssrdf"]),
+        2,
+        "cannot write nodir/x.bssrdf: its folder nodir does not exist",
+    );
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "zoo",
+                "-q",
+                "--photons",
+                "100000000",
+                "--plot",
+                "m.toml",
+                "--cases",
+                "0.9:0",
+            ],
+        ),
+        2,
+        "--plot m.toml is a file, not a folder for the figures",
+    );
     // A file of a --materials folder is an input too: never the output
     std::fs::create_dir(d.join("mats")).unwrap();
     std::fs::copy(d.join("m.toml"), d.join("mats/m.toml")).unwrap();
@@ -973,19 +1032,54 @@ fn an_incidence_outside_the_kept_angles_is_named() {
         "2",
     ];
     fails_with(&bssrdf(d, &sample), 2, needle);
-    ok(&bssrdf(
-        d,
-        &[
-            "eval",
-            "high.bssrdf",
-            "--rho",
-            "0.5",
-            "--theta",
-            "60",
-            "--r",
-            "1",
-        ],
-    ));
+    // The end nodes given in degrees are the nodes (45° lies just below the f32 node π/4)
+    for theta in ["45", "60", "90"] {
+        ok(&bssrdf(
+            d,
+            &[
+                "eval",
+                "high.bssrdf",
+                "--rho",
+                "0.5",
+                "--theta",
+                theta,
+                "--r",
+                "1",
+            ],
+        ));
+        ok(&bssrdf(
+            d,
+            &[
+                "sample",
+                "high.bssrdf",
+                "--rho",
+                "0.5",
+                "--theta",
+                theta,
+                "-n",
+                "2",
+            ],
+        ));
+    }
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "eval",
+                "high.bssrdf",
+                "--model",
+                "perpendicular",
+                "--rho",
+                "0.5",
+                "--theta",
+                "0",
+                "--r",
+                "1",
+            ],
+        ),
+        2,
+        "the perpendicular model's theta 0 is outside the incidence range this table keeps",
+    );
     let validate = text(&bssrdf(d, &["validate", "high.bssrdf", "--samples", "50"]).stdout);
     assert!(
         validate

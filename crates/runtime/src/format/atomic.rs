@@ -54,12 +54,34 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
 }
 
 /// Refuses, before any work is done for it, an output that [`write_file_atomic`] would refuse
-/// for what it is: an existing folder, or another file that is neither regular nor a stream
-/// (a missing folder or a permission shows at the write itself).
+/// for what it is or where it is: an existing folder, another file that is neither regular nor
+/// a stream, or a new file in a folder that does not exist (a permission shows at the write
+/// itself).
 pub fn check_writable(path: &Path) -> FormatResult<()> {
     match fs::metadata(path) {
         Ok(meta) if meta.is_file() || is_stream(&meta.file_type()) => Ok(()),
         Ok(meta) => Err(not_regular(path, &meta)),
+        // A new file: its folder must be one
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            let folder = match path.parent() {
+                Some(p) if !p.as_os_str().is_empty() => p,
+                _ => Path::new("."),
+            };
+            match fs::metadata(folder) {
+                Ok(meta) if meta.is_dir() => Ok(()),
+                Ok(_) => Err(FormatError::io(
+                    "write",
+                    path,
+                    io::Error::other(format!("{} is not a folder", folder.display())),
+                )),
+                Err(e) if e.kind() == io::ErrorKind::NotFound => Err(FormatError::io(
+                    "write",
+                    path,
+                    io::Error::other(format!("its folder {} does not exist", folder.display())),
+                )),
+                Err(e) => Err(FormatError::io("write", path, e)),
+            }
+        }
         Err(_) => Ok(()),
     }
 }

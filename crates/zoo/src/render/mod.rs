@@ -8,7 +8,7 @@
 //! | `model` | – | one of [`MODELS`]: table, perpendicular, pbd, mc | table |
 //! | `theta` | radians | [0, π/2), with `theta + cone` < π/2 | – |
 //! | `cone` | radians, half-angle | [0, π/2) | 1° |
-//! | `photons` | – | 1 ..= 10¹² | 10⁶ |
+//! | `photons` | – | 2 ..= 10¹² (a standard error needs two) | 10⁶ |
 //! | `seed` | – | any u64 | 0 |
 //! | `width`, `height` | pixels | 1 ..= [`MAX_SIDE`] | 256 × 256 |
 //! | `extent` | mm, along the plane of incidence | > 0 | 10 |

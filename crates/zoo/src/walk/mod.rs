@@ -19,7 +19,7 @@
 //! | `g`         | —                   | Henyey–Greenstein asymmetry, (−1, 1)           |
 //! | `eta`       | —                   | η = n_inside/n_outside in [0.75, 2.5]           |
 //! | `theta`     | radians             | [0, π/2]; at most asin η when η < 1 (no light enters beyond) |
-//! | `photons`   | —                   | ≥ 1 (standard errors need ≥ 2)                 |
+//! | `photons`   | —                   | ≥ 2 ([`MIN_PHOTONS`]: a standard error needs two) |
 //! | `seed`      | —                   | any u64                                        |
 //! | `bins`      | mean free paths     | see [`Bins`]                                   |
 //! | `geometry`  | mean free paths     | half-space, or slab of optical thickness τ > 0 |
