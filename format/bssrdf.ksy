@@ -30,8 +30,9 @@ doc: |
   feature bits, reserved bytes and bits (whose rule depends on the minor), `raw_len` and
   `stored_len`, the placement of sections (alignment, order, overlap, gaps, padding, trailing
   data), section ownership and uniqueness, required sections, the values in the table
-  sections (finite, axes in range and increasing, the node rules), the rules of materials
-  that involve more than one field or record (table indices, unique names, σ′t > 0, the
+  sections (finite, axes in range and increasing, the node rules, the radial CDF never
+  decreasing), the rules of materials that involve more than one field or record (table
+  indices, unique names, σ′t > 0, the
   albedo range against its flag), control characters and the provenance JSON. `name`,
   `source` and the provenance are decoded as UTF-8 by the target language's runtime
   (Python's rejects invalid UTF-8; other targets may not).

@@ -314,6 +314,15 @@ pub enum FormatError {
         e: f32,
         e_beta: f32,
     },
+    /// A `radial-cdf` value is negative or below the one before it along r: a running integral
+    /// of a positive part never is.
+    #[error("table {table}: radial-cdf at node {node:?} is {value} after {previous}: a running integral over r is >= 0 and never decreases")]
+    RadialCdfDecreasing {
+        table: usize,
+        node: (usize, usize, usize),
+        previous: f32,
+        value: f32,
+    },
     /// An axis is not strictly increasing.
     #[error("table {table}: axis {axis} is not strictly increasing at index {index} ({previous} then {value})")]
     AxisNotIncreasing {
@@ -449,6 +458,7 @@ impl FormatError {
             FormatError::ConcentrationOutOfRange { .. } => "concentration-out-of-range",
             FormatError::NegativeProfile { .. } => "negative-profile",
             FormatError::SignedFloorNotDeclared { .. } => "signed-floor-not-declared",
+            FormatError::RadialCdfDecreasing { .. } => "radial-cdf-decreasing",
             FormatError::AxisNotIncreasing { .. } => "axis-not-increasing",
             FormatError::AxisOutOfRange { .. } => "axis-out-of-range",
             FormatError::EmptyName { .. } => "empty-name",

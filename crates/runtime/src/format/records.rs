@@ -399,6 +399,35 @@ pub(crate) fn check_finite(table: usize, kind: SectionKind, values: &[f32]) -> F
     }
 }
 
+/// Checks that every (ρ′, θ) row of a `radial-cdf` section is what a running integral over r
+/// of a positive part is (format-spec.md §10): its values ≥ 0 and never decreasing along r.
+/// NaN fails too (it is checked for finiteness first, in reading).
+pub(crate) fn check_radial_cdf(
+    table: usize,
+    header: &TableHeader,
+    values: &[f32],
+) -> FormatResult<()> {
+    // Dimensions are validated to be ≥ 1; `max` only keeps this free of panics regardless.
+    let n_r = (header.n_r as usize).max(1);
+    let n_theta = (header.n_theta as usize).max(1);
+    for (row, cdf) in values.chunks_exact(n_r).enumerate() {
+        let mut previous = 0.0f32;
+        for (k, &value) in cdf.iter().enumerate() {
+            // Not ≥ (NaN included)
+            if value.partial_cmp(&previous).is_none_or(|o| o.is_lt()) {
+                return Err(FormatError::RadialCdfDecreasing {
+                    table,
+                    node: (row / n_theta, row % n_theta, k),
+                    previous,
+                    value,
+                });
+            }
+            previous = value;
+        }
+    }
+    Ok(())
+}
+
 /// Checks that an axis is finite, strictly increasing and within its quantity's range.
 pub(crate) fn check_axis(table: usize, axis: AxisKind, values: &[f32]) -> FormatResult<()> {
     check_finite(table, axis.section(), values)?;
@@ -559,6 +588,28 @@ mod tests {
             n_rho,
             n_theta,
             n_r,
+        }
+    }
+
+    /// A radial CDF row may stay flat (E = 0 over a segment) and start above 0 (the spec's
+    /// example does); a value below 0, below the one before it or NaN is named by its node.
+    #[test]
+    fn radial_cdf_rows_are_running_integrals() {
+        let h = header(1, 2, 3);
+        assert!(check_radial_cdf(0, &h, &[0.0, 0.0, 1.0, 0.5, 0.5, 2.0]).is_ok());
+        for (values, node) in [
+            ([-1e-30, 0.0, 1.0, 0.0, 1.0, 2.0], (0, 0, 0)),
+            ([0.0, 0.5, 1.0, 0.0, 1.0, 0.999], (0, 1, 2)),
+            ([0.0, f32::NAN, 1.0, 0.0, 1.0, 2.0], (0, 0, 1)),
+        ] {
+            match check_radial_cdf(7, &h, &values) {
+                Err(FormatError::RadialCdfDecreasing {
+                    table: 7, node: n, ..
+                }) => {
+                    assert_eq!(n, node, "{values:?}")
+                }
+                other => panic!("{values:?}: {other:?}"),
+            }
         }
     }
 

@@ -256,6 +256,16 @@ fn invalid_vectors() -> Vec<(&'static str, Raw)> {
             }),
         ),
         (
+            "radial-cdf-decreasing",
+            Box::new(|r| {
+                // The second radius of the first row below the first (a running integral
+                // never decreases)
+                let d = r.data(kind::CDF, 0);
+                let first = f32::from_bits(r.u32(d));
+                r.set_f32(d + 4, 0.5 * first);
+            }),
+        ),
+        (
             "concentration-out-of-range",
             Box::new(|r| {
                 let d = r.data(kind::GWC, 0);
@@ -725,6 +735,7 @@ fn header_only_skips_section_crcs_and_value_checks_until_verify() {
         "concentration-out-of-range",
         "negative-profile",
         "signed-floor-not-declared",
+        "radial-cdf-decreasing",
     ] {
         let raw = &vectors.iter().find(|(c, _)| *c == code).unwrap().1;
         let library = Library::from_bytes(&raw.bytes, Verify::HeaderOnly)
