@@ -410,6 +410,17 @@ pub(crate) fn check_radial_cdf(
     // Dimensions are validated to be ≥ 1; `max` only keeps this free of panics regardless.
     let n_r = (header.n_r as usize).max(1);
     let n_theta = (header.n_theta as usize).max(1);
+    // One branch-free pass (it vectorises), then the first failure named where there is one
+    let fast = values.chunks_exact(n_r).all(|row| {
+        let rising = row[1..]
+            .iter()
+            .zip(row)
+            .fold(true, |ok, (next, before)| ok & (next >= before));
+        rising & (row[0] >= 0.0)
+    });
+    if fast {
+        return Ok(());
+    }
     for (row, cdf) in values.chunks_exact(n_r).enumerate() {
         let mut previous = 0.0f32;
         for (k, &value) in cdf.iter().enumerate() {
