@@ -11,7 +11,7 @@
 
 use ndarray::{ArrayViewD, IxDyn};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyFloat;
 
@@ -51,6 +51,22 @@ fn position(flat: usize, shape: &[usize]) -> String {
     }
 }
 
+/// Why [`map`]'s loop stopped: a point the lookup refused (its flat index and message), or no
+/// memory for a column of this many values.
+enum Failure {
+    Point(usize, String),
+    Memory(usize),
+}
+
+/// An empty vector with room for `n` values, `Err(n)` where there is no memory for them (a
+/// broadcast view can ask for more than exists: numpy's `broadcast_to` makes it without
+/// memory).
+fn values_of(n: usize) -> Result<Vec<f64>, usize> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| n)?;
+    Ok(v)
+}
+
 /// An argument over the broadcast shape, in C order.
 enum Column<'a> {
     /// The argument's own array: it has the broadcast shape and is C-contiguous.
@@ -62,26 +78,29 @@ enum Column<'a> {
 }
 
 impl<'a> Column<'a> {
-    fn new(view: &ArrayViewD<'a, f64>, shape: &[usize]) -> Self {
+    /// The column of `view` over `shape` (of `n` points); `Err(n)` where memory for a copy of
+    /// `n` values cannot be had.
+    fn new(view: &ArrayViewD<'a, f64>, shape: &[usize], n: usize) -> Result<Self, usize> {
         if view.shape() == shape {
             if let Some(slice) = view.to_slice() {
-                return Column::Borrowed(slice);
+                return Ok(Column::Borrowed(slice));
             }
         }
         if view.len() == 1 {
-            return Column::Scalar(view.iter().next().copied().unwrap_or_default());
+            return Ok(Column::Scalar(
+                view.iter().next().copied().unwrap_or_default(),
+            ));
         }
-        let n = shape.iter().product();
         // Row by row along the last axis: a row iterates with one stride, where an iterator
         // over all of a dynamic-dimension view steps a multi-index per element (10 ns each).
         // `shape` is the broadcast of this view's shape with the others', so `broadcast` succeeds.
-        let mut copied = Vec::with_capacity(n);
+        let mut copied = values_of(n)?;
         if let Some(b) = view.broadcast(IxDyn(shape)) {
             for row in b.rows() {
                 copied.extend(row.iter().copied());
             }
         }
-        Column::Copied(copied)
+        Ok(Column::Copied(copied))
     }
 
     /// The values and the step between points: point i reads entry i × step.
@@ -105,7 +124,19 @@ pub fn map<'py, const N: usize, const M: usize>(
     args: [&Arg<'py>; N],
     mut lookup: impl FnMut([f64; N]) -> Result<[f64; M], String> + Send,
 ) -> PyResult<[Bound<'py, PyAny>; M]> {
-    let views: [ArrayViewD<'_, f64>; N] = args.map(|a| a.as_array());
+    // A float64 array that is not aligned (a view at a byte offset into a buffer) is copied
+    // first: ndarray reads only aligned values
+    let mut aligned: Vec<Option<Arg<'py>>> = Vec::with_capacity(N);
+    for arg in args {
+        let misaligned = (arg.data() as usize) % std::mem::align_of::<f64>() != 0;
+        aligned.push(if misaligned {
+            Some(arg.as_any().call_method0("copy")?.extract()?)
+        } else {
+            None
+        });
+    }
+    let views: [ArrayViewD<'_, f64>; N] =
+        std::array::from_fn(|k| aligned[k].as_ref().unwrap_or(args[k]).as_array());
     let shapes: Vec<&[usize]> = views.iter().map(|v| v.shape()).collect();
     let Some(shape) = broadcast_shape(&shapes) else {
         let described: Vec<String> = names
@@ -118,11 +149,21 @@ pub fn map<'py, const N: usize, const M: usize>(
             described.join(", ")
         )));
     };
-    let n: usize = shape.iter().product();
+    let Some(n) = shape.iter().try_fold(1usize, |n, &d| n.checked_mul(d)) else {
+        return Err(PyValueError::new_err(format!(
+            "the arguments broadcast to shape {shape:?}, more points than an index can count"
+        )));
+    };
     let computed = py.detach(|| {
-        let columns: [Column<'_>; N] = std::array::from_fn(|k| Column::new(&views[k], &shape));
+        let mut columns = Vec::with_capacity(N);
+        for view in &views {
+            columns.push(Column::new(view, &shape, n).map_err(Failure::Memory)?);
+        }
         let columns: [(&[f64], usize); N] = std::array::from_fn(|k| columns[k].values());
-        let mut out: [Vec<f64>; M] = std::array::from_fn(|_| Vec::with_capacity(n));
+        let mut out: [Vec<f64>; M] = std::array::from_fn(|_| Vec::new());
+        for column in &mut out {
+            *column = values_of(n).map_err(Failure::Memory)?;
+        }
         for i in 0..n {
             let point = std::array::from_fn(|k| columns[k].0[i * columns[k].1]);
             match lookup(point) {
@@ -131,17 +172,20 @@ pub fn map<'py, const N: usize, const M: usize>(
                         column.push(value);
                     }
                 }
-                Err(message) => return Err((i, message)),
+                Err(message) => return Err(Failure::Point(i, message)),
             }
         }
         Ok(out)
     });
-    let out = computed.map_err(|(i, message)| {
-        PyValueError::new_err(if shape.is_empty() {
+    let out = computed.map_err(|failure| match failure {
+        Failure::Point(i, message) => PyValueError::new_err(if shape.is_empty() {
             message
         } else {
             format!("at index {}: {message}", position(i, &shape))
-        })
+        }),
+        Failure::Memory(n) => PyMemoryError::new_err(format!(
+            "the arguments broadcast to shape {shape:?}: no memory for {n} values"
+        )),
     })?;
     let mut arrays = Vec::with_capacity(M);
     for column in out {

@@ -31,6 +31,18 @@ def test_any_layout_and_dtype_gives_the_same_bits(table):
     assert np.array(pointwise).tobytes() == expected.ravel().tobytes()
     as_float32 = table.eval(rho.astype(np.float32), 0.5, 1, 0)
     assert as_float32.tobytes() == table.eval(rho.astype(np.float32).astype(np.float64), 0.5, 1.0, 0.0).tobytes()
+    # A float64 view at a byte offset into a buffer (not aligned) is read like any array
+    misaligned = np.frombuffer(b"\0" + r.ravel().tobytes(), dtype=np.float64, offset=1, count=r.size)
+    assert table.eval(rho.ravel(), theta.ravel(), misaligned, phi.ravel()).tobytes() == expected.ravel().tobytes()
+
+
+def test_broadcasts_too_large_to_hold_are_errors_not_crashes(table):
+    # A broadcast view needs no memory; its results would (8 TiB): MemoryError, not an abort
+    with pytest.raises(MemoryError, match="no memory for 1099511627776 values"):
+        table.eval(0.5, 0.3, np.broadcast_to(1.0, (2**40,)), 0.1)
+    # More points than an index counts: a ValueError, not an overflow
+    with pytest.raises(ValueError, match="more points than an index can count"):
+        table.eval(np.broadcast_to(0.5, (2**33, 1)), 0.3, np.broadcast_to(1.0, (1, 2**33)), 0.1)
 
 
 def test_world_units_are_the_runtimes_formulas(table):
