@@ -207,7 +207,10 @@ unsafe fn output<'a, T>(ptr: *mut T, name: &'static CStr) -> Result<&'a mut T, F
 /// `ptr` is NULL or points to a NUL-terminated string that stays valid during `'a`.
 unsafe fn string<'a>(ptr: *const c_char, name: &'static CStr) -> Result<&'a str, Failure> {
     if ptr.is_null() {
-        return Err(Failure::null(name));
+        return Err(Failure::text(
+            BSSRDF_ERROR_NULL_POINTER,
+            format!("{} is NULL", name.to_string_lossy()),
+        ));
     }
     // SAFETY: non-NULL, and the header requires a NUL-terminated string valid for the call.
     let text = unsafe { CStr::from_ptr(ptr) };

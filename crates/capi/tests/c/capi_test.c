@@ -523,6 +523,9 @@ static void boundary_checks(const char *library_path) {
                 BSSRDF_ERROR_NOT_FOUND);
     same_status(0, "NULL material", bssrdf_library_channel(library, NULL, 0, &channel),
                 BSSRDF_ERROR_NULL_POINTER);
+    if (strcmp(bssrdf_last_error_message(), "material is NULL") != 0) {
+        fail(0, "the NULL material message is not 'material is NULL'");
+    }
     same_status(0, "channel 3", bssrdf_library_channel(library, name, 3, &channel),
                 BSSRDF_ERROR_INVALID_ARGUMENT);
     same_status(0, "medium", bssrdf_library_medium(library, 0, 0.5, 2.0, &channel), BSSRDF_OK);

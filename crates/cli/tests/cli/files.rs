@@ -117,6 +117,21 @@ fn inspect_reports_tables_materials_and_provenance() {
     assert!(human.contains("format 1.4,"), "{human}");
 }
 
+/// A library read from a stream (a pipe, a device) is read only as far as its header allows:
+/// `/dev/zero` ends at its first bytes, which are not the magic, instead of filling memory.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_stream_is_read_only_as_far_as_its_header_allows() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [&["inspect", "/dev/zero"][..], &["validate", "/dev/zero"]] {
+        fails_with(
+            &bssrdf(dir.path(), args),
+            2,
+            "/dev/zero: not a bssrdf library file: the first bytes are [00",
+        );
+    }
+}
+
 #[test]
 fn inspect_names_the_required_features() {
     // The spec's example has negative floors (E_β > E), so it sets required feature bit 1.

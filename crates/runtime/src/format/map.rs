@@ -15,6 +15,7 @@ use std::path::Path;
 use zerocopy::{FromBytes, Immutable, IntoBytes, KnownLayout};
 
 use super::error::{FormatError, FormatResult};
+use super::spec::{HEADER_SIZE, MAGIC};
 
 /// Alignment of owned buffers: the section alignment of version 1.0 files, so that every
 /// section of a file read into a buffer has the same alignment as in a map.
@@ -71,6 +72,10 @@ pub(crate) enum Backing {
     Owned(AlignedBuf),
 }
 
+/// The most a library read from a stream (a pipe, a device) may declare: 4 GiB, a thousand
+/// times the largest preset table.
+pub const MAX_STREAM_BYTES: u64 = 1 << 32;
+
 impl Backing {
     pub fn bytes(&self) -> &[u8] {
         match self {
@@ -114,10 +119,13 @@ impl Backing {
     }
 
     fn read_file(mut file: File, path: &Path) -> FormatResult<Backing> {
-        let len = file
+        let meta = file
             .metadata()
-            .map_err(|e| FormatError::io("stat", path, e))?
-            .len();
+            .map_err(|e| FormatError::io("stat", path, e))?;
+        if !meta.is_file() {
+            return Backing::read_stream(file, path);
+        }
+        let len = meta.len();
         let len = usize::try_from(len).map_err(|_| FormatError::InvalidInput {
             message: format!("file of {len} bytes does not fit in memory"),
         })?;
@@ -138,6 +146,28 @@ impl Backing {
             buf = AlignedBuf::copy_from(&all);
         }
         Ok(Backing::Owned(buf))
+    }
+
+    /// [`Backing::read_file`] of a file with no size (a pipe, a device): the header first,
+    /// then as many bytes as its `file_size` says and one more (so that trailing bytes show),
+    /// never more: a stream that never ends (`/dev/zero`) is read only as far as its header
+    /// allows. Where the header is short, has not the magic or declares more than
+    /// [`MAX_STREAM_BYTES`], what was read is the file, which the parse rejects.
+    fn read_stream(file: File, path: &Path) -> FormatResult<Backing> {
+        let io = |e| FormatError::io("read", path, e);
+        let mut bytes = Vec::new();
+        let mut header = file.take(HEADER_SIZE as u64);
+        header.read_to_end(&mut bytes).map_err(io)?;
+        let mut file = header.into_inner();
+        let declared = (bytes.len() == HEADER_SIZE && bytes.starts_with(&MAGIC))
+            .then(|| bytes.get(24..32).and_then(|b| b.try_into().ok()))
+            .flatten()
+            .map(u64::from_le_bytes);
+        if let Some(size) = declared.filter(|&size| size <= MAX_STREAM_BYTES) {
+            let rest = size.saturating_sub(HEADER_SIZE as u64).saturating_add(1);
+            (&mut file).take(rest).read_to_end(&mut bytes).map_err(io)?;
+        }
+        Ok(Backing::Owned(AlignedBuf::copy_from(&bytes)))
     }
 
     pub fn is_mapped(&self) -> bool {
