@@ -74,7 +74,9 @@ pub const BSSRDF_ERROR_NOT_FOUND: c_int = 5;
 /// lookup. Tables are never extrapolated.
 pub const BSSRDF_ERROR_OUT_OF_RANGE: c_int = 6;
 /// Sampling found nothing to sample: no energy stored there (ρ′ = 0, light beyond the critical
-/// angle), θ outside the table, or, for path sampling, a table baked without θ sampling.
+/// angle), θ outside the table, a radial uniform of 0 (or below about 1e-320: it draws the
+/// entry point, whose density per area is infinite), or, for path sampling, a table baked
+/// without θ sampling.
 pub const BSSRDF_ERROR_NO_SAMPLE: c_int = 7;
 /// A bug: the library panicked; the panic was caught at the boundary.
 pub const BSSRDF_ERROR_PANIC: c_int = 8;
@@ -487,7 +489,7 @@ fn theta_outside() -> Failure {
 fn no_sample() -> Failure {
     Failure::fixed(
         BSSRDF_ERROR_NO_SAMPLE,
-        c"no sample: no energy stored for this medium at this theta, or theta outside the table",
+        c"no sample: no energy stored for this medium at this theta, theta outside the table, or a radial uniform at 0 (the entry point itself, of infinite density per area)",
     )
 }
 
