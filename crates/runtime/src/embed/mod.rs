@@ -47,6 +47,7 @@ mod library;
 pub use channel::{ChannelLookup, PathSample, Sample};
 pub use library::{Library, TableLookup};
 
+use crate::error::Number;
 use crate::format::FormatError;
 use crate::table::TableError;
 
@@ -134,7 +135,12 @@ pub enum EmbedError {
     },
     /// The medium's reduced albedo lies outside the albedo rows the table keeps (a scene bake
     /// may keep only some): tables are never extrapolated.
-    #[error("{what}: reduced albedo rho' = {rho} is outside [{min}, {max}], the albedo range table {table} keeps; the table is never extrapolated")]
+    #[error(
+        "{what}: reduced albedo rho' = {} is outside [{}, {}], the albedo range table {table} keeps; the table is never extrapolated",
+        Number(*rho),
+        Number(*min),
+        Number(*max)
+    )]
     AlbedoOutsideTable {
         /// The material and channel, or "medium".
         what: String,

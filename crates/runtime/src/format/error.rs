@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use thiserror::Error;
 
 use super::spec::SectionKind;
+use crate::error::Number;
 
 /// An error from the library file format: opening, validating, writing or converting a file.
 #[derive(Debug, Error)]
@@ -251,7 +252,7 @@ pub enum FormatError {
     #[error("table {table}: unknown fresnel-moments code {fresnel}")]
     UnknownFresnel { table: usize, fresnel: u32 },
     /// A table's relative index of refraction is not a finite positive number.
-    #[error("table {table}: eta = {eta} must be finite and > 0")]
+    #[error("table {table}: eta = {} must be finite and > 0", Number(*eta))]
     TableEta { table: usize, eta: f64 },
     /// A table dimension is zero or over the cap.
     #[error("table {table}: dims (n_rho, n_theta, n_r) = {dims:?} must each be in 1..={max}")]
@@ -382,7 +383,7 @@ pub enum FormatError {
         table_count: usize,
     },
     /// A material parameter is outside its valid range.
-    #[error("material {material}: {field} = {value} is invalid: {rule}")]
+    #[error("material {material}: {field} = {} is invalid: {rule}", Number(*value))]
     MaterialValue {
         material: usize,
         field: String,

@@ -19,7 +19,7 @@ pub struct Tolerance {
 
 /// A tolerance that is not a finite number ≥ 0.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
-#[error("{which} tolerance {value} is outside its domain: a finite number >= 0")]
+#[error("{which} tolerance {} is outside its domain: a finite number >= 0", crate::error::Number(*value))]
 pub struct ToleranceError {
     /// Which tolerance: `"relative"` or `"absolute"`.
     pub which: &'static str,

@@ -248,7 +248,7 @@ fn tolerances_are_finite_and_not_negative() {
         (-1.0, 0.0, "relative", "-1"),
         (f64::NAN, 0.0, "relative", "NaN"),
         (0.0, f64::INFINITY, "absolute", "inf"),
-        (0.0, -1e-9, "absolute", "-0.000000001"),
+        (0.0, -1e-9, "absolute", "-1e-9"),
     ] {
         let err = Tolerance::new(relative, absolute).unwrap_err();
         assert_eq!(err.which, which);
