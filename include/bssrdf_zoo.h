@@ -181,8 +181,9 @@ int bssrdf_channel_pdf(const bssrdf_channel *channel, double theta, double r_mm,
 
 /* Draws the exit point for incidence theta from two uniforms in [0, 1). The sample's pdf
  * equals bssrdf_channel_pdf there. BSSRDF_ERROR_NO_SAMPLE where there is nothing to sample,
- * and for u_r = 0 (or below about 1e-320), which draws the entry point itself (r = 0, where
- * the density per area is infinite): with uniforms of 53 bits, once in 2^53 draws. */
+ * and, on a table whose radii start at 0 (every baked one), for u_r = 0 (or below about
+ * 1e-320), which draws the entry point itself (r = 0, where the density per area is
+ * infinite): with uniforms of 53 bits, once in 2^53 draws. */
 int bssrdf_channel_sample(const bssrdf_channel *channel, double theta, double u_r, double u_phi,
                           bssrdf_sample *out_sample);
 

@@ -122,7 +122,8 @@ impl Domain {
         let ends = |nodes: &[f64]| [nodes[0], nodes[nodes.len() - 1]];
         Self {
             rho: ends(view.axes().rho().as_slice()),
-            theta: ends(view.axes().theta().as_slice()),
+            // The angles the lookups take: the axis with its ends' f32 rounding
+            theta: view.theta_domain(),
         }
     }
 

@@ -368,8 +368,12 @@ pub fn bake_lobes(
     for (row, out) in radial_cdf.chunks_mut(n_r).enumerate() {
         let e = |k: usize| f64::from(params[(row * n_r + k) * PARAMS_PER_NODE]);
         axes.r().integrate_positive(e, &mut cumulative);
+        // A running integral of a positive part, as the format wants it (≥ 0, never
+        // decreasing): a part's mass S(b) − S(a) between close roots can round below 0
+        let mut running = 0.0f64;
         for (o, c) in out.iter_mut().zip(&cumulative) {
-            *o = to_f32(*c);
+            running = running.max(*c);
+            *o = to_f32(running);
         }
     }
 

@@ -185,31 +185,39 @@ impl<'a> TableRef<'a> {
         }
     }
 
-    /// θ, or the first or last node of the θ axis where θ lies outside it by at most f32
-    /// rounding (2⁻²⁴ of the node): the axes are stored in f32, and an angle given in f64 lies
+    /// The incidences the θ axis takes, radians: its nodes' range widened at each end by f32
+    /// rounding (2⁻²⁴ of the node). The axes are stored in f32, and an angle given in f64 lies
     /// up to that far from its node (45° = π/4 just below the f32 node of a table kept from
-    /// 45°), which counts as the node.
+    /// 45°); [`TableRef::snap_theta`] takes such an angle as the node.
+    pub fn theta_domain(&self) -> [f64; 2] {
+        let nodes = self.axes.theta().as_slice();
+        let (first, last) = (nodes[0], nodes[nodes.len() - 1]);
+        [
+            first - first.abs() * F32_HALF_STEP,
+            last + last.abs() * F32_HALF_STEP,
+        ]
+    }
+
+    /// θ, or the first or last node of the θ axis where θ lies outside it but inside
+    /// [`TableRef::theta_domain`].
     pub fn snap_theta(&self, theta: f64) -> f64 {
         let nodes = self.axes.theta().as_slice();
-        let (Some(&first), Some(&last)) = (nodes.first(), nodes.last()) else {
-            return theta;
-        };
-        let near = |node: f64| (theta - node).abs() <= node.abs() * F32_HALF_STEP;
-        if theta < first && near(first) {
+        let (first, last) = (nodes[0], nodes[nodes.len() - 1]);
+        let [lo, hi] = self.theta_domain();
+        if theta < first && theta >= lo {
             first
-        } else if theta > last && near(last) {
+        } else if theta > last && theta <= hi {
             last
         } else {
             theta
         }
     }
 
-    /// Whether the θ axis holds θ (radians), its ends as [`TableRef::snap_theta`] takes them:
-    /// where the lookups at θ have weights along θ.
+    /// Whether θ (radians) lies in [`TableRef::theta_domain`]: where the lookups at θ have
+    /// weights along θ.
     pub fn keeps_theta(&self, theta: f64) -> bool {
-        let nodes = self.axes.theta().as_slice();
-        let theta = self.snap_theta(theta);
-        matches!((nodes.first(), nodes.last()), (Some(&lo), Some(&hi)) if (lo..=hi).contains(&theta))
+        let [lo, hi] = self.theta_domain();
+        (lo..=hi).contains(&theta)
     }
 
     /// S ≈ slope·ln(1/r) + const as r → 0, slope = ρ′² C_E cos θ′/π: sources at depth t ≫ r

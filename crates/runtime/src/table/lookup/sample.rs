@@ -184,7 +184,7 @@ impl TableRef<'_> {
             w_rho.apply_rows(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
         };
         let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
-        self.axes.theta().pdf(rho_eff, cdf, theta)
+        self.axes.theta().pdf(rho_eff, cdf, self.snap_theta(theta))
     }
 
     /// The inverse of [`TableRef::sample`]: the uniforms (u_r, u_φ) that `sample` maps to

@@ -273,3 +273,38 @@ fn two_lobe_lookups_give_the_same_bits_with_and_without_the_precomputed_shares()
         }
     }
 }
+
+/// An angle given in f64 at an end node of a θ axis stored in f32 is the node: 45° lies just
+/// below f32(π/4), the first node of a table kept from 45°, and is looked up there; an angle a
+/// millionth of a radian below is outside.
+#[test]
+fn an_end_node_given_in_f64_is_the_node() {
+    let mut rng = SplitMix64::seed_from_u64(11);
+    let theta: Vec<f64> = [45.0f64, 70.0, 90.0]
+        .iter()
+        .map(|d| f64::from(d.to_radians() as f32))
+        .collect();
+    let rho = vec![0.0, 0.3, 0.6, 1.0];
+    let r: Vec<f64> = (0..6).map(|k| 0.5 * k as f64).collect();
+    let cells = rho.len() * theta.len() * r.len();
+    let axes = Axes::new(rho, theta.clone(), r).unwrap();
+    let params = (0..cells * PARAMS_PER_NODE)
+        .map(|_| (0.01 + rng.next_f64()) as f32)
+        .collect();
+    let radial_cdf = (0..cells).map(|k| (k % 6) as f32).collect();
+    let table =
+        AngularTable::from_parts(1.33, Moments::Exact, axes, params, radial_cdf, None).unwrap();
+    let view = table.view();
+    let given = 45f64.to_radians();
+    assert!(given < theta[0], "45° in f64 lies below its f32 node");
+    assert!(view.keeps_theta(given));
+    assert_eq!(view.snap_theta(given), theta[0]);
+    assert_eq!(
+        view.eval(0.5, given, 1.0, 0.3).map(f64::to_bits),
+        view.eval(0.5, theta[0], 1.0, 0.3).map(f64::to_bits)
+    );
+    let last = 90f64.to_radians();
+    assert!(view.keeps_theta(last) && view.eval(0.5, last, 1.0, 0.3).is_some());
+    assert!(!view.keeps_theta(given - 1e-6));
+    assert_eq!(view.eval(0.5, given - 1e-6, 1.0, 0.3), None);
+}
