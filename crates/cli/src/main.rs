@@ -1,6 +1,6 @@
 //! The `bssrdf` command: parses arguments, calls the library, prints.
 //!
-//! Exit codes: 0 success; 1 a check failed (validate, diff); 2 bad input or usage.
+//! Exit codes: 0 success; 1 a check failed (validate, diff, the bake's own check); 2 bad input or usage.
 //! A closed pipe on stdout (`bssrdf sample ... | head`) ends the program quietly with 0.
 
 mod cli;

@@ -301,7 +301,6 @@ pub(super) fn bake_error(e: BakeError) -> CliError {
     }
 }
 
-/// `x` rounded to 3 decimals, for band edges such as the critical angle 48.590329…°.
 /// Refuses an output that is one of the bake's inputs (the scene, the material files: the
 /// `--materials` file, or each `*.toml` of its folder).
 pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliError> {
@@ -313,7 +312,26 @@ pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliErro
     for file in &material_files {
         inputs.push(("--materials", file.as_path()));
     }
-    super::output::check(&[("-o", output)], &inputs)
+    super::output::check(&[("-o", output)], &inputs)?;
+    // A new *.toml in the --materials folder would be read as a material file by later runs
+    if let Some(dir) = args.materials.as_deref().filter(|m| m.is_dir()) {
+        let folder = match output.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let same = |a: &Path, b: &Path| matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y);
+        let toml = output
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+        if toml && same(folder, dir) {
+            return Err(CliError::input(format!(
+                "-o {} is a *.toml file of the --materials folder {}: later runs would read the library as a material file; write it elsewhere",
+                output.display(),
+                dir.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Refuses `--materials` when none of the bake's `materials` comes from its files: the flag

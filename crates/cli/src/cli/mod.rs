@@ -31,7 +31,7 @@ use std::process::ExitCode;
     version,
     about,
     long_about = None,
-    after_help = "Exit status: 0 success; 1 a check failed (validate, diff); 2 bad input or usage."
+    after_help = "Exit status: 0 success; 1 a check failed (validate, diff, the bake's own check); 2 bad input or usage."
 )]
 pub struct Cli {
     #[command(subcommand)]

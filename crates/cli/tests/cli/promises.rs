@@ -941,6 +941,25 @@ fn render_refuses_flags_it_would_ignore() {
         "refusing to overwrite an input",
     );
     assert_eq!(std::fs::read(d.join("mats/m.toml")).unwrap(), before);
+    // Nor a new *.toml there, which later runs would read as a material file
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "bake",
+                "mine",
+                "--materials",
+                "mats",
+                "--grid",
+                "coarse",
+                "-o",
+                "mats/new.toml",
+            ],
+        ),
+        2,
+        "-o mats/new.toml is a *.toml file of the --materials folder mats",
+    );
+    assert!(!d.join("mats/new.toml").exists());
 }
 
 #[test]

@@ -214,7 +214,9 @@ pub struct SceneMaterial {
     ranges: [RhoInterval; 3],
     declared: bool,
     origin: Origin,
-    clamped: [bool; 3],
+    /// Per channel, where the reflectance was above the largest the table reaches: it and that
+    /// largest (ρ′ clamped to 1).
+    clamped: [Option<(f64, f64)>; 3],
 }
 
 impl SceneMaterial {
@@ -343,9 +345,11 @@ impl Scene {
                         r.hi()
                     ));
                 }
-                if m.clamped[c] {
+                if let Some((reflectance, max)) = m.clamped[c] {
                     out.push(format!(
-                        "material {id:?}, channel {name}: the reflectance is above the largest diffuse reflectance the table reaches at normal incidence ((1 - F_r) rho_eff: multiple scattering only); clamped to reduced albedo 1"
+                        "material {id:?}, channel {name}: reflectance {} is above the largest diffuse reflectance the table reaches at normal incidence, {:.4} ((1 - F_r) rho_eff: multiple scattering only); clamped to reduced albedo 1",
+                        crate::error::number(reflectance),
+                        max
                     ));
                 }
             }
@@ -488,7 +492,7 @@ fn resolve(
             .source
             .clone()
             .unwrap_or_else(|| "scene manifest: inline coefficients".into());
-        (m, Origin::Coefficients, source, [false; 3])
+        (m, Origin::Coefficients, source, [None; 3])
     } else if diffuse {
         let (refl, path) = pair(reflectance, mfp, "reflectance", "mfp")?;
         let eta = eta.unwrap_or(DEFAULT_ETA);
@@ -496,15 +500,18 @@ fn resolve(
             material: owned(),
             source,
         };
-        let d = curve(eta)
-            .and_then(|c| c.diffuse(refl, path, g.unwrap_or([0.0; 3])))
+        let c = curve(eta).map_err(artist)?;
+        let d = c
+            .diffuse(refl, path, g.unwrap_or([0.0; 3]))
             .map_err(artist)?;
+        let max = c.max();
         let m = Material::from_coefficients(name, d.sigma_s, d.sigma_a, g.unwrap_or([0.0; 3]), eta)
             .map_err(invalid)?;
         let source = entry.source.clone().unwrap_or_else(|| {
             format!("scene manifest: reflectance {refl:?}, mfp {path:?} mm, inverted through the table's (1 - F_r) rho_eff at theta = 0")
         });
-        (m, Origin::Diffuse, source, d.inverted.map(|i| i.clamped))
+        let clamped = std::array::from_fn(|k| d.inverted[k].clamped.then_some((refl[k], max)));
+        (m, Origin::Diffuse, source, clamped)
     } else {
         for (field, given) in [("g", entry.g.is_some()), ("source", entry.source.is_some())] {
             if given {
@@ -533,7 +540,7 @@ fn resolve(
             }
             None => found.clone(),
         };
-        (m, Origin::Library, source, [false; 3])
+        (m, Origin::Library, source, [None; 3])
     };
     // A library material's source (from a --materials file, plus the η note) obeys the same
     // limit as the manifest's own.
