@@ -923,42 +923,27 @@ fn render_refuses_flags_it_would_ignore() {
     std::fs::create_dir(d.join("mats")).unwrap();
     std::fs::copy(d.join("m.toml"), d.join("mats/m.toml")).unwrap();
     let before = std::fs::read(d.join("mats/m.toml")).unwrap();
-    fails_with(
-        &bssrdf(
-            d,
-            &[
-                "bake",
-                "mine",
-                "--materials",
-                "mats",
-                "--grid",
-                "coarse",
-                "-o",
-                "mats/m.toml",
-            ],
-        ),
-        2,
-        "refusing to overwrite an input",
-    );
-    assert_eq!(std::fs::read(d.join("mats/m.toml")).unwrap(), before);
     // Nor a new *.toml there, which later runs would read as a material file
-    fails_with(
-        &bssrdf(
-            d,
-            &[
-                "bake",
-                "mine",
-                "--materials",
-                "mats",
-                "--grid",
-                "coarse",
-                "-o",
-                "mats/new.toml",
-            ],
+    for (output, needle) in [
+        ("mats/m.toml", "refusing to overwrite an input"),
+        (
+            "mats/new.toml",
+            "-o mats/new.toml is a *.toml file of the --materials folder mats",
         ),
-        2,
-        "-o mats/new.toml is a *.toml file of the --materials folder mats",
-    );
+    ] {
+        let args = [
+            "bake",
+            "mine",
+            "--materials",
+            "mats",
+            "--grid",
+            "coarse",
+            "-o",
+            output,
+        ];
+        fails_with(&bssrdf(d, &args), 2, needle);
+    }
+    assert_eq!(std::fs::read(d.join("mats/m.toml")).unwrap(), before);
     assert!(!d.join("mats/new.toml").exists());
 }
 
