@@ -313,6 +313,12 @@ pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliErro
         inputs.push(("--materials", file.as_path()));
     }
     super::output::check(&[("-o", output)], &inputs)?;
+    if args.json && super::output::is_stream_of(output, "/dev/stdout") {
+        return Err(CliError::input(format!(
+            "-o {} is stdout, where --json writes its summary: the library would be mixed with it; drop --json or write the library elsewhere",
+            output.display()
+        )));
+    }
     // A new *.toml in the --materials folder would be read as a material file by later runs
     if let Some(dir) = args.materials.as_deref().filter(|m| m.is_dir()) {
         let folder = match output.parent() {

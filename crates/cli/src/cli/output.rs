@@ -25,8 +25,15 @@ fn identity(path: &Path) -> PathBuf {
 /// message names.
 pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), CliError> {
     // A folder (or a device that is no stream) is refused now, not after the work
-    for (_, path) in outputs {
+    for (what, path) in outputs {
         bssrdf_zoo::format::check_writable(path).map_err(|e| CliError::input(e.to_string()))?;
+        // Messages (warnings, errors) go to stderr: a file written there would mix with them
+        if is_stream_of(path, "/dev/stderr") {
+            return Err(CliError::input(format!(
+                "{what} {} is the command's stderr, where its messages go: the file would be mixed with them",
+                path.display()
+            )));
+        }
     }
     let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| identity(p)).collect();
     for (i, (what, path)) in outputs.iter().enumerate() {
@@ -50,4 +57,22 @@ pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), 
         }
     }
     Ok(())
+}
+
+/// Whether `path` is the file a standard stream (`/dev/stdout`, `/dev/stderr`) leads to: the
+/// same device and inode, whatever the path's spelling (`/dev/fd/2`, `/proc/self/fd/2`).
+pub fn is_stream_of(path: &Path, stream: &str) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (std::fs::metadata(path), std::fs::metadata(stream)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (path, stream);
+        false
+    }
 }

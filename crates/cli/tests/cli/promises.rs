@@ -896,6 +896,42 @@ fn render_refuses_flags_it_would_ignore() {
     ] {
         fails_with(&bssrdf(d, args), 2, needle);
     }
+    // A library written where the command writes text would be mixed with it
+    #[cfg(target_os = "linux")]
+    {
+        fails_with(
+            &bssrdf(d, &["bake", "--eta", "1.33", "-q", "-o", "/dev/stderr"]),
+            2,
+            "-o /dev/stderr is the command's stderr, where its messages go",
+        );
+        fails_with(
+            &bssrdf(
+                d,
+                &["bake", "--eta", "1.33", "-q", "--json", "-o", "/dev/stdout"],
+            ),
+            2,
+            "-o /dev/stdout is stdout, where --json writes its summary",
+        );
+    }
+    // Outputs that cannot be written are refused before the work: a path ending in /, one
+    // through a file, a link into a folder that does not exist, the command's stderr
+    std::fs::write(d.join("plain"), "x").unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("missingdir/x.bssrdf", d.join("dangling")).unwrap();
+    for (output, needle) in [
+        ("nothere/", "cannot write nothere/: the path names a folder"),
+        (
+            "plain/y.bssrdf",
+            "cannot write plain/y.bssrdf: Not a directory",
+        ),
+        (
+            "dangling",
+            "cannot write dangling: its folder missingdir does not exist",
+        ),
+    ] {
+        let args = ["bake", "--eta", "1.33", "-q", "-o", output];
+        fails_with(&bssrdf(d, &args), 2, needle);
+    }
     // Outputs that cannot be written are refused before the work
     fails_with(
         &bssrdf(d, &["bake", "--eta", "1.33", "-q", "-o", "nodir/x.bssrdf"]),

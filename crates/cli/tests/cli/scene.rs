@@ -321,6 +321,29 @@ fn scene_errors_exit_2_and_name_the_problem() {
         2,
         &["missing.toml", "skinn1", "skin1"],
     );
+    // An inline material takes a new id, not a library one's nor an alias
+    for (file, name, library) in [
+        ("lib.toml", "skin1", "skin1"),
+        ("alias.toml", "skimmilk", "skim-milk"),
+    ] {
+        fails_with(
+            &bake(
+                file,
+                &format!("[[material]]\nname = \"{name}\"\nsigma_s = [1, 1, 1]\nsigma_a = [0.01, 0.02, 0.05]\n"),
+            ),
+            2,
+            &[file, "inline coefficients need a new id", &format!("library material {library:?}")],
+        );
+    }
+    // A control character in a source is refused before the bake, naming material and byte
+    fails_with(
+        &bake(
+            "ctrl.toml",
+            "[[material]]\nname = \"my-wax\"\nsigma_s = [1, 1, 1]\nsigma_a = [0.1, 0.1, 0.1]\nsource = \"a\\nb\"\n",
+        ),
+        2,
+        &["ctrl.toml", "my-wax", "control character '\\n' at byte 1"],
+    );
     fails_with(
         &bake(
             "range.toml",

@@ -58,31 +58,32 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
 /// a stream, or a new file in a folder that does not exist (a permission shows at the write
 /// itself).
 pub fn check_writable(path: &Path) -> FormatResult<()> {
+    let refuse = |why: String| FormatError::io("write", path, io::Error::other(why));
+    if path.as_os_str().as_encoded_bytes().ends_with(b"/") {
+        return Err(refuse("the path names a folder (it ends in /)".into()));
+    }
     match fs::metadata(path) {
         Ok(meta) if meta.is_file() || is_stream(&meta.file_type()) => Ok(()),
         Ok(meta) => Err(not_regular(path, &meta)),
-        // A new file: its folder must be one
+        // A new file, or a link to one: the folder it will be made in must be one
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
-            let folder = match path.parent() {
-                Some(p) if !p.as_os_str().is_empty() => p,
-                _ => Path::new("."),
+            let (target, _) = follow_links(path)?;
+            let folder = match target.parent() {
+                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+                _ => PathBuf::from("."),
             };
-            match fs::metadata(folder) {
+            match fs::metadata(&folder) {
                 Ok(meta) if meta.is_dir() => Ok(()),
-                Ok(_) => Err(FormatError::io(
-                    "write",
-                    path,
-                    io::Error::other(format!("{} is not a folder", folder.display())),
-                )),
-                Err(e) if e.kind() == io::ErrorKind::NotFound => Err(FormatError::io(
-                    "write",
-                    path,
-                    io::Error::other(format!("its folder {} does not exist", folder.display())),
-                )),
+                Ok(_) => Err(refuse(format!("{} is not a folder", folder.display()))),
+                Err(e) if e.kind() == io::ErrorKind::NotFound => Err(refuse(format!(
+                    "its folder {} does not exist",
+                    folder.display()
+                ))),
                 Err(e) => Err(FormatError::io("write", path, e)),
             }
         }
-        Err(_) => Ok(()),
+        // A part of the path that is not a folder (`file.bssrdf/x`), a permission
+        Err(e) => Err(FormatError::io("write", path, e)),
     }
 }
 

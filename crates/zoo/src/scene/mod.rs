@@ -172,6 +172,16 @@ pub enum SceneError {
     /// A `source` longer than the file format keeps.
     #[error("material {material:?}: source is {bytes} bytes; a library file keeps at most {MAX_SOURCE_BYTES}")]
     SourceTooLong { material: String, bytes: usize },
+    /// An inline material (coefficients or the artist's parameters) named like a library one.
+    #[error("material {material:?}: inline coefficients need a new id, but this names the library material {library:?}; choose another name, or drop the coefficients to use the library's")]
+    InlineTakesLibraryName { material: String, library: String },
+    /// A `source` with a control character, which the file format refuses.
+    #[error("material {material:?}: source has the control character {character:?} at byte {at}; a library file keeps text without them")]
+    SourceControl {
+        material: String,
+        character: char,
+        at: usize,
+    },
     /// A range is not covered by the table's albedo axis.
     #[error("albedo rows for material {material:?}, channel {channel}: {source}")]
     Plan {
@@ -461,6 +471,16 @@ fn resolve(
             second: "reflectance/mfp",
         });
     }
+    // An inline material takes a new id: a library one's (or its alias) would be two materials
+    // of one name, and lookups by name would find the library's
+    if coefficients || diffuse {
+        if let Ok(m) = library.get(name) {
+            return Err(SceneError::InlineTakesLibraryName {
+                material: owned(),
+                library: m.id().to_string(),
+            });
+        }
+    }
     let pair = |a: Option<[f64; 3]>, b: Option<[f64; 3]>, na, nb| match (a, b) {
         (Some(a), Some(b)) => Ok((a, b)),
         (Some(_), None) => Err(SceneError::Missing {
@@ -687,7 +707,8 @@ fn show(v: &Value) -> String {
 /// Most bytes of a material's `source` in a library file (format-spec.md, material records).
 pub const MAX_SOURCE_BYTES: usize = 256;
 
-/// Refuses a `source` longer than a library file keeps ([`MAX_SOURCE_BYTES`]): the one check
+/// Refuses a `source` longer than a library file keeps ([`MAX_SOURCE_BYTES`]) or with a control
+/// character (which the format refuses too): the one check
 /// of scene manifests and of `--materials` files at bake, so no source is ever cut silently.
 pub fn check_source(material: &str, source: &str) -> Result<(), SceneError> {
     let bytes = source.len();
@@ -695,6 +716,14 @@ pub fn check_source(material: &str, source: &str) -> Result<(), SceneError> {
         return Err(SceneError::SourceTooLong {
             material: material.to_string(),
             bytes,
+        });
+    }
+    // The format's own rule (records: no control characters), checked before any bake
+    if let Some((at, character)) = source.char_indices().find(|(_, c)| c.is_control()) {
+        return Err(SceneError::SourceControl {
+            material: material.to_string(),
+            character,
+            at,
         });
     }
     Ok(())
