@@ -4,6 +4,7 @@
 use super::CliError;
 use bssrdf_zoo::format::{self, Compression};
 use clap::Args;
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -42,7 +43,9 @@ fn convert(args: &UnpackArgs, level: Option<i32>) -> Result<ExitCode, CliError> 
         None => format::unpack(&args.file, &output),
     }
     .map_err(|e| CliError::input(format!("{}: {e}", args.file.display())))?;
-    eprintln!(
+    // The summary is lost on a closed stderr, not a panic
+    let _ = writeln!(
+        std::io::stderr(),
         "{} -> {}: {} -> {} bytes",
         args.file.display(),
         output.display(),

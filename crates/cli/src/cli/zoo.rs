@@ -103,7 +103,12 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
             CliError::input(format!("cannot write plots into {}: {e}", dir.display()))
         })?;
         if !args.quiet {
-            eprintln!("wrote {} figure(s) into {}", files.len(), dir.display());
+            let _ = writeln!(
+                std::io::stderr(),
+                "wrote {} figure(s) into {}",
+                files.len(),
+                dir.display()
+            );
         }
     }
     let stdout = std::io::stdout();

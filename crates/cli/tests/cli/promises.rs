@@ -1127,3 +1127,25 @@ fn an_incidence_outside_the_kept_angles_is_named() {
         "{validate}"
     );
 }
+
+/// A closed stderr loses the messages but never panics (exit 101): an error still exits 2, a
+/// success 0.
+#[test]
+fn a_closed_stderr_is_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, code) in [
+        (&["eval", "--rho", "2", "--theta", "0", "--r", "1"][..], 2),
+        (&["walk", "--albedo", "0.9", "--photons", "100"], 0),
+    ] {
+        let (reader, writer) = std::io::pipe().unwrap();
+        drop(reader);
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_bssrdf"))
+            .current_dir(dir.path())
+            .args(args)
+            .stdout(std::process::Stdio::null())
+            .stderr(writer)
+            .status()
+            .unwrap();
+        assert_eq!(status.code(), Some(code), "{args:?}");
+    }
+}
