@@ -193,16 +193,7 @@ impl TableChoice {
                     .map_err(|e| CliError::input(e.to_string()))?;
                     Some((found, m.tables[c] as usize))
                 } else {
-                    let lib = super::materials::library(self.materials.as_deref())?;
-                    let m = lib
-                        .get(name)
-                        .map_err(|e| CliError::input(e.to_string()))?
-                        .clone();
-                    if self.materials.is_some() && !matches!(m.origin(), Origin::File(_)) {
-                        return Err(CliError::input(format!(
-                            "--materials adds files to look --material up in, but {name} is built in: drop --materials"
-                        )));
-                    }
+                    let m = super::materials::named(name, self.materials.as_deref())?;
                     // Of the tables with the material's η, one whose albedo rows hold the
                     // channel's ρ′ (a scene bake keeps several such tables), else the first.
                     let rho = m.channel(self.channel()).rho_prime();

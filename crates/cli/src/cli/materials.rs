@@ -1,7 +1,7 @@
 //! `bssrdf materials`: the named-material library, one line per material.
 
 use super::CliError;
-use bssrdf_zoo::materials::{Coefficients, Library};
+use bssrdf_zoo::materials::{Coefficients, Library, Material, Origin};
 use clap::Args;
 use std::io::Write;
 use std::process::ExitCode;
@@ -25,6 +25,21 @@ pub fn library(extra: Option<&std::path::Path>) -> Result<Library, CliError> {
             .map_err(|e| CliError::input(e.to_string()))?;
     }
     Ok(library)
+}
+
+/// The material `--material NAME` names, from the built-in library plus `--materials PATH`;
+/// with `--materials` it must come from those files (else the flag would change nothing).
+pub fn named(name: &str, extra: Option<&std::path::Path>) -> Result<Material, CliError> {
+    let m = library(extra)?
+        .get(name)
+        .cloned()
+        .map_err(|e| CliError::input(e.to_string()))?;
+    if extra.is_some() && !matches!(m.origin(), Origin::File(_)) {
+        return Err(CliError::input(format!(
+            "--materials adds files to look --material up in, but {name} is built in: drop --materials"
+        )));
+    }
+    Ok(m)
 }
 
 /// The files a command reads for `--materials PATH` (the file, or each `*.toml` of the

@@ -3,7 +3,7 @@
 //! differences (figure 1c). All the work is in `bssrdf_zoo::render`.
 
 use super::CliError;
-use bssrdf_zoo::materials::{Material, Origin};
+use bssrdf_zoo::materials::Material;
 use bssrdf_zoo::models::ModelKind;
 use bssrdf_zoo::render::{
     self, difference, Band, Config, Difference, Orders, Part, Render, Renderer,
@@ -201,14 +201,7 @@ pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
 
 fn material(args: &RenderArgs) -> Result<Material, CliError> {
     if let Some(name) = &args.material {
-        let library = super::materials::library(args.materials.as_deref())?;
-        let m = library.get(name).cloned().map_err(input)?;
-        if args.materials.is_some() && !matches!(m.origin(), Origin::File(_)) {
-            return Err(CliError::input(format!(
-                "--materials adds files to look --material up in, but {name} is built in: drop --materials"
-            )));
-        }
-        return Ok(m);
+        return super::materials::named(name, args.materials.as_deref());
     }
     if args.preset == Some(Preset::Figure10) {
         return Ok(render::figure_10_material());
