@@ -37,6 +37,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use bssrdf_runtime::embed::Rgb;
 use bssrdf_runtime::embed::{ChannelLookup, EmbedError, Library, PathSample, Sample};
 use bssrdf_runtime::format::FormatError;
+use bssrdf_runtime::table::TableRef;
 
 mod error;
 use error::*;
@@ -477,11 +478,17 @@ pub unsafe extern "C" fn bssrdf_channel_get_info(
     })
 }
 
-/// The failure of a lookup at θ outside the table (evaluation, effective albedo).
-fn theta_outside() -> Failure {
-    Failure::fixed(
+/// The failure of a lookup at θ outside `table`'s θ axis (evaluation, effective albedo,
+/// reflectance, angular factor): names θ and the axis, formatted without allocating.
+#[cold]
+fn theta_outside(theta: f64, table: &TableRef<'_>) -> Failure {
+    let nodes = table.axes().theta().as_slice();
+    let (first, last) = (nodes[0], nodes[nodes.len() - 1]);
+    Failure::inline(
         BSSRDF_ERROR_OUT_OF_RANGE,
-        c"theta is outside the table's theta axis (baked tables: [0, pi/2] radians) or NaN",
+        format_args!(
+            "theta = {theta} rad is outside the table's theta axis [{first}, {last}] rad (a table is never extrapolated)"
+        ),
     )
 }
 
@@ -520,7 +527,8 @@ pub unsafe extern "C" fn bssrdf_channel_eval(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_value, c"out_value is NULL") }?;
-        *out = lookup.eval(theta, r_mm, phi).ok_or_else(theta_outside)?;
+        *out = (lookup.eval(theta, r_mm, phi))
+            .ok_or_else(|| theta_outside(theta, &lookup.table().view()))?;
         Ok(())
     })
 }
@@ -633,7 +641,8 @@ pub unsafe extern "C" fn bssrdf_channel_effective_albedo(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_albedo, c"out_albedo is NULL") }?;
-        *out = lookup.effective_albedo(theta).ok_or_else(theta_outside)?;
+        *out = (lookup.effective_albedo(theta))
+            .ok_or_else(|| theta_outside(theta, &lookup.table().view()))?;
         Ok(())
     })
 }

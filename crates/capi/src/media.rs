@@ -101,7 +101,10 @@ pub unsafe extern "C" fn bssrdf_table_eval(
     out_value: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let eval = |m: MediumRef| m.eval(theta, r_mm, phi).ok_or_else(theta_outside);
+    let eval = |m: MediumRef| {
+        m.eval(theta, r_mm, phi)
+            .ok_or_else(|| theta_outside(theta, &m.table()))
+    };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_value, c"out_value is NULL"), eval) }
 }
@@ -213,7 +216,10 @@ pub unsafe extern "C" fn bssrdf_table_effective_albedo(
     out_albedo: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let albedo = |m: MediumRef| m.effective_albedo(theta).ok_or_else(theta_outside);
+    let albedo = |m: MediumRef| {
+        m.effective_albedo(theta)
+            .ok_or_else(|| theta_outside(theta, &m.table()))
+    };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_albedo, c"out_albedo is NULL"), albedo) }
 }

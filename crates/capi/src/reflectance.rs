@@ -116,7 +116,10 @@ pub unsafe extern "C" fn bssrdf_channel_diffuse_reflectance(
     theta: f64,
     out_reflectance: *mut f64,
 ) -> c_int {
-    let reflectance = |h: &ChannelLookup| h.diffuse_reflectance(theta).ok_or_else(theta_outside);
+    let reflectance = |h: &ChannelLookup| {
+        h.diffuse_reflectance(theta)
+            .ok_or_else(|| theta_outside(theta, &h.table().view()))
+    };
     let out = (out_reflectance, c"out_reflectance is NULL");
     // SAFETY: the function's contract.
     unsafe { per_channel(channel, out, reflectance) }
@@ -138,7 +141,10 @@ pub unsafe extern "C" fn bssrdf_table_diffuse_reflectance(
     out_reflectance: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let reflectance = |m: MediumRef| m.diffuse_reflectance(theta).ok_or_else(theta_outside);
+    let reflectance = |m: MediumRef| {
+        m.diffuse_reflectance(theta)
+            .ok_or_else(|| theta_outside(theta, &m.table()))
+    };
     let out = (out_reflectance, c"out_reflectance is NULL");
     // SAFETY: the function's contract.
     unsafe { per_call(medium, out, reflectance) }

@@ -84,7 +84,10 @@ pub unsafe extern "C" fn bssrdf_channel_angular_factor(
     phi: f64,
     out_factor: *mut f64,
 ) -> c_int {
-    let factor = |h: &ChannelLookup| h.angular_factor(theta, r_mm, phi).ok_or_else(theta_outside);
+    let factor = |h: &ChannelLookup| {
+        h.angular_factor(theta, r_mm, phi)
+            .ok_or_else(|| theta_outside(theta, &h.table().view()))
+    };
     // SAFETY: the function's contract.
     unsafe { per_channel(channel, (out_factor, c"out_factor is NULL"), factor) }
 }
@@ -152,7 +155,10 @@ pub unsafe extern "C" fn bssrdf_table_angular_factor(
     out_factor: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let factor = |m: MediumRef| m.angular_factor(theta, r_mm, phi).ok_or_else(theta_outside);
+    let factor = |m: MediumRef| {
+        m.angular_factor(theta, r_mm, phi)
+            .ok_or_else(|| theta_outside(theta, &m.table()))
+    };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_factor, c"out_factor is NULL"), factor) }
 }

@@ -382,12 +382,12 @@ fn per_call_failures_name_the_value_and_leave_the_output() {
         fails(
             bssrdf_table_eval(c, 0, 0.5, 2.0, 1.7, 0.5, 0.0, out),
             BSSRDF_ERROR_OUT_OF_RANGE,
-            &["theta is outside"],
+            &["theta = 1.7 rad is outside the table's theta axis [0, 1.5707963"],
         );
         fails(
             bssrdf_table_effective_albedo(c, 0, 0.5, 2.0, f64::NAN, out),
             BSSRDF_ERROR_OUT_OF_RANGE,
-            &["theta is outside"],
+            &["theta = NaN rad is outside the table's theta axis [0, 1.5707963"],
         );
         // coke's blue channel: ρ′ = 0 scatters nothing
         fails(
@@ -451,7 +451,7 @@ fn per_call_failures_name_the_value_and_leave_the_output() {
         fails(
             bssrdf_table_diffuse_reflectance(c, 0, 0.5, 2.0, 1.7, out),
             BSSRDF_ERROR_OUT_OF_RANGE,
-            &["theta is outside"],
+            &["theta = 1.7 rad is outside the table's theta axis [0, 1.5707963"],
         );
         fails(
             bssrdf_table_diffuse_reflectance(c, 0, 0.5, 2.0, 0.3, null_mut()),
@@ -483,12 +483,12 @@ fn per_call_failures_name_the_value_and_leave_the_output() {
         fails(
             bssrdf_channel_angular_factor(channel, 1.7, 0.5, 0.0, out),
             BSSRDF_ERROR_OUT_OF_RANGE,
-            &["theta is outside"],
+            &["theta = 1.7 rad is outside the table's theta axis [0, 1.5707963"],
         );
         fails(
             bssrdf_channel_diffuse_reflectance(channel, f64::NAN, out),
             BSSRDF_ERROR_OUT_OF_RANGE,
-            &["theta is outside"],
+            &["theta = NaN rad is outside the table's theta axis [0, 1.5707963"],
         );
         bssrdf_channel_release(channel);
         assert_eq!((radial.r, radial.pdf), (-7.0, -7.0));

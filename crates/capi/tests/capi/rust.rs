@@ -312,9 +312,17 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
 
         let red = channel(library, c"skin1", 0);
         let status = bssrdf_channel_eval(red, 1.7, 1.0, 0.0, &mut value);
-        expect(status, BSSRDF_ERROR_OUT_OF_RANGE, "theta is outside");
+        expect(
+            status,
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            "theta = 1.7 rad is outside the table's theta axis [0, 1.5707963",
+        );
         let status = bssrdf_channel_effective_albedo(red, f64::NAN, &mut value);
-        expect(status, BSSRDF_ERROR_OUT_OF_RANGE, "theta is outside");
+        expect(
+            status,
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            "theta = NaN rad is outside",
+        );
         let status = bssrdf_channel_sample(red, -0.5, 0.5, 0.5, &mut sample);
         expect(status, BSSRDF_ERROR_NO_SAMPLE, "no sample");
         assert_eq!(

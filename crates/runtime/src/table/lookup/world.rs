@@ -159,6 +159,11 @@ impl<'a> MediumRef<'a> {
         self.world.sigma_t_prime
     }
 
+    /// The table the medium is looked up on, in reduced units.
+    pub fn table(&self) -> TableRef<'a> {
+        self.world.table
+    }
+
     /// S_p(r, φ; θ) in mm⁻² at distance `r_mm` (mm) and azimuth `phi` from the entry point,
     /// for light entering at incidence `theta` (radians, before refraction): 0 outside the
     /// radial support (r < 0, beyond the last radius node, NaN r or φ); `None` for θ outside
