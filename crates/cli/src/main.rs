@@ -10,7 +10,11 @@ use std::io::Write;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args = <cli::Cli as clap::Parser>::parse();
+    let argv: Vec<_> = std::env::args_os().collect();
+    if let Err(e) = cli::check_forgotten_values(&argv) {
+        e.exit();
+    }
+    let args = <cli::Cli as clap::Parser>::parse_from(argv);
     match cli::run(args) {
         Ok(code) => code,
         Err(err) if err.is_broken_pipe() => ExitCode::SUCCESS,

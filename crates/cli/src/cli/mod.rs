@@ -20,7 +20,9 @@ mod values;
 mod walk;
 mod zoo;
 
-use clap::{Parser, Subcommand};
+use clap::error::ErrorKind;
+use clap::{CommandFactory, Parser, Subcommand};
+use std::ffi::OsString;
 use std::fmt;
 use std::process::ExitCode;
 
@@ -92,6 +94,57 @@ enum Command {
 }
 
 /// Runs the parsed command.
+/// Refuses an option whose value was forgotten. An option that takes values starting with '-'
+/// (`--phi -inf`, `--bins -1,1,2,2`) takes the next argument as its value whatever it is, so
+/// in `render --size --theta 30` `--theta` became the size and clap then called `30` a stray
+/// argument. Here the next argument being one of the command's own options names both.
+pub fn check_forgotten_values(argv: &[OsString]) -> Result<(), clap::Error> {
+    let mut cli = Cli::command();
+    // Built, the subcommands know their usage ("bssrdf render [OPTIONS] ...")
+    cli.build();
+    let Some(sub) = argv.get(1).and_then(|name| cli.find_subcommand_mut(name)) else {
+        return Ok(());
+    };
+    let is_option = |token: &str| match token.strip_prefix("--") {
+        Some(long) => {
+            let long = long.split('=').next().unwrap_or_default();
+            long == "help" || sub.get_arguments().any(|a| a.get_long() == Some(long))
+        }
+        None => {
+            let mut short = token.strip_prefix('-').unwrap_or_default().chars();
+            match (short.next(), short.next()) {
+                (Some(c), None) => {
+                    c == 'h' || sub.get_arguments().any(|a| a.get_short() == Some(c))
+                }
+                _ => false,
+            }
+        }
+    };
+    let takes_hyphen_values = |option: &str| {
+        sub.get_arguments()
+            .any(|a| a.is_allow_hyphen_values_set() && option.strip_prefix("--") == a.get_long())
+    };
+    let mut forgotten = None;
+    for pair in argv.get(2..).unwrap_or_default().windows(2) {
+        let (Some(option), Some(next)) = (pair[0].to_str(), pair[1].to_str()) else {
+            continue;
+        };
+        if option == "--" {
+            break;
+        }
+        if takes_hyphen_values(option) && is_option(next) {
+            forgotten = Some(format!(
+                "the value of {option} is missing: {next} is the next option, not a value"
+            ));
+            break;
+        }
+    }
+    match forgotten {
+        Some(message) => Err(sub.error(ErrorKind::InvalidValue, message)),
+        None => Ok(()),
+    }
+}
+
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     match cli.command {
         Command::Bake(args) => bake::run(args),
