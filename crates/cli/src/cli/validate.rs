@@ -2,11 +2,12 @@
 //! against its own η (or on the one --table, --eta or --material names), error against run
 //! time.
 //!
-//! Each case is `ok`, `FAIL` (its mean error exceeds its bound: the report's figure, or
-//! --max-mean-error) or `skipped` (no point could be checked: ρ′ outside the albedo rows the
-//! file keeps, or no light leaves). Exit 0 when at least one case was checked and none failed;
-//! exit 1 when a case failed or when every case was skipped (a run that checked nothing is not
-//! a pass).
+//! Each case is `ok` (its mean error plus two standard errors of that mean is within its
+//! bound: the report's figure, or --max-mean-error), `FAIL` (the mean exceeds the bound),
+//! `inconclusive` (the mean is within the bound, but not by two standard errors: too few
+//! points to tell) or `skipped` (no point could be checked: ρ′ outside the albedo rows the
+//! file keeps, or no light leaves). Exit 0 when at least one case was checked and every
+//! checked case is ok; exit 1 otherwise (a run that checked nothing is not a pass).
 
 use super::library::{self, TableChoice};
 use super::CliError;
@@ -49,6 +50,8 @@ pub struct ValidateArgs {
 enum Status {
     Ok,
     Fail,
+    /// Mean below the bound, but not by two standard errors: too few points to tell.
+    Inconclusive,
     Skipped,
 }
 
@@ -57,6 +60,7 @@ impl Status {
         match self {
             Status::Ok => "ok",
             Status::Fail => "fail",
+            Status::Inconclusive => "inconclusive",
             Status::Skipped => "skipped",
         }
     }
@@ -135,10 +139,12 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
     let status = |row: &ValidationRow| {
         if row.samples == 0 {
             Status::Skipped
-        } else if row.mean_rel_error <= bound(row) {
-            Status::Ok
-        } else {
+        } else if row.mean_rel_error > bound(row) {
             Status::Fail
+        } else if row.mean_rel_error + 2.0 * row.mean_rel_error_stderr > bound(row) {
+            Status::Inconclusive
+        } else {
+            Status::Ok
         }
     };
     let reason = |t: &Checked, row: &ValidationRow| {
@@ -165,16 +171,18 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         }
     };
     let count = |rows: &[ValidationRow], s: Status| rows.iter().filter(|r| status(r) == s).count();
+    // (checked, failed, inconclusive, skipped)
     let tally = |rows: &[ValidationRow]| {
         let (failed, skipped) = (count(rows, Status::Fail), count(rows, Status::Skipped));
-        (rows.len() - skipped, failed, skipped)
+        let inconclusive = count(rows, Status::Inconclusive);
+        (rows.len() - skipped, failed, inconclusive, skipped)
     };
     let all_rows: Vec<ValidationRow> = checked_tables
         .iter()
         .flat_map(|t| t.rows.iter().cloned())
         .collect();
-    let (checked, failed, skipped) = tally(&all_rows);
-    let pass = checked > 0 && failed == 0;
+    let (checked, failed, inconclusive, skipped) = tally(&all_rows);
+    let pass = checked > 0 && failed == 0 && inconclusive == 0;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if args.json {
@@ -190,6 +198,8 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
                 "skip_reason": (s == Status::Skipped).then(|| reason(t, r)),
                 "samples": r.samples,
                 "mean_rel_error": measured(r.mean_rel_error),
+                "mean_rel_error_stderr": measured(r.mean_rel_error_stderr)
+                    .filter(|e| e.is_finite()),
                 "p99_rel_error": measured(r.p99_rel_error),
                 "max_rel_error": measured(r.max_rel_error),
                 "fraction_above_1pct": measured(r.fraction_above_1pct),
@@ -201,10 +211,11 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         let per_table: Vec<_> = checked_tables
             .iter()
             .map(|t| {
-                let (checked, failed, skipped) = tally(&t.rows);
+                let (checked, failed, inconclusive, skipped) = tally(&t.rows);
                 json!({
                     "table": t.index, "eta": t.eta, "checked": checked, "failed": failed,
-                    "skipped": skipped, "pass": checked > 0 && failed == 0,
+                    "inconclusive": inconclusive, "skipped": skipped,
+                    "pass": checked > 0 && failed == 0 && inconclusive == 0,
                 })
             })
             .collect();
@@ -219,6 +230,7 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             "seed": args.seed,
             "checked": checked,
             "failed": failed,
+            "inconclusive": inconclusive,
             "skipped": skipped,
             "pass": pass,
             "tables": per_table,
@@ -270,7 +282,12 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
                     r.reference_ns,
                     r.reference_ns / r.table_ns,
                     100.0 * bound(r),
-                    if s == Status::Ok { "ok" } else { "FAIL" }
+                    match s {
+                        Status::Ok => "ok",
+                        Status::Inconclusive =>
+                            "INCONCLUSIVE: the bound is within two standard errors of the mean",
+                        _ => "FAIL",
+                    }
                 )?;
             }
         }
@@ -278,12 +295,18 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             "pass"
         } else if checked == 0 {
             "not a pass: no case could be checked"
+        } else if failed == 0 {
+            "not a pass: too few points to tell (raise --samples)"
         } else {
             "FAIL"
         };
+        let inconclusive = match inconclusive {
+            0 => String::new(),
+            n => format!(", {n} inconclusive"),
+        };
         writeln!(
             out,
-            "{} table(s), {checked} case(s) checked, {failed} failed, {skipped} skipped: {verdict}",
+            "{} table(s), {checked} case(s) checked, {failed} failed{inconclusive}, {skipped} skipped: {verdict}",
             checked_tables.len()
         )?;
     }

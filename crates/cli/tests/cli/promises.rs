@@ -104,6 +104,68 @@ fn validate_refuses_values_outside_their_domain() {
     );
 }
 
+/// A case passes only when its mean error is within the bound by two standard errors of the
+/// mean: one point tells nothing, and a bound just above a noisy mean is no pass either.
+#[test]
+fn validate_says_inconclusive_when_too_few_points_tell() {
+    let dir = bare();
+    let d = dir.path();
+    let run = |args: &[&str]| {
+        let o = bssrdf(
+            d,
+            &[&["validate", "t.bssrdf", "--json", "-q"][..], args].concat(),
+        );
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (o.status.code(), report)
+    };
+    // One point per case: no standard error, so nothing is ok, whatever the bound
+    let (code, report) = run(&["--samples", "1", "--max-mean-error", "10000"]);
+    assert_eq!(code, Some(1));
+    assert_eq!(
+        (report["pass"].as_bool(), report["failed"].as_u64()),
+        (Some(false), Some(0))
+    );
+    for row in report["rows"].as_array().unwrap() {
+        assert_eq!(row["status"], "inconclusive", "{row}");
+        assert!(row["mean_rel_error_stderr"].is_null(), "{row}");
+    }
+    let o = bssrdf(
+        d,
+        &[
+            "validate",
+            "t.bssrdf",
+            "--samples",
+            "1",
+            "--max-mean-error",
+            "10000",
+            "-q",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stdout).contains("9 inconclusive"),
+        "{}",
+        text(&o.stdout)
+    );
+    assert!(text(&o.stdout).contains("not a pass: too few points to tell (raise --samples)"));
+
+    // 20 points: a bound between the mean and the mean plus two standard errors
+    let (_, report) = run(&["--samples", "20", "--max-mean-error", "10000"]);
+    let row = &report["rows"][4];
+    let (mean, stderr) = (
+        row["mean_rel_error"].as_f64().unwrap(),
+        row["mean_rel_error_stderr"].as_f64().unwrap(),
+    );
+    assert!(stderr > 0.0 && stderr < mean, "{row}");
+    let between = format!("{}", 100.0 * (mean + stderr));
+    let (code, report) = run(&["--samples", "20", "--max-mean-error", &between]);
+    assert_eq!(code, Some(1));
+    assert_eq!(report["rows"][4]["status"], "inconclusive", "{report}");
+    let above = format!("{}", 100.0 * (mean + 2.5 * stderr));
+    let (_, report) = run(&["--samples", "20", "--max-mean-error", &above]);
+    assert_eq!(report["rows"][4]["status"], "ok", "{report}");
+}
+
 // ---- Tables chosen by η, conflicting inputs refused ----
 
 /// white-grapefruit-juice (η 1.33, table 1) and skin1 (η 1.3, table 0), coarse.
@@ -478,6 +540,70 @@ fn negative_numbers_are_values() {
     ] {
         fails_with(&bssrdf(d, args), 2, needle);
     }
+}
+
+/// An option that takes negative values takes the next argument as its value, so a forgotten
+/// value meets the next option: the error says the value is missing, not that "--theta" is a
+/// bad number.
+#[test]
+fn an_option_given_as_a_value_is_a_missing_value() {
+    let dir = bare();
+    let d = dir.path();
+    for (args, missing) in [
+        (
+            &["render", "--preset", "figure-10", "--size", "--theta", "30"][..],
+            "the value of --size is missing: --theta is the next option, not a value",
+        ),
+        (
+            &[
+                "render",
+                "--preset",
+                "figure-10",
+                "--theta",
+                "30",
+                "--size",
+                "-o",
+                "x.exr",
+            ],
+            "the value of --size is missing: -o is the next option",
+        ),
+        (
+            &["render", "--sigma-s", "--sigma-a", "1,1,1", "--theta", "30"],
+            "the value of --sigma-s is missing: --sigma-a is",
+        ),
+        (
+            &["eval", "--rho", "--theta", "30", "--r", "1"],
+            "the value of --rho is missing: --theta is",
+        ),
+        (
+            &["eval", "--rho", "0.5", "--theta", "30", "--r", "--phi=0"],
+            "the value of --r is missing: --phi=0 is",
+        ),
+        (
+            &["sample", "t.bssrdf", "--rho", "--theta", "30"],
+            "the value of --rho is missing",
+        ),
+        (
+            &["invert", "--reflectance", "0.5", "--eta", "--help"],
+            "the value of --eta is missing: --help is",
+        ),
+        (
+            &["walk", "--albedo", "0.9", "--bins", "--photons", "10"],
+            "the value of --bins is missing: --photons is",
+        ),
+        (
+            &["bake", "--sigma-s", "--sigma-a", "1,1,1", "-o", "c.bssrdf"],
+            "the value of --sigma-s is missing: --sigma-a is",
+        ),
+    ] {
+        fails_with(&bssrdf(d, args), 2, missing);
+    }
+    // Negative values and values after `--` stay values
+    fails_with(
+        &bssrdf(d, &["eval", "--rho", "0.5", "--theta", "-5", "--r", "1"]),
+        2,
+        "--theta -5 is outside",
+    );
 }
 
 #[test]

@@ -240,7 +240,7 @@ pub fn check(
             }
             weighted.sort_by(f64::total_cmp);
             let n = weighted.len();
-            let pick = |q: f64| weighted.get(((n.max(1) - 1) as f64 * q) as usize).copied();
+            let pick = |q: f64| super::validate::quantile(&weighted, q);
             Ok(RegionCheck {
                 rho,
                 theta_deg,

@@ -36,6 +36,9 @@ pub struct ValidationRow {
     pub samples: usize,
     /// Mean relative error.
     pub mean_rel_error: f64,
+    /// Standard error of that mean: the errors' sample standard deviation over √samples
+    /// (+∞ below two points).
+    pub mean_rel_error_stderr: f64,
     /// 99th percentile of the relative error.
     pub p99_rel_error: f64,
     /// Largest relative error.
@@ -89,17 +92,20 @@ pub fn validate(
             .collect();
         errors.sort_by(f64::total_cmp);
         let n = errors.len().max(1) as f64;
-        let pick = |q: f64| {
-            errors
-                .get(((errors.len() as f64 - 1.0) * q) as usize)
-                .copied()
-                .unwrap_or(0.0)
+        let mean = errors.iter().sum::<f64>() / n;
+        let stderr = if errors.len() < 2 {
+            f64::INFINITY
+        } else {
+            let squares = errors.iter().map(|e| (e - mean).powi(2)).sum::<f64>();
+            (squares / (n - 1.0) / n).sqrt()
         };
+        let pick = |q: f64| quantile(&errors, q).unwrap_or(0.0);
         rows.push(ValidationRow {
             rho,
             theta_deg,
             samples: errors.len(),
-            mean_rel_error: errors.iter().sum::<f64>() / n,
+            mean_rel_error: mean,
+            mean_rel_error_stderr: stderr,
             p99_rel_error: pick(0.99),
             max_rel_error: errors.last().copied().unwrap_or(0.0),
             fraction_above_1pct: errors.iter().filter(|&&e| e > 0.01).count() as f64 / n,
@@ -114,6 +120,31 @@ pub fn validate(
     Ok(rows)
 }
 
+/// The nearest-rank quantile q of `sorted` (ascending): the smallest value with a share q of
+/// the values at or below it, so that of 3 values the 99th percentile is the largest, not the
+/// median. `None` when empty.
+pub(crate) fn quantile(sorted: &[f64], q: f64) -> Option<f64> {
+    let rank = (q * sorted.len() as f64).ceil() as usize;
+    sorted.get(rank.max(1) - 1).copied()
+}
+
 fn per_point_ns(start: Instant, n: usize) -> f64 {
     start.elapsed().as_secs_f64() * 1e9 / n.max(1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::quantile;
+
+    #[test]
+    fn quantiles_are_nearest_rank() {
+        assert_eq!(quantile(&[], 0.99), None);
+        assert_eq!(quantile(&[1.0, 2.0, 3.0], 0.99), Some(3.0));
+        assert_eq!(quantile(&[1.0, 2.0, 3.0], 0.5), Some(2.0));
+        assert_eq!(quantile(&[1.0, 2.0, 3.0], 0.0), Some(1.0));
+        // Of 10⁵ values the 99th percentile is the 99,000th: 99,000 at or below it
+        let values: Vec<f64> = (1..=100_000).map(f64::from).collect();
+        assert_eq!(quantile(&values, 0.99), Some(99_000.0));
+        assert_eq!(quantile(&values[..400], 0.99), Some(396.0));
+    }
 }
