@@ -93,13 +93,13 @@ impl Backing {
             return Backing::read(path);
         }
         let file = File::open(path).map_err(|e| FormatError::io("open", path, e))?;
-        let len = file
+        let meta = file
             .metadata()
-            .map_err(|e| FormatError::io("stat", path, e))?
-            .len();
-        if len < super::spec::HEADER_SIZE as u64 {
-            // Too short to be a library; a plain read gives the same error without a map
-            // (mapping an empty file is an error on some systems).
+            .map_err(|e| FormatError::io("stat", path, e))?;
+        if !meta.is_file() || meta.len() < super::spec::HEADER_SIZE as u64 {
+            // Not a regular file (a folder, a pipe, a device) or too short to be a library:
+            // a plain read gives its own error ("Is a directory") or reads the stream, where
+            // a map would fail with ENODEV (mapping an empty file is an error on some systems).
             return Backing::read_file(file, path);
         }
         // SAFETY: the map is read-only and private to this `Backing`; Rust code only ever sees

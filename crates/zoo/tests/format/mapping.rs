@@ -90,6 +90,27 @@ fn every_invalid_vector_fails_alike_mapped_and_read() {
     }
 }
 
+/// What is not a regular file fails alike mapped and read, with the system's own reason: a
+/// folder is "Is a directory" (mapping it failed with "No such device"), /dev/null a file too
+/// short to be a library.
+#[test]
+#[cfg_attr(miri, ignore = "opens folders and devices")]
+fn a_folder_or_device_fails_alike_mapped_and_read() {
+    let dir = std::env::temp_dir();
+    for opened in [
+        Library::open_mmap(&dir, Verify::Full),
+        Library::read(&dir, Verify::Full),
+    ] {
+        let message = opened.unwrap_err().to_string();
+        assert!(message.contains("Is a directory"), "{message}");
+    }
+    if Path::new("/dev/null").exists() {
+        let mapped = Library::open_mmap("/dev/null", Verify::Full).unwrap_err();
+        let read = Library::read("/dev/null", Verify::Full).unwrap_err();
+        assert_eq!(mapped.to_string(), read.to_string());
+    }
+}
+
 #[test]
 fn views_into_a_map_live_as_long_as_the_library() {
     let path = vectors("valid")
