@@ -15,7 +15,7 @@ use pyo3::types::PyAny;
 use crate::errors;
 use crate::points::{self, Arg};
 use crate::table::{
-    path_or_zero, path_tracing, path_tuple, sample_or_zero, Domain, Path6, Sample3, Table,
+    path_or_zero, path_tracing, path_tuple, sample_or_zero, uniforms, Domain, Path6, Sample3, Table,
 };
 
 /// A library file, opened and validated (structure, checksums, every value finite), with its
@@ -380,6 +380,7 @@ impl Channel {
             [&theta, &u1, &u2],
             |[t, u1, u2]| {
                 domain.theta(t)?;
+                uniforms(["u1", "u2"], [u1, u2])?;
                 Ok(sample_or_zero(self.lookup.sample(t, u1, u2)))
             },
         )?;
@@ -399,14 +400,17 @@ impl Channel {
         path_tracing(self.lookup.table())?;
         let names = ["u1", "u2", "u3", "u4"];
         let drawn = points::map(py, names, [&u1, &u2, &u3, &u4], |u| {
+            uniforms(names, u)?;
             Ok(path_or_zero(self.lookup.sample_path(u)))
         })?;
         Ok(path_tuple(drawn))
     }
 
-    /// Density of θ in `sample_path`, per radian.
+    /// Density of θ in `sample_path`, per radian; ValueError for θ outside the table.
     fn pdf_theta<'py>(&self, py: Python<'py>, theta: Arg<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let domain = Domain::of(&self.lookup.table().view());
         let [p] = points::map(py, ["theta"], [&theta], |[t]| {
+            domain.theta(t)?;
             Ok([self.lookup.pdf_theta(t)])
         })?;
         Ok(p)

@@ -169,6 +169,23 @@ impl Domain {
     }
 }
 
+/// Refuses a uniform random number outside [0, 1) (or NaN), named: the samplers' inputs (a
+/// broken random stream is an error, not a plausible draw).
+#[inline]
+pub fn uniforms<const N: usize>(names: [&str; N], u: [f64; N]) -> Result<(), String> {
+    match names
+        .into_iter()
+        .zip(u)
+        .find(|(_, u)| !(0.0..1.0).contains(u))
+    {
+        None => Ok(()),
+        Some((name, u)) => Err(format!(
+            "{name} = {} is outside [0, 1): a uniform random number",
+            bssrdf_zoo::error::number(u)
+        )),
+    }
+}
+
 /// Refuses the path-tracing draw on a table without the θ CDF it needs.
 pub fn path_tracing(table: &TableLookup) -> PyResult<()> {
     if table.view().has_theta_sampling() {
@@ -387,6 +404,7 @@ impl Table {
         let args = [&rho, &theta, &u1, &u2, &st];
         let [r, phi, pdf] = points::map(py, SAMPLE_NAMES, args, |[rho, t, u1, u2, st]| {
             domain.point(rho, t)?;
+            uniforms(["u1", "u2"], [u1, u2])?;
             Ok(sample_or_zero(Units::new(view, st)?.sample(rho, t, u1, u2)))
         })?;
         Ok((r, phi, pdf))
@@ -412,6 +430,7 @@ impl Table {
         let args = [&rho, &u1, &u2, &u3, &u4, &st];
         let drawn = points::map(py, PATH_NAMES, args, |[rho, a, b, c, d, st]| {
             domain.rho(rho)?;
+            uniforms(["u1", "u2", "u3", "u4"], [a, b, c, d])?;
             Ok(path_or_zero(
                 Units::new(view, st)?.sample_path(rho, [a, b, c, d]),
             ))

@@ -35,6 +35,22 @@ def test_bad_values_are_value_errors_naming_them(library, table):
         table.eval(0.5, 0.5, 1.0, 0.0, sigma_t=0.0)
     with pytest.raises(ValueError, match="do not broadcast"):
         table.eval([0.1, 0.2], [0.1, 0.2, 0.3], 1.0, 0.0)
+    # Every lookup of a channel refuses theta outside the table, pdf_theta included
+    green = library.channel("skin1", "g")
+    for call in (green.pdf_theta, green.effective_albedo, table.medium(0.5, 1.0).pdf_theta):
+        for bad in (np.nan, 2.0, -0.1):
+            with pytest.raises(ValueError, match="theta"):
+                call(bad)
+    # A sampler's uniforms are in [0, 1): NaN or beyond is a broken random stream, refused
+    for bad in (np.nan, 1.0, -0.5, 2.0):
+        with pytest.raises(ValueError, match=r"u2 = .* is outside \[0, 1\)"):
+            table.sample(0.5, 0.5, 0.5, bad)
+        with pytest.raises(ValueError, match=r"u1 = .* is outside \[0, 1\)"):
+            green.sample(0.5, bad, 0.5)
+        with pytest.raises(ValueError, match=r"u4 = .* is outside \[0, 1\)"):
+            table.sample_path(0.5, 0.1, 0.2, 0.3, bad)
+        with pytest.raises(ValueError, match=r"u3 = .* is outside \[0, 1\)"):
+            green.sample_path(0.1, 0.2, bad, 0.4)
     with pytest.raises(ValueError, match="skin1"):
         library.channel("marble", "r")
     with pytest.raises(ValueError, match="channel"):

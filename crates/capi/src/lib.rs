@@ -36,6 +36,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use bssrdf_runtime::embed::Rgb;
 use bssrdf_runtime::embed::{ChannelLookup, EmbedError, Library, PathSample, Sample};
+use bssrdf_runtime::error::Number;
 use bssrdf_runtime::format::FormatError;
 use bssrdf_runtime::table::TableRef;
 
@@ -479,24 +480,63 @@ pub unsafe extern "C" fn bssrdf_channel_get_info(
 }
 
 /// The failure of a lookup at θ outside `table`'s θ axis (evaluation, effective albedo,
-/// reflectance, angular factor): names θ and the axis, formatted without allocating.
+/// reflectance, angular factor): names θ and the θ the table takes
+/// ([`TableRef::theta_domain`]), formatted without allocating.
 #[cold]
 fn theta_outside(theta: f64, table: &TableRef<'_>) -> Failure {
-    let nodes = table.axes().theta().as_slice();
-    let (first, last) = (nodes[0], nodes[nodes.len() - 1]);
+    let [lo, hi] = table.theta_domain().map(Number);
     Failure::inline(
         BSSRDF_ERROR_OUT_OF_RANGE,
         format_args!(
-            "theta = {theta} rad is outside the table's theta axis [{first}, {last}] rad (a table is never extrapolated)"
+            "theta = {} rad is outside the table's theta axis [{lo}, {hi}] rad (a table is never extrapolated)",
+            Number(theta)
         ),
     )
 }
 
-/// The failure of a draw with nothing to sample.
-fn no_sample() -> Failure {
-    Failure::fixed(
-        BSSRDF_ERROR_NO_SAMPLE,
-        c"no sample: no energy stored for this medium at this theta, theta outside the table, or a radial uniform at 0 (the entry point itself, of infinite density per area)",
+/// The failure of a draw with nothing to sample, naming its cause, formatted without
+/// allocating: θ outside the table, u_r outside [0, 1), a NaN u_φ (`None` for the radial
+/// draw, which takes none), u_r at 0 (the entry point itself, of infinite density per area), or
+/// no energy stored for the medium (ρ′) at θ.
+#[cold]
+fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option<f64>) -> Failure {
+    let code = BSSRDF_ERROR_NO_SAMPLE;
+    let [lo, hi] = table.theta_domain().map(Number);
+    if !table.keeps_theta(theta) {
+        return Failure::inline(
+            code,
+            format_args!(
+                "no sample: theta = {} rad is outside the table's theta axis [{lo}, {hi}] rad",
+                Number(theta)
+            ),
+        );
+    }
+    if !(0.0..1.0).contains(&u_r) {
+        return Failure::inline(
+            code,
+            format_args!("no sample: u_r = {} is outside [0, 1)", Number(u_r)),
+        );
+    }
+    if u_phi.is_some_and(f64::is_nan) {
+        return Failure::inline(code, format_args!("no sample: u_phi is NaN"));
+    }
+    // Uniforms of 53 bits are 0 or at least 2^-53; below 1e-300 the draw is the entry point
+    if u_r < 1e-300 {
+        return Failure::inline(
+            code,
+            format_args!(
+                "no sample: u_r = {} draws the entry point itself (r = 0, of infinite density per area)",
+                Number(u_r)
+            ),
+        );
+    }
+    Failure::inline(
+        code,
+        format_args!(
+            "no sample: the table stores no energy for rho' = {} at theta = {} rad (none at rho' = 0 or beyond the critical angle)",
+            Number(rho),
+            Number(theta)
+        ),
     )
 }
 
@@ -573,9 +613,11 @@ pub unsafe extern "C" fn bssrdf_channel_sample(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
-        *out = lookup
-            .sample(theta, u_r, u_phi)
-            .ok_or_else(no_sample)?
+        *out = (lookup.sample(theta, u_r, u_phi))
+            .ok_or_else(|| {
+                let table = lookup.table().view();
+                no_sample(&table, lookup.rho_prime(), theta, u_r, Some(u_phi))
+            })?
             .into();
         Ok(())
     })

@@ -150,7 +150,10 @@ pub unsafe extern "C" fn bssrdf_table_sample(
     out_sample: *mut bssrdf_sample,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let sample = |m: MediumRef| Ok(m.sample(theta, u_r, u_phi).ok_or_else(no_sample)?.into());
+    let sample = |m: MediumRef| {
+        let failure = || no_sample(&m.table(), m.rho_prime(), theta, u_r, Some(u_phi));
+        Ok(m.sample(theta, u_r, u_phi).ok_or_else(failure)?.into())
+    };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_sample, c"out_sample is NULL"), sample) }
 }

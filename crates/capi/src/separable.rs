@@ -48,7 +48,10 @@ pub unsafe extern "C" fn bssrdf_channel_sample_radius(
     u: f64,
     out_sample: *mut bssrdf_radial_sample,
 ) -> c_int {
-    let sample = |h: &ChannelLookup| Ok(h.sample_radius(theta, u).ok_or_else(no_sample)?.into());
+    let sample = |h: &ChannelLookup| {
+        let failure = || no_sample(&h.table().view(), h.rho_prime(), theta, u, None);
+        Ok(h.sample_radius(theta, u).ok_or_else(failure)?.into())
+    };
     // SAFETY: the function's contract.
     unsafe { per_channel(channel, (out_sample, c"out_sample is NULL"), sample) }
 }
@@ -110,7 +113,10 @@ pub unsafe extern "C" fn bssrdf_table_sample_radius(
     out_sample: *mut bssrdf_radial_sample,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let sample = |m: MediumRef| Ok(m.sample_radius(theta, u).ok_or_else(no_sample)?.into());
+    let sample = |m: MediumRef| {
+        let failure = || no_sample(&m.table(), m.rho_prime(), theta, u, None);
+        Ok(m.sample_radius(theta, u).ok_or_else(failure)?.into())
+    };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_sample, c"out_sample is NULL"), sample) }
 }

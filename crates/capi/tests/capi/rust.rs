@@ -315,7 +315,7 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
         expect(
             status,
             BSSRDF_ERROR_OUT_OF_RANGE,
-            "theta = 1.7 rad is outside the table's theta axis [0, 1.5707963",
+            "theta = 1.7 rad is outside the table's theta axis [0, 1.5707964",
         );
         let status = bssrdf_channel_effective_albedo(red, f64::NAN, &mut value);
         expect(
@@ -324,6 +324,30 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
             "theta = NaN rad is outside",
         );
         let status = bssrdf_channel_sample(red, -0.5, 0.5, 0.5, &mut sample);
+        expect(
+            status,
+            BSSRDF_ERROR_NO_SAMPLE,
+            "no sample: theta = -0.5 rad is outside the table's theta axis [0, 1.5707964",
+        );
+        // A failed draw names its cause: a uniform a random stream cannot give, or u_r = 0
+        for (u_r, u_phi, cause) in [
+            (2.0, 0.5, "no sample: u_r = 2 is outside [0, 1)"),
+            (f64::NAN, 0.5, "no sample: u_r = NaN is outside [0, 1)"),
+            (0.5, f64::NAN, "no sample: u_phi is NaN"),
+            (0.0, 0.5, "no sample: u_r = 0 draws the entry point itself"),
+        ] {
+            let status = bssrdf_channel_sample(red, 0.3, u_r, u_phi, &mut sample);
+            expect(status, BSSRDF_ERROR_NO_SAMPLE, cause);
+        }
+        let mut radial = bssrdf_radial_sample { r: 0.0, pdf: 0.0 };
+        let status = bssrdf_channel_sample_radius(red, 0.3, -1.0, &mut radial);
+        expect(
+            status,
+            BSSRDF_ERROR_NO_SAMPLE,
+            "no sample: u_r = -1 is outside [0, 1)",
+        );
+        let status =
+            bssrdf_channel_sample_path(red, [0.5, 0.5, f64::NAN, 0.5].as_ptr(), &mut path_sample);
         expect(status, BSSRDF_ERROR_NO_SAMPLE, "no sample");
         assert_eq!(
             (value, sample),

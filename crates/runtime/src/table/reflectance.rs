@@ -68,9 +68,9 @@ pub enum ReflectanceError {
     Theta {
         /// θ asked for, radians.
         theta: f64,
-        /// First θ node, radians.
+        /// Smallest θ the table takes, radians ([`TableRef::theta_domain`]).
         min: f64,
-        /// Last θ node, radians.
+        /// Largest θ the table takes, radians.
         max: f64,
     },
     /// Nothing is reflected diffusely at θ, whatever ρ′: grazing incidence, or beyond the
@@ -133,12 +133,8 @@ impl TableRef<'_> {
         match (at(first), at(last)) {
             (Some(min), Some(max)) => Ok([min, max]),
             _ => {
-                let thetas = self.axes.theta().as_slice();
-                Err(ReflectanceError::Theta {
-                    theta,
-                    min: thetas[0],
-                    max: thetas[thetas.len() - 1],
-                })
+                let [min, max] = self.theta_domain();
+                Err(ReflectanceError::Theta { theta, min, max })
             }
         }
     }

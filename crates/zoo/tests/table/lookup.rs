@@ -637,6 +637,38 @@ fn round_trip_at(eta: f64) {
     }
 }
 
+/// A NaN uniform, or a radial one outside [0, 1), draws nothing (a broken random stream gives
+/// no plausible point), for one and two lobes, every sampler; a finite azimuthal uniform
+/// outside [0, 1] is clamped.
+#[test]
+fn a_nan_uniform_draws_nothing() {
+    let nan = f64::NAN;
+    for table in both_tables() {
+        let view = table.view();
+        let (rho, theta) = (0.9, 1.0);
+        assert!(view.sample(rho, theta, 0.5, 0.5).is_some());
+        for (u_r, u_phi) in [(nan, 0.5), (0.5, nan), (1.0, 0.5), (-0.5, 0.5), (2.0, 0.5)] {
+            assert!(
+                view.sample(rho, theta, u_r, u_phi).is_none(),
+                "{u_r} {u_phi}"
+            );
+            assert!(
+                view.sample_perpendicular(rho, u_r, u_phi).is_none(),
+                "{u_r} {u_phi}"
+            );
+        }
+        assert!(view.sample_radius(rho, theta, nan).is_none());
+        for k in 0..4 {
+            let mut u = [0.5; 4];
+            assert!(view.sample_path(rho, u).is_some());
+            u[k] = nan;
+            assert!(view.sample_path(rho, u).is_none(), "{u:?}");
+        }
+        let clamped = view.sample(rho, theta, 0.5, 1.5).unwrap();
+        assert_eq!(clamped, view.sample(rho, theta, 0.5, 1.0).unwrap());
+    }
+}
+
 #[test]
 fn invert_undoes_sample() {
     for table in both_tables() {

@@ -5,9 +5,12 @@ use super::*;
 
 impl TableRef<'_> {
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
-    /// energy there (ρ′ = 0, light beyond the critical angle) or (ρ′, θ) is outside the axes.
+    /// energy there (ρ′ = 0, light beyond the critical angle), (ρ′, θ) is outside the axes,
+    /// u_r is outside [0, 1) or draws the entry point (u_r = 0 on every baked table, where the
+    /// density is infinite), or u_φ is NaN: a broken random stream draws nothing rather than
+    /// a plausible point. A finite u_φ outside [0, 1] is clamped into it.
     pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        if !self.light_enters(theta) {
+        if !self.light_enters(theta) || u_phi.is_nan() {
             return None;
         }
         self.with_slice(rho, theta, |s| self.sample_slice(s, u_r, u_phi))?
@@ -135,8 +138,12 @@ impl TableRef<'_> {
             .unwrap_or_else(|| self.cdf(s, k))
     }
 
-    /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform.
+    /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform. `None` as
+    /// [`TableRef::sample`] (a NaN uniform included).
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
+        if u_phi.is_nan() {
+            return None;
+        }
         let radial = self.with_slice(rho, 0.0, |s| self.radius_draw(s, u_r))??;
         let phi = uniform_azimuth(u_phi);
         Some(Sample {
@@ -147,8 +154,11 @@ impl TableRef<'_> {
     }
 
     /// Path-tracing draw (algorithm 3): θ from ρ_eff(ρ′, ·), then (r, φ), then φ′ uniform.
-    /// `None` without the θ-sampling table or where no energy is stored.
+    /// `None` without the θ-sampling table, where no energy is stored or for a NaN uniform.
     pub fn sample_path(&self, rho: f64, u: [f64; 4]) -> Option<PathSample> {
+        if u.iter().any(|u| u.is_nan()) {
+            return None;
+        }
         let theta_cdf = self.theta_cdf?;
         let w_rho = self.axes.rho.weights(rho)?;
         let (_, n_theta, n_r) = self.axes.dims();
