@@ -300,6 +300,7 @@ impl Channel {
         let domain = Domain::of(&self.lookup.table().view());
         let [value] = points::map(py, ["theta", "r", "phi"], args, |point| {
             domain.theta(point[0])?;
+            Domain::exit(point[1], point[2])?;
             Ok([lookup(&self.lookup, point)])
         })?;
         Ok(value)

@@ -57,6 +57,7 @@ impl Table {
         let args = [rho, theta, r, phi, &st];
         let [value] = points::map(py, EVAL_NAMES, args, |[rho, t, r, p, st]| {
             domain.point(rho, t)?;
+            Domain::exit(r, p)?;
             Ok([lookup(Units::new(view, st)?, [rho, t, r, p])])
         })?;
         Ok(value)
@@ -160,6 +161,25 @@ impl Domain {
             Ok(_) => format!("{name} = {value} is outside {what}"),
             Err(e) => format!("{e}, {what}"),
         })
+    }
+
+    /// Refuses an exit point no lookup can mean: r NaN, negative or infinite, φ not finite
+    /// (the command line's domains; beyond the last radius node the value is 0, a value).
+    #[inline]
+    pub fn exit(r: f64, phi: f64) -> Result<(), String> {
+        if !(r.is_finite() && r >= 0.0) {
+            return Err(format!(
+                "r = {} is outside [0, inf): a finite distance",
+                bssrdf_zoo::error::number(r)
+            ));
+        }
+        if !phi.is_finite() {
+            return Err(format!(
+                "phi = {} is not a finite angle",
+                bssrdf_zoo::error::number(phi)
+            ));
+        }
+        Ok(())
     }
 
     /// Refuses (ρ′, θ) outside the table.

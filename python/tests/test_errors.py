@@ -41,6 +41,20 @@ def test_bad_values_are_value_errors_naming_them(library, table):
         for bad in (np.nan, 2.0, -0.1):
             with pytest.raises(ValueError, match="theta"):
                 call(bad)
+    # An exit point no lookup can mean: r NaN, negative or infinite, phi not finite
+    for r, phi, needle in [
+        (np.nan, 0.0, "r = NaN"),
+        (-1.0, 0.0, "r = -1"),
+        (np.inf, 0.0, "r = inf"),
+        (1.0, np.nan, "phi = NaN"),
+        (1.0, -np.inf, "phi = -inf"),
+    ]:
+        for call in (table.eval, table.pdf):
+            with pytest.raises(ValueError, match=needle):
+                call(0.5, 0.5, r, phi)
+        with pytest.raises(ValueError, match=needle):
+            green.eval(0.5, r, phi)
+    assert table.eval(0.5, 0.5, 1e6, 0.0) == 0.0  # beyond the last radius node: a value, 0
     # A sampler's uniforms are in [0, 1): NaN or beyond is a broken random stream, refused
     for bad in (np.nan, 1.0, -0.5, 2.0):
         with pytest.raises(ValueError, match=r"u2 = .* is outside \[0, 1\)"):
