@@ -12,8 +12,9 @@ use std::process::ExitCode;
 pub struct PackArgs {
     #[command(flatten)]
     files: UnpackArgs,
-    /// zstd level, in zstd's range (1..=22, and its fast negative levels down to -131072).
-    #[arg(long, default_value_t = Compression::DEFAULT_ZSTD_LEVEL)]
+    /// zstd level in [-131072, 22]: 1 to 22 from fast to small, 0 zstd's default (3), the
+    /// negative ones faster still.
+    #[arg(long, default_value_t = Compression::DEFAULT_ZSTD_LEVEL, allow_hyphen_values = true)]
     level: i32,
 }
 
@@ -28,6 +29,15 @@ pub struct UnpackArgs {
 }
 
 pub fn pack(args: PackArgs) -> Result<ExitCode, CliError> {
+    let levels = bssrdf_zoo::format::zstd_levels();
+    if !levels.contains(&args.level) {
+        return Err(CliError::input(format!(
+            "--level {} is outside the valid range: [{}, {}]",
+            args.level,
+            levels.start(),
+            levels.end()
+        )));
+    }
     convert(&args.files, Some(args.level))
 }
 
@@ -38,6 +48,21 @@ pub fn unpack(args: UnpackArgs) -> Result<ExitCode, CliError> {
 /// Packs at `level`, or unpacks without one.
 fn convert(args: &UnpackArgs, level: Option<i32>) -> Result<ExitCode, CliError> {
     let output = args.output.clone().unwrap_or_else(|| args.file.clone());
+    if output == args.file {
+        // In place: FILE is replaced through a temporary file, which needs a path to a regular
+        // file. Through a descriptor (`/dev/stdin` redirected from the file, or a pipe) the
+        // output would be written into the input it is read from.
+        if bssrdf_zoo::format::through_descriptor(&args.file)
+            || !std::fs::metadata(&args.file).is_ok_and(|m| m.is_file())
+        {
+            return Err(CliError::input(format!(
+                "FILE {} is not a regular file that can be rewritten in place (a stream or a descriptor): give the output with -o",
+                args.file.display()
+            )));
+        }
+    } else {
+        super::output::check(&[("-o", &output)], &[("FILE", &args.file)])?;
+    }
     let done = match level {
         Some(level) => format::pack(&args.file, &output, level),
         None => format::unpack(&args.file, &output),

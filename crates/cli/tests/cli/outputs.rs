@@ -250,6 +250,62 @@ fn dev_stdout_is_written_through_on_a_pipe_and_on_a_file() {
     assert_eq!(v["bytes"].as_u64(), Some(size), "{o}");
 }
 
+/// pack and unpack rewrite FILE in place through a temporary file; never through a descriptor
+/// that leads to the input (it would be written into itself, and a pipe would never end), and
+/// an -o that is the input is refused as for every command.
+#[cfg(unix)]
+#[test]
+fn pack_and_unpack_never_write_into_their_input() {
+    let dir = bare();
+    let d = dir.path();
+    let original = std::fs::read(d.join("t.bssrdf")).unwrap();
+    for (script, needle) in [
+        (
+            "$B pack /dev/stdin < t.bssrdf",
+            "FILE /dev/stdin is not a regular file that can be rewritten in place",
+        ),
+        (
+            "cat t.bssrdf | $B unpack /dev/stdin",
+            "FILE /dev/stdin is not a regular file",
+        ),
+        (
+            "$B unpack t.bssrdf -o /dev/stdout >> t.bssrdf",
+            "-o /dev/stdout is the input FILE t.bssrdf",
+        ),
+        (
+            "$B pack t.bssrdf -o /dev/fd/3 3>> t.bssrdf",
+            "-o /dev/fd/3 is the input FILE t.bssrdf",
+        ),
+        (
+            "$B pack t.bssrdf -o ./t.bssrdf",
+            "-o ./t.bssrdf is the input",
+        ),
+        (
+            "$B pack no-such.bssrdf --level 99",
+            "--level 99 is outside the valid range: [-131072, 22]",
+        ),
+    ] {
+        let out = shell(d, script);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{script}: {stderr}");
+        assert!(stderr.contains(needle), "{script}: {stderr}");
+        assert_eq!(
+            std::fs::read(d.join("t.bssrdf")).unwrap(),
+            original,
+            "{script}"
+        );
+    }
+    // In place, and to a stream, still work
+    let round = shell(d, "$B pack t.bssrdf --level -3 && $B unpack t.bssrdf -o /dev/stdout > u.bssrdf && $B unpack t.bssrdf");
+    assert!(
+        round.status.success(),
+        "{}",
+        String::from_utf8_lossy(&round.stderr)
+    );
+    assert_eq!(std::fs::read(d.join("t.bssrdf")).unwrap(), original);
+    assert_eq!(std::fs::read(d.join("u.bssrdf")).unwrap(), original);
+}
+
 #[cfg(unix)]
 #[test]
 fn a_replaced_file_keeps_its_mode_and_a_new_one_gets_the_umask() {

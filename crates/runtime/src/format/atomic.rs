@@ -109,6 +109,13 @@ fn in_fd_folder(path: &Path) -> bool {
         || (dir.starts_with("/proc") && dir.file_name().is_some_and(|n| n == "fd"))
 }
 
+/// Whether `path` leads, through its symbolic links, into a folder of open file descriptors
+/// (`/dev/stdin`, `/dev/fd/3`, `/proc/self/fd/1`): a descriptor the command inherited, written
+/// through rather than replaced. `false` where the links cannot be followed.
+pub fn through_descriptor(path: &Path) -> bool {
+    follow_links(path).is_ok_and(|(_, through)| through)
+}
+
 /// The path a chain of symbolic links ends at (which may not exist yet), and whether the
 /// chain passes through a file-descriptor folder (then that path means nothing on its own).
 fn follow_links(path: &Path) -> FormatResult<(PathBuf, bool)> {

@@ -41,11 +41,13 @@ mod records;
 pub mod spec;
 mod writer;
 
-pub use atomic::{check_writable, write_file_atomic};
+pub use atomic::{check_writable, through_descriptor, write_file_atomic};
 pub use error::{FormatError, FormatResult};
 pub use library::{Library, Table};
 pub use provenance::{json_number, Provenance, KEY_ACCURACY};
 pub use reader::{SectionInfo, Verify};
 pub use records::{AlbedoRange, Material, TableHeader, CHANNELS};
 pub use spec::{AxisKind, Codec, Dtype, FresnelMoments, ModelKind, SectionKind};
-pub use writer::{pack, unpack, Compression, Conversion, ExtraSection, LibraryBuilder, TableData};
+pub use writer::{
+    pack, unpack, zstd_levels, Compression, Conversion, ExtraSection, LibraryBuilder, TableData,
+};

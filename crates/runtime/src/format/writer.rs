@@ -482,9 +482,11 @@ fn layout(
         Compression::None => None,
         Compression::Zstd { level } => {
             if !zstd::compression_level_range().contains(&level) {
+                let levels = zstd_levels();
                 return Err(invalid(format!(
-                    "zstd level {level} is outside {:?}",
-                    zstd::compression_level_range()
+                    "zstd level {level} is outside [{}, {}]",
+                    levels.start(),
+                    levels.end()
                 )));
             }
             let zstd_error = |e: std::io::Error| invalid(format!("zstd level {level}: {e}"));
@@ -577,6 +579,11 @@ fn convert(input: &Path, output: &Path, compression: Compression) -> FormatResul
         input_bytes: library.file_size() as u64,
         output_bytes: bytes.len() as u64,
     })
+}
+
+/// The zstd levels [`pack`] takes: from the fast negative levels to 22.
+pub fn zstd_levels() -> std::ops::RangeInclusive<i32> {
+    zstd::compression_level_range()
 }
 
 /// Rewrites `input` with every section zstd-compressed at `level` into `output` (which may be
