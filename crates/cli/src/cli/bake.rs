@@ -313,11 +313,9 @@ pub(super) fn check_output(args: &BakeArgs, output: &Path) -> Result<(), CliErro
         inputs.push(("--materials", file.as_path()));
     }
     super::output::check(&[("-o", output)], &inputs)?;
-    if args.json && super::output::is_stream_of(output, "/dev/stdout") {
-        return Err(CliError::input(format!(
-            "-o {} is stdout, where --json writes its summary: the library would be mixed with it; drop --json or write the library elsewhere",
-            output.display()
-        )));
+    if args.json {
+        let instead = "drop --json or write the library elsewhere";
+        super::output::not_on_stdout("-o", output, "its --json summary", instead)?;
     }
     // A new *.toml in the --materials folder would be read as a material file by later runs
     if let Some(dir) = args.materials.as_deref().filter(|m| m.is_dir()) {

@@ -257,6 +257,15 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         }
         _ => (args.choice.eta.unwrap_or(1.33), None),
     };
+    if model == ModelKind::MonteCarlo {
+        if let Some(m) = args.fresnel_moments {
+            return Err(CliError::input(format!(
+                "--fresnel-moments {} applies to the diffusion models, not to mc: the walk takes the exact Fresnel reflectance at every crossing",
+                m.to_possible_value()
+                    .map_or(String::new(), |v| v.get_name().to_owned())
+            )));
+        }
+    }
     let authors = args.fresnel_moments == Some(EvalMomentsArg::Authors);
     if authors && model != ModelKind::Dirpole {
         return Err(CliError::input(format!(
@@ -292,7 +301,11 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         serde_json::json!({
             "model": model.name(),
             "eta": eta,
-            "fresnel_moments": if authors { "authors" } else { moments.name() },
+            "fresnel_moments": match (model, authors) {
+                (ModelKind::MonteCarlo, _) => None,
+                (_, true) => Some("authors"),
+                _ => Some(moments.name()),
+            },
             "quadrature": (model == ModelKind::Pbd).then_some(rule_name(rule)),
             "rho": p.rho,
             "theta_deg": p.theta_deg,

@@ -59,6 +59,18 @@ pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), 
     Ok(())
 }
 
+/// Refuses an output that is the command's stdout when the command prints `prints` there too:
+/// the file would be mixed with it. `instead` says how to avoid it.
+pub fn not_on_stdout(what: &str, path: &Path, prints: &str, instead: &str) -> Result<(), CliError> {
+    if is_stream_of(path, "/dev/stdout") {
+        return Err(CliError::input(format!(
+            "{what} {} is stdout, where the command writes {prints}: the file would be mixed with it; {instead}",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
 /// Whether `path` is the file a standard stream (`/dev/stdout`, `/dev/stderr`) leads to: the
 /// same device and inode, whatever the path's spelling (`/dev/fd/2`, `/proc/self/fd/2`).
 pub fn is_stream_of(path: &Path, stream: &str) -> bool {

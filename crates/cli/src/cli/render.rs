@@ -328,6 +328,10 @@ fn check_outputs(args: &RenderArgs) -> Result<(), CliError> {
     for file in &material_files {
         inputs.push(("--materials", file.as_path()));
     }
+    for (what, path) in &outputs {
+        let instead = "write the picture to a file";
+        super::output::not_on_stdout(what, path, "its summary", instead)?;
+    }
     super::output::check(&outputs, &inputs)
 }
 

@@ -660,6 +660,12 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         2,
         "expected 4 comma-separated numbers",
     );
+    // The bins shape the profile, which only --profile or --json writes
+    fails_with(
+        &bssrdf(d, &["walk", "--albedo", "0.9", "--bins", "0.01,100,10,4"]),
+        2,
+        "--bins sets the bins of the profile, which only --profile or --json writes",
+    );
     // Below eta = 1, incidences beyond the critical angle are refused in degrees, by flag
     fails_with(
         &bssrdf(
@@ -1036,7 +1042,43 @@ fn render_refuses_flags_it_would_ignore() {
                 &["bake", "--eta", "1.33", "-q", "--json", "-o", "/dev/stdout"],
             ),
             2,
-            "-o /dev/stdout is stdout, where --json writes its summary",
+            "-o /dev/stdout is stdout, where the command writes its --json summary",
+        );
+        // walk and render always print their summary on stdout
+        fails_with(
+            &bssrdf(
+                d,
+                &[
+                    "walk",
+                    "--albedo",
+                    "0.9",
+                    "--photons",
+                    "100",
+                    "--profile",
+                    "/dev/stdout",
+                ],
+            ),
+            2,
+            "--profile /dev/stdout is stdout, where the command writes its summary",
+        );
+        fails_with(
+            &bssrdf(
+                d,
+                &[
+                    "render",
+                    "--preset",
+                    "figure-10",
+                    "--theta",
+                    "30",
+                    "--photons",
+                    "100",
+                    "--no-preview",
+                    "-o",
+                    "/dev/stdout",
+                ],
+            ),
+            2,
+            "-o /dev/stdout is stdout, where the command writes its summary",
         );
     }
     // Outputs that cannot be written are refused before the work: a path ending in /, one

@@ -265,6 +265,23 @@ fn dirpole_authors_fits_are_reachable() {
         2,
         "--fresnel-moments authors is the dirpole model's only",
     );
+    // The walk takes no moments: any is refused, and --json says null
+    for moments in ["exact", "pbrt"] {
+        fails_with(
+            &bssrdf(
+                d,
+                &[
+                    &["eval", "--model", "mc", "--fresnel-moments", moments][..],
+                    &at,
+                ]
+                .concat(),
+            ),
+            2,
+            &format!("--fresnel-moments {moments} applies to the diffusion models, not to mc"),
+        );
+    }
+    let walk = json(&bssrdf(d, &[&["eval", "--model", "mc"][..], &at].concat()));
+    assert!(walk["fresnel_moments"].is_null(), "{walk}");
 }
 
 #[test]
