@@ -134,7 +134,7 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     } else {
         let photons = result.photons();
         let show =
-            |name: &str, e: walk::Estimate| format!("{name:<22} {}", estimate_text(e, photons));
+            |name: &str, e: walk::Estimate| format!("{name:<25} {}", estimate_text(e, photons));
         writeln!(
             out,
             "{}",
@@ -150,8 +150,15 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
             "{}",
             show("multiple scattering", result.multiple_reflectance())
         )?;
+        // A slab: light that crossed it without scattering, after a reflection at its far
+        // side or through it (the totals include it; a half-space returns none)
         if let Some(t) = result.total_transmittance() {
+            let unscattered = result.reflectance(walk::Component::Unscattered);
+            writeln!(out, "{}", show("unscattered reflectance", unscattered))?;
             writeln!(out, "{}", show("total transmittance", t))?;
+            if let Some(u) = result.transmittance(walk::Component::Unscattered) {
+                writeln!(out, "{}", show("unscattered transmittance", u))?;
+            }
         }
         writeln!(
             out,
@@ -166,18 +173,25 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// An estimate and its standard error as text: six decimals, or in exponent form below 10⁻³
-/// (where six decimals would print a nonzero value as 0). An estimate no photon scored is 0
-/// with no spread; its error bar is then the 95 % upper bound 3/N (the "rule of three"), said
-/// as such rather than "0 ± 0".
+/// An estimate and its standard error as text, each with six decimals, or in exponent form
+/// below 10⁻³ (where six decimals would print a nonzero value as 0). An estimate no photon
+/// scored is 0 with no spread; its error bar is then the 95 % upper bound 3/N (the "rule of
+/// three"), said as such rather than "0 ± 0". A spread of exactly 0 (every photon scored the
+/// same) prints as 0.
 fn estimate_text(e: walk::Estimate, photons: u64) -> String {
     if e.value == 0.0 && e.stderr == 0.0 {
         let bound = (3.0 / photons as f64).min(1.0);
         return format!("0 (no photon scored; below {bound:.1e} at 95 %)");
     }
-    if e.value.abs() >= 1e-3 {
-        format!("{:.6} ± {:.6}", e.value, e.stderr)
+    let value = if e.value.abs() >= 1e-3 {
+        format!("{:.6}", e.value)
     } else {
-        format!("{:.4e} ± {:.1e}", e.value, e.stderr)
-    }
+        format!("{:.4e}", e.value)
+    };
+    let stderr = if e.stderr == 0.0 || e.stderr >= 1e-3 {
+        format!("{:.6}", e.stderr)
+    } else {
+        format!("{:.1e}", e.stderr)
+    };
+    format!("{value} ± {stderr}")
 }

@@ -634,6 +634,59 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
     let multiple = dark.lines().find(|l| l.starts_with("multiple")).unwrap();
     let (value, error) = multiple.split_once(" ± ").expect(&dark);
     assert!(value.contains("e-") && error.contains("e-"), "{dark}");
+    // A small standard error beside a large value keeps its digits too
+    let thin = ok(&bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "0",
+            "--photons",
+            "20000",
+            "--slab",
+            "1e-9",
+        ],
+    ));
+    let total = thin
+        .lines()
+        .find(|l| l.starts_with("total reflectance"))
+        .unwrap();
+    let (_, error) = total.split_once(" ± ").expect(&thin);
+    assert!(error.contains("e-"), "{thin}");
+    // A slab's lines add up: total = single + multiple + unscattered, each printed
+    let slab_text = ok(&bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "0.9",
+            "--photons",
+            "20000",
+            "--slab",
+            "0.5",
+        ],
+    ));
+    let value = |name: &str| -> f64 {
+        let line = slab_text
+            .lines()
+            .find(|l| l.starts_with(name))
+            .expect(&slab_text);
+        line[name.len()..]
+            .split(" ± ")
+            .next()
+            .unwrap()
+            .trim()
+            .parse()
+            .unwrap()
+    };
+    let parts = value("single scattering")
+        + value("multiple scattering")
+        + value("unscattered reflectance");
+    assert!(
+        (value("total reflectance") - parts).abs() < 3e-6,
+        "{slab_text}"
+    );
+    assert!(value("unscattered transmittance") > 0.0, "{slab_text}");
     let slab: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
         d,
         &[
