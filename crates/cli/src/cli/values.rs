@@ -18,12 +18,6 @@ pub fn show_deg(v: f64) -> String {
     show((v * 1000.0).round() / 1000.0)
 }
 
-/// An upper bound in degrees as messages print it: rounded down to 3 decimals, so that the
-/// printed value itself lies within the bound (the critical angle asin η).
-pub fn show_deg_below(v: f64) -> String {
-    show((v * 1000.0).floor() / 1000.0)
-}
-
 /// An azimuth in degrees as radians, reduced to [−180°, 180°] first: whole turns are exact in
 /// degrees but not after multiplying by π/180 (360° would become sin φ = −2.4e-16, not 0).
 pub fn azimuth_radians(phi_deg: f64) -> f64 {

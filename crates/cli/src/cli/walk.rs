@@ -21,7 +21,8 @@ pub struct WalkArgs {
     /// Relative index of refraction η (medium over outside), in [0.75, 2.5].
     #[arg(long, default_value_t = 1.33)]
     eta: f64,
-    /// Incidence angle θ before refraction, degrees in [0, 90).
+    /// Incidence angle θ before refraction, degrees in [0, 90] (at 90°, the limit of grazing
+    /// light: the walk counts per unit power entering).
     #[arg(long, default_value_t = 0.0)]
     theta: f64,
     /// Number of photons entering the medium, ≥ 2 (a standard error needs two).
@@ -59,10 +60,11 @@ fn parse_bins(text: &str) -> Result<[f64; 4], String> {
 }
 
 pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
-    super::check_range("--theta", args.theta, 0.0..90.0)?;
+    super::check_range("--theta", args.theta, 0.0..=90.0)?;
     // Below η = 1 no light enters beyond the critical angle (the walk's own check, in degrees)
     if (0.75..1.0).contains(&args.eta) && args.theta.to_radians().sin() > args.eta {
-        let critical = super::values::show_deg_below(args.eta.asin().to_degrees());
+        // In full: the stated range is the one checked (rounded, it would be narrower)
+        let critical = super::show(args.eta.asin().to_degrees());
         return Err(CliError::input(format!(
             "--theta {} is outside the valid range at --eta {}: [0, {critical}] deg, below the critical angle asin(eta) (beyond it no light enters)",
             super::show(args.theta),

@@ -69,6 +69,17 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
             .iter()
             .map(|c| parse_case(c))
             .collect::<Result<_, _>>()?;
+        for (k, case) in config.cases.iter().enumerate() {
+            if let Some(first) = config.cases[..k].iter().position(|c| c == case) {
+                return Err(CliError::input(format!(
+                    "--cases lists {}:{} twice (at positions {} and {}); give each case once",
+                    super::show(case.0),
+                    super::show(case.1),
+                    first + 1,
+                    k + 1
+                )));
+            }
+        }
     }
     check_critical(&args, &config.cases)?;
     super::check_threads(args.threads)?;
@@ -145,8 +156,9 @@ fn check_critical(args: &ZooArgs, cases: &[(f64, f64)]) -> Result<(), CliError> 
             super::show(rho),
             super::show(theta),
             super::show(args.eta),
-            super::values::show_deg_below(critical),
-            super::values::show_deg_below(critical),
+            // In full: the stated range is the one checked (rounded, it would be narrower)
+            super::show(critical),
+            super::show(critical),
         ))),
         None => Ok(()),
     }

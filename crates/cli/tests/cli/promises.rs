@@ -719,6 +719,24 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         2,
         "--bins sets the bins of the profile, which only --profile or --json writes",
     );
+    // At 90° the walk gives the grazing limit per unit power entering, as zoo and eval's mc
+    let grazing = json(&bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "0.9",
+            "--theta",
+            "90",
+            "--photons",
+            "2000",
+            "--json",
+        ],
+    ));
+    assert!(
+        grazing["total_reflectance"].as_f64().unwrap() > 0.0,
+        "{grazing}"
+    );
     // Below eta = 1, incidences beyond the critical angle are refused in degrees, by flag
     fails_with(
         &bssrdf(
@@ -726,7 +744,7 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
             &["walk", "--albedo", "0.5", "--eta", "0.75", "--theta", "60"],
         ),
         2,
-        "--theta 60 is outside the valid range at --eta 0.75: [0, 48.59] deg",
+        "--theta 60 is outside the valid range at --eta 0.75: [0, 48.590377890729144] deg",
     );
     fails_with(
         &bssrdf(d, &["zoo", "-q", "--eta", "0.75"]),
@@ -740,6 +758,33 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         ),
         2,
         "the --cases case 0.9:50 lies beyond the critical angle",
+    );
+    fails_with(
+        &bssrdf(d, &["zoo", "-q", "--cases", "0.9:0,0.5:60,0.9:0"]),
+        2,
+        "--cases lists 0.9:0 twice (at positions 1 and 3)",
+    );
+    // A row with no bin precise enough says why, in the table's notes and in --json
+    let few = [
+        "zoo",
+        "-q",
+        "--photons",
+        "200",
+        "--models",
+        "dipole",
+        "--cases",
+        "0.9:0",
+    ];
+    let table = ok(&bssrdf(d, &few));
+    assert!(
+        table.contains("dipole at ρ′ 0.9, θ 0°: no bin of the walk"),
+        "{table}"
+    );
+    let report = json(&bssrdf(d, &[&few[..], &["--json"]].concat()));
+    let note = &report["rows"][0]["note"];
+    assert!(
+        note.as_str().is_some_and(|n| n.contains("raise --photons")),
+        "{report}"
     );
     // An output that cannot be written is refused before the work (10⁸ photons would take
     // minutes), and named once

@@ -23,7 +23,7 @@ fn large_values_print_short_and_eta_has_its_domain() {
         ),
         (
             vec!["walk", "--albedo", "0.5", "--theta", "1e308"],
-            "--theta 1e308 is outside the valid range: [0, 90)",
+            "--theta 1e308 is outside the valid range: [0, 90]",
         ),
         (
             vec!["validate", "t.bssrdf", "--max-mean-error", "-1e308"],

@@ -163,7 +163,8 @@ pub struct Row {
     pub total_rel_err: Option<f64>,
     /// Mean evaluation time on the bin centres, nanoseconds.
     pub ns_per_eval: Option<f64>,
-    /// Why the model is missing, if it could not be built.
+    /// Why the row has no error figures: the model could not be built, or no bin of the
+    /// walk was precise enough to compare with.
     pub note: Option<String>,
 }
 
@@ -486,6 +487,11 @@ fn evaluate_model(
     if count > 0 {
         row.mean_rel_err = Some(sum / count as f64);
         row.max_rel_err = Some(max);
+    } else {
+        row.note = Some(format!(
+            "no bin of the walk was known to {} % (relative standard error) to compare with: raise --photons",
+            100.0 * res.max_rel_stderr
+        ));
     }
     let total = model
         .effective_albedo(theta)
@@ -638,6 +644,14 @@ impl CompareReport {
                 r.total_rel_err
                     .map_or("–".to_owned(), |t| format!("{:+.1}", 100.0 * t)),
                 r.ns_per_eval.map_or("–".to_owned(), |t| format!("{t:.0}")),
+            ));
+        }
+        // Why a row has no figures, under the table
+        for r in self.rows.iter().filter(|r| r.note.is_some()) {
+            let note = r.note.as_deref().unwrap_or_default();
+            out.push_str(&format!(
+                "\n{} at ρ′ {}, θ {}°: {note}\n",
+                r.model, r.rho, r.theta_deg
             ));
         }
         out
