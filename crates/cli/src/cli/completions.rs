@@ -82,12 +82,6 @@ fn main_page() -> Result<Vec<u8>, CliError> {
     Ok(page)
 }
 
-/// Writes one page into `dir` through the safe writer (no torn page, no device replaced).
-fn write_page(dir: &std::path::Path, name: &str, bytes: &[u8]) -> Result<(), CliError> {
-    bssrdf_zoo::format::write_file_atomic(&dir.join(name), bytes)
-        .map_err(|e| CliError::input(format!("cannot write man pages to {}: {e}", dir.display())))
-}
-
 pub fn man(args: ManArgs) -> Result<ExitCode, CliError> {
     let page = main_page()?;
     match args.dir {
@@ -95,16 +89,34 @@ pub fn man(args: ManArgs) -> Result<ExitCode, CliError> {
             let fail = |e: std::io::Error| {
                 CliError::input(format!("cannot write man pages to {}: {e}", dir.display()))
             };
-            std::fs::create_dir_all(&dir).map_err(fail)?;
+            if dir.exists() && !dir.is_dir() {
+                return Err(CliError::input(format!(
+                    "--dir {} is not a folder for the pages",
+                    dir.display()
+                )));
+            }
+            // Every page rendered and every path checked before the first is written: a page
+            // that cannot be written stops the command before it leaves half a set
             let mut cmd = Cli::command().disable_help_subcommand(true);
             cmd.build();
             // clap's own bssrdf.1 lacks the exit codes: ours replaces it.
-            write_page(&dir, "bssrdf.1", &page)?;
+            let mut pages = vec![(dir.join("bssrdf.1"), page)];
             for sub in cmd.get_subcommands().filter(|s| !s.is_hide_set()) {
                 let man = clap_mangen::Man::new(sub.clone());
                 let mut bytes = Vec::new();
                 man.render(&mut bytes).map_err(fail)?;
-                write_page(&dir, &man.get_filename(), &bytes)?;
+                pages.push((dir.join(man.get_filename()), bytes));
+            }
+            std::fs::create_dir_all(&dir).map_err(fail)?;
+            let outputs: Vec<(&str, &std::path::Path)> = pages
+                .iter()
+                .map(|(path, _)| ("the page", path.as_path()))
+                .collect();
+            super::output::check(&outputs, &[])?;
+            for (path, bytes) in &pages {
+                // The safe writer: no torn page, no device replaced
+                bssrdf_zoo::format::write_file_atomic(path, bytes)
+                    .map_err(|e| CliError::input(format!("cannot write a man page: {e}")))?;
             }
         }
         None => {

@@ -356,6 +356,30 @@ fn man_pages_are_written_by_the_safe_writer() {
         2,
         "bssrdf-eval.1: it is a folder, not a regular file",
     );
+    // ... before any page is written: in a new folder, nothing is left behind
+    std::fs::create_dir_all(d.join("fresh/bssrdf-zoo.1")).unwrap();
+    fails_with(
+        &bssrdf(d, &["man", "--dir", "fresh"]),
+        2,
+        "bssrdf-zoo.1: it is a folder",
+    );
+    let left: Vec<_> = std::fs::read_dir(d.join("fresh")).unwrap().collect();
+    assert_eq!(left.len(), 1, "{left:?}");
+    // A link into a missing folder, and a --dir that is a file, are refused the same way
+    std::fs::create_dir(d.join("links")).unwrap();
+    std::os::unix::fs::symlink("/nonexistent/dir/x", d.join("links/bssrdf-walk.1")).unwrap();
+    fails_with(
+        &bssrdf(d, &["man", "--dir", "links"]),
+        2,
+        "its folder /nonexistent/dir does not exist",
+    );
+    assert_eq!(std::fs::read_dir(d.join("links")).unwrap().count(), 1);
+    std::fs::write(d.join("plain"), "x").unwrap();
+    fails_with(
+        &bssrdf(d, &["man", "--dir", "plain"]),
+        2,
+        "--dir plain is not a folder for the pages",
+    );
 }
 
 #[cfg(unix)]

@@ -36,7 +36,9 @@
 //! The result depends on the grid the curve comes from (the coarse grid's ρ_eff differs from
 //! the default grid's by ~1e-4), so a bake inverts with the curve of the table it bakes.
 
+use crate::error::Number;
 use crate::fresnel::Moments;
+use crate::medium::{SIGMA_T_MAX, SIGMA_T_MIN};
 use crate::table::{
     bake_rows_lobes, AngularTable, Axes, Grid, Lobes, ReflectanceError, SubsetError, TableRef,
 };
@@ -54,8 +56,16 @@ pub enum ArtistError {
     /// A reflectance is NaN or outside [0, 1].
     #[error("reflectance[{channel}] = {value} is outside [0, 1]")]
     Reflectance { channel: &'static str, value: f64 },
-    /// A mean free path is not a finite number > 0.
-    #[error("mfp[{channel}] = {value} mm must be a finite number > 0")]
+    /// A mean free path outside [1e-12, 1e9] mm (σt = 1/mfp outside the media's [1e-9, 1e12]
+    /// mm⁻¹), or NaN.
+    #[error(
+        "mfp[{channel}] = {} mm is outside [{}, {}] mm (sigma_t = 1/mfp within [{}, {}] /mm)",
+        Number(*value),
+        Number(MFP_MIN),
+        Number(MFP_MAX),
+        Number(SIGMA_T_MIN),
+        Number(SIGMA_T_MAX)
+    )]
     Mfp { channel: &'static str, value: f64 },
     /// g is NaN or outside (−1, 1).
     #[error("g[{channel}] = {value} is outside (-1, 1)")]
@@ -262,8 +272,14 @@ impl ReflectanceCurve {
     }
 }
 
-/// Checks the artist's parameters without a curve: reflectance in [0, 1], mfp finite and > 0,
-/// g in (−1, 1), per channel; errors name the channel and the value.
+/// Shortest mean free path, mm: σt = 1/mfp at most [`SIGMA_T_MAX`] (1/[`SIGMA_T_MAX`]).
+pub const MFP_MIN: f64 = 1e-12;
+/// Longest mean free path, mm: σt = 1/mfp at least [`SIGMA_T_MIN`] (1/[`SIGMA_T_MIN`]).
+pub const MFP_MAX: f64 = 1e9;
+
+/// Checks the artist's parameters without a curve: reflectance in [0, 1], mfp in
+/// [[`MFP_MIN`], [`MFP_MAX`]] mm, g in (−1, 1), per channel; errors name the channel and the
+/// value.
 pub fn check(reflectance: [f64; 3], mfp: [f64; 3], g: [f64; 3]) -> Result<(), ArtistError> {
     for (c, channel) in CHANNELS.into_iter().enumerate() {
         if !(0.0..=1.0).contains(&reflectance[c]) {
@@ -272,7 +288,7 @@ pub fn check(reflectance: [f64; 3], mfp: [f64; 3], g: [f64; 3]) -> Result<(), Ar
                 value: reflectance[c],
             });
         }
-        if !(mfp[c].is_finite() && mfp[c] > 0.0) {
+        if !(MFP_MIN..=MFP_MAX).contains(&mfp[c]) {
             return Err(ArtistError::Mfp {
                 channel,
                 value: mfp[c],
@@ -371,7 +387,21 @@ mod tests {
     fn bad_artist_parameters_name_the_channel_and_value() {
         let c = curve();
         let err = c.diffuse([0.5; 3], [1.0, 0.0, 1.0], [0.0; 3]).unwrap_err();
-        assert_eq!(err.to_string(), "mfp[g] = 0 mm must be a finite number > 0");
+        assert_eq!(
+            err.to_string(),
+            "mfp[g] = 0 mm is outside [1e-12, 1e9] mm (sigma_t = 1/mfp within [1e-9, 1e12] /mm)"
+        );
+        // A value whose σt = 1/mfp would overflow names mfp, not the σs it would give
+        let err = c
+            .diffuse([0.5; 3], [1e-320, 1.0, 1.0], [0.0; 3])
+            .unwrap_err();
+        assert!(
+            err.to_string().starts_with("mfp[r] = 1e-320 mm is outside"),
+            "{err}"
+        );
+        // The ends are the media's σt range
+        assert_eq!(MFP_MIN, 1.0 / SIGMA_T_MAX);
+        assert!((MFP_MAX * SIGMA_T_MIN - 1.0).abs() < 1e-15);
         let err = c.diffuse([0.5; 3], [1.0; 3], [0.0, 0.0, 1.0]).unwrap_err();
         assert_eq!(err.to_string(), "g[b] = 1 is outside (-1, 1)");
         let err = c.diffuse([0.5, -0.1, 0.5], [1.0; 3], [0.0; 3]).unwrap_err();
