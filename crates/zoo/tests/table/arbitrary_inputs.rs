@@ -72,12 +72,13 @@ fn effective_albedo_is_never_negative() {
 }
 
 /// Regression: a NaN random number for a uniform azimuth (φ of the perpendicular model, φ′ of
-/// the path draw) gave a NaN azimuth; it now reads as 0, as the GWC sampler reads it.
+/// the path draw) gave a NaN azimuth, then φ = −π (read as 0): a broken random stream drew a
+/// plausible point. It now draws nothing.
 #[test]
-fn a_nan_random_number_gives_an_azimuth() {
+fn a_nan_random_number_draws_nothing() {
     let view = fixtures()[0].1.view();
-    let path = view.sample_path(0.5, [0.3, 0.4, 0.5, f64::NAN]).unwrap();
-    assert_eq!(path.phi_prime, -std::f64::consts::PI);
-    let s = view.sample_perpendicular(0.5, 0.4, f64::NAN).unwrap();
-    assert_eq!(s.phi, -std::f64::consts::PI);
+    assert!(view.sample_path(0.5, [0.3, 0.4, 0.5, 0.6]).is_some());
+    assert!(view.sample_path(0.5, [0.3, 0.4, 0.5, f64::NAN]).is_none());
+    assert!(view.sample_perpendicular(0.5, 0.4, 0.6).is_some());
+    assert!(view.sample_perpendicular(0.5, 0.4, f64::NAN).is_none());
 }
