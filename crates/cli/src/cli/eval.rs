@@ -100,6 +100,10 @@ struct Evaluator<'a> {
     boundary: Boundary,
     rule: Rule,
     table: Option<bssrdf_zoo::table::TableRef<'a>>,
+    /// The table's index in FILE, and the file's other tables of its η with the albedo rows
+    /// each keeps (for the refusal of a ρ′ the table does not keep).
+    index: usize,
+    siblings: Vec<(usize, [f64; 2])>,
     /// (ρ′, σ′t in mm⁻¹) of the chosen material channel: r is then in mm.
     material: Option<(f64, f64)>,
 }
@@ -124,11 +128,28 @@ impl Evaluator<'_> {
         }
         match (self.model, &self.table) {
             (ModelKind::Table | ModelKind::Perpendicular, Some(t)) => match self.material {
-                Some((rho, _)) => check_kept("the material's rho'", rho, t),
-                None => check_kept(names[0], p.rho, t),
+                Some((rho, _)) => self.check_kept("the material's rho'", rho, t),
+                None => self.check_kept(names[0], p.rho, t),
             },
             _ => Ok(()),
         }
+    }
+
+    /// [`check_kept`] on this evaluator's table of FILE.
+    fn check_kept(
+        &self,
+        name: &str,
+        rho: f64,
+        table: &bssrdf_zoo::table::TableRef<'_>,
+    ) -> Result<(), CliError> {
+        check_kept(name, rho, (self.index, table), &self.siblings)
+    }
+
+    /// The refusal of a ρ′ that [`Evaluator::check`] let through but the table did not take.
+    fn kept_error(&self, rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
+        self.check_kept("rho", rho, table)
+            .err()
+            .unwrap_or_else(|| CliError::input(format!("rho {}: no value", super::show(rho))))
     }
 
     fn value(&self, p: &Point) -> Result<f64, CliError> {
@@ -169,22 +190,15 @@ impl Evaluator<'_> {
             (ModelKind::Pbd, _) => Pbd::new(rho, self.boundary)?.eval(theta, r_opt, phi, self.rule),
             (ModelKind::Table, Some(t)) => t
                 .eval(rho, theta, r_opt, phi)
-                .ok_or_else(|| kept_error(rho, t))?,
+                .ok_or_else(|| self.kept_error(rho, t))?,
             (ModelKind::Perpendicular, Some(t)) => t
                 .eval_perpendicular(rho, r_opt)
-                .ok_or_else(|| kept_error(rho, t))?,
+                .ok_or_else(|| self.kept_error(rho, t))?,
             (_, None) => return Err(CliError::input("the table models need a library FILE")),
             (_, Some(_)) => unreachable_model(self.model)?,
         };
         Ok(scale * scale * reduced)
     }
-}
-
-/// The refusal of a ρ′ that [`Evaluator::check`] let through but the table did not take.
-fn kept_error(rho: f64, table: &bssrdf_zoo::table::TableRef<'_>) -> CliError {
-    check_kept("rho", rho, table)
-        .err()
-        .unwrap_or_else(|| CliError::input(format!("rho {}: no value", super::show(rho))))
 }
 
 /// Every model is handled above; kept as an error rather than a panic.
@@ -289,7 +303,12 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         (Some(c), _) => c.table.moments(),
         (None, m) => m.unwrap_or(Moments::Exact),
     };
+    let (index, siblings) = chosen
+        .as_ref()
+        .map_or((0, Vec::new()), |c| (c.index, c.siblings.clone()));
     let evaluator = Evaluator {
+        index,
+        siblings,
         authors,
         model,
         boundary: Boundary::new(eta, moments)?,

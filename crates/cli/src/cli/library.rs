@@ -79,6 +79,9 @@ pub struct Chosen<'a> {
     pub index: usize,
     pub table: FileTable<'a>,
     pub material: Option<(Material, f64, f64)>,
+    /// The file's other tables with the same η, and the albedo rows each keeps
+    /// (`values::check_kept` names one that keeps a ρ′ this table does not).
+    pub siblings: Vec<(usize, [f64; 2])>,
 }
 
 /// Whether two η agree to the precision files and material lists give them.
@@ -98,16 +101,29 @@ fn list_etas(library: &Library) -> String {
 
 /// Whether table `index` of `library` keeps albedo rows around `rho`.
 fn keeps(library: &Library, index: usize, rho: f64) -> bool {
-    let Some(record) = library.table(index) else {
-        return false;
+    kept_range(library, index).is_some_and(|[lo, hi]| (lo..=hi).contains(&rho))
+}
+
+/// The albedo rows table `index` keeps, [first, last]; `None` if it cannot be read.
+fn kept_range(library: &Library, index: usize) -> Option<[f64; 2]> {
+    let table = FileTable::new(library.table(index)?).ok()?;
+    let view = table.view().ok()?;
+    let nodes = view.axes().rho().as_slice();
+    Some([*nodes.first()?, *nodes.last()?])
+}
+
+/// The tables other than `index` with its η, each with the albedo rows it keeps: where a ρ′
+/// that table `index` does not keep may be (a scene bake keeps several tables per η).
+fn siblings(library: &Library, index: usize) -> Vec<(usize, [f64; 2])> {
+    let Some(eta) = library.table(index).map(|t| t.eta()) else {
+        return Vec::new();
     };
-    let Ok(table) = FileTable::new(record) else {
-        return false;
-    };
-    table.view().is_ok_and(|view| {
-        let nodes = view.axes().rho().as_slice();
-        matches!((nodes.first(), nodes.last()), (Some(&lo), Some(&hi)) if (lo..=hi).contains(&rho))
-    })
+    library
+        .tables()
+        .enumerate()
+        .filter(|&(i, ref t)| i != index && same_eta(t.eta(), eta))
+        .filter_map(|(i, _)| Some((i, kept_range(library, i)?)))
+        .collect()
 }
 
 impl TableChoice {
@@ -288,6 +304,7 @@ impl TableChoice {
             index,
             table,
             material,
+            siblings: siblings(library, index),
         })
     }
 }

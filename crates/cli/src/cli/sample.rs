@@ -60,7 +60,8 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
     let theta_deg = args.theta.unwrap_or(0.0);
     super::check_range("--theta", theta_deg, 0.0..=90.0)?;
     // Both modes: nothing is written before ρ′ is known to be inside the kept rows.
-    super::values::check_kept(rho_name, rho, &view)?;
+    let table = (chosen.index, &view);
+    super::values::check_kept(rho_name, rho, table, &chosen.siblings)?;
     if !args.path_tracing {
         super::values::check_theta_kept("--theta", theta_deg, &view)?;
     }

@@ -101,9 +101,16 @@ pub fn check_theta_kept(name: &str, theta_deg: f64, table: &TableRef<'_>) -> Res
     )))
 }
 
-/// Refuses a ρ′ outside the albedo rows `table` keeps: the table is never extrapolated.
-/// `name` says where ρ′ came from (`--rho`, `column rho`, `--material skin1`).
-pub fn check_kept(name: &str, rho: f64, table: &TableRef<'_>) -> Result<(), CliError> {
+/// Refuses a ρ′ outside the albedo rows table `index` of a file keeps: the table is never
+/// extrapolated. `name` says where ρ′ came from (`--rho`, `column rho`, `--material skin1`);
+/// `siblings` are the file's other tables of the same η with the rows each keeps, of which
+/// the message names one that keeps ρ′ (a scene bake keeps several tables per η).
+pub fn check_kept(
+    name: &str,
+    rho: f64,
+    (index, table): (usize, &TableRef<'_>),
+    siblings: &[(usize, [f64; 2])],
+) -> Result<(), CliError> {
     let nodes = table.axes().rho().as_slice();
     let (Some(&lo), Some(&hi)) = (nodes.first(), nodes.last()) else {
         return Err(CliError::input("the table has no albedo rows"));
@@ -111,8 +118,14 @@ pub fn check_kept(name: &str, rho: f64, table: &TableRef<'_>) -> Result<(), CliE
     if (lo..=hi).contains(&rho) {
         return Ok(());
     }
+    let elsewhere = match siblings.iter().find(|(_, [a, b])| (*a..=*b).contains(&rho)) {
+        Some((other, _)) => {
+            format!("; table {other}, of the same eta, keeps it: give --table {other}")
+        }
+        None => String::new(),
+    };
     Err(CliError::input(format!(
-        "{name} {} is outside the albedo range this table keeps, [{}, {}]: the table is never extrapolated",
+        "{name} {} is outside the albedo range table {index} keeps, [{}, {}]: the table is never extrapolated{elsewhere}",
         show(rho),
         show(lo),
         show(hi)

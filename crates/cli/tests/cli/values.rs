@@ -124,11 +124,7 @@ fn sample_checks_the_kept_rows_before_writing_and_materials_find_their_table() {
             ]
             .concat(),
         );
-        fails_with(
-            &o,
-            2,
-            "--rho 0.9 is outside the albedo range this table keeps",
-        );
+        fails_with(&o, 2, "--rho 0.9 is outside the albedo range table 0 keeps");
         assert!(o.stdout.is_empty(), "{mode:?}: {}", text(&o.stdout));
     }
     // The README's words for eval.
@@ -140,8 +136,25 @@ fn sample_checks_the_kept_rows_before_writing_and_materials_find_their_table() {
             ],
         ),
         2,
-        "--rho 0.2 is outside the albedo range this table keeps, [",
+        "--rho 0.2 is outside the albedo range table 1 keeps, [",
     );
+    // The refusal names the other table of the same η that keeps ρ′ (the scene's other run)
+    let mut hinted = 0;
+    for (table, other) in [("0", "1"), ("1", "0")] {
+        for rho in ["0.955", "0.11"] {
+            let args = [
+                "eval", "s.bssrdf", "--table", table, "--rho", rho, "--theta", "0", "--r", "1",
+            ];
+            let o = bssrdf(d, &args);
+            if !o.status.success() {
+                let hint =
+                    format!("table {other}, of the same eta, keeps it: give --table {other}");
+                fails_with(&o, 2, &hint);
+                hinted += 1;
+            }
+        }
+    }
+    assert_eq!(hinted, 2);
     // skin1 (η 1.3, not in the file): its red ρ′ 0.959 is in table 1, not in table 0.
     let v: f64 = ok(&bssrdf(
         d,
