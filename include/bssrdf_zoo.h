@@ -85,7 +85,7 @@ extern "C" {
  * never extrapolated. */
 #define BSSRDF_ERROR_OUT_OF_RANGE 6
 /* Nothing to sample: no energy stored (rho' = 0, light beyond the critical angle), theta
- * outside the table, a radial uniform outside [0, 1) or at 0 (the entry point), a NaN
+ * outside the table, a radial uniform outside [0, 1] or at 0 (the entry point), a NaN
  * uniform, or, for path sampling, a table baked without theta sampling. The message names
  * the cause. */
 #define BSSRDF_ERROR_NO_SAMPLE 7

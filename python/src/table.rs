@@ -189,18 +189,18 @@ impl Domain {
     }
 }
 
-/// Refuses a uniform random number outside [0, 1) (or NaN), named: the samplers' inputs (a
-/// broken random stream is an error, not a plausible draw).
+/// Refuses a uniform random number outside [0, 1] (or NaN), named: the samplers' inputs (a
+/// broken random stream is an error, not a plausible draw; 1 ends their range).
 #[inline]
 pub fn uniforms<const N: usize>(names: [&str; N], u: [f64; N]) -> Result<(), String> {
     match names
         .into_iter()
         .zip(u)
-        .find(|(_, u)| !(0.0..1.0).contains(u))
+        .find(|(_, u)| !(0.0..=1.0).contains(u))
     {
         None => Ok(()),
         Some((name, u)) => Err(format!(
-            "{name} = {} is outside [0, 1): a uniform random number",
+            "{name} = {} is outside [0, 1]: a uniform random number",
             bssrdf_zoo::error::number(u)
         )),
     }

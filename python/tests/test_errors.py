@@ -55,15 +55,15 @@ def test_bad_values_are_value_errors_naming_them(library, table):
         with pytest.raises(ValueError, match=needle):
             green.eval(0.5, r, phi)
     assert table.eval(0.5, 0.5, 1e6, 0.0) == 0.0  # beyond the last radius node: a value, 0
-    # A sampler's uniforms are in [0, 1): NaN or beyond is a broken random stream, refused
-    for bad in (np.nan, 1.0, -0.5, 2.0):
-        with pytest.raises(ValueError, match=r"u2 = .* is outside \[0, 1\)"):
+    # A sampler's uniforms are in [0, 1]: NaN or beyond is a broken random stream, refused
+    for bad in (np.nan, 1.5, -0.5, 2.0):
+        with pytest.raises(ValueError, match=r"u2 = .* is outside \[0, 1\]"):
             table.sample(0.5, 0.5, 0.5, bad)
-        with pytest.raises(ValueError, match=r"u1 = .* is outside \[0, 1\)"):
+        with pytest.raises(ValueError, match=r"u1 = .* is outside \[0, 1\]"):
             green.sample(0.5, bad, 0.5)
-        with pytest.raises(ValueError, match=r"u4 = .* is outside \[0, 1\)"):
+        with pytest.raises(ValueError, match=r"u4 = .* is outside \[0, 1\]"):
             table.sample_path(0.5, 0.1, 0.2, 0.3, bad)
-        with pytest.raises(ValueError, match=r"u3 = .* is outside \[0, 1\)"):
+        with pytest.raises(ValueError, match=r"u3 = .* is outside \[0, 1\]"):
             green.sample_path(0.1, 0.2, bad, 0.4)
     with pytest.raises(ValueError, match="skin1"):
         library.channel("marble", "r")

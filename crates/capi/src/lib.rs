@@ -495,57 +495,73 @@ fn theta_outside(theta: f64, table: &TableRef<'_>) -> Failure {
 }
 
 /// The failure of a draw with nothing to sample, naming its cause, formatted without
-/// allocating: θ outside the table, u_r outside [0, 1), a NaN u_φ (`None` for the radial
-/// draw, which takes none), u_r at 0 (the entry point itself, of infinite density per area), or
-/// no energy stored for the medium (ρ′) at θ.
+/// allocating: θ outside the table, u_r outside [0, 1] (or NaN), a NaN u_φ (`None` for the
+/// radial draw, which takes none), no energy stored for the medium (ρ′) at θ, or u_r at 0 (the
+/// entry point itself, of infinite density per area).
 #[cold]
 fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option<f64>) -> Failure {
     let code = BSSRDF_ERROR_NO_SAMPLE;
     let [lo, hi] = table.theta_domain().map(Number);
+    let (theta_n, u_n) = (Number(theta), Number(u_r));
     if !table.keeps_theta(theta) {
-        return Failure::inline(
-            code,
-            format_args!(
-                "no sample: theta = {} rad is outside the table's theta axis [{lo}, {hi}] rad",
-                Number(theta)
-            ),
+        let why = format_args!(
+            "no sample: theta = {theta_n} rad is outside the table's theta axis [{lo}, {hi}] rad"
         );
+        return Failure::inline(code, why);
     }
-    if !(0.0..1.0).contains(&u_r) {
+    if !(0.0..=1.0).contains(&u_r) {
         return Failure::inline(
             code,
-            format_args!("no sample: u_r = {} is outside [0, 1)", Number(u_r)),
+            format_args!("no sample: u_r = {u_n} is outside [0, 1]"),
         );
     }
     if u_phi.is_some_and(f64::is_nan) {
         return Failure::inline(code, format_args!("no sample: u_phi is NaN"));
     }
-    // Uniforms of 53 bits are 0 or at least 2^-53; below 1e-300 the draw is the entry point
-    if u_r < 1e-300 {
-        return Failure::inline(
-            code,
-            format_args!(
-                "no sample: u_r = {} draws the entry point itself (r = 0, of infinite density per area)",
-                Number(u_r)
-            ),
+    if !table.effective_albedo(rho, theta).is_some_and(|a| a > 0.0) {
+        let why = format_args!(
+            "no sample: the table stores no energy for rho' = {} at theta = {theta_n} rad (none at rho' = 0 or beyond the critical angle)",
+            Number(rho)
         );
+        return Failure::inline(code, why);
     }
-    Failure::inline(
-        code,
-        format_args!(
-            "no sample: the table stores no energy for rho' = {} at theta = {} rad (none at rho' = 0 or beyond the critical angle)",
-            Number(rho),
-            Number(theta)
-        ),
-    )
+    // Uniforms of 53 bits are 0 or at least 2^-53; far below, the draw is the entry point
+    if u_r < 1e-300 {
+        let why = format_args!(
+            "no sample: u_r = {u_n} draws the entry point itself (r = 0, of infinite density per area)"
+        );
+        return Failure::inline(code, why);
+    }
+    let why = format_args!(
+        "no sample at theta = {theta_n} rad, u_r = {u_n}: the draw fell where the table holds no energy"
+    );
+    Failure::inline(code, why)
 }
 
-/// The failure of a path draw with nothing to sample.
-fn no_path_sample() -> Failure {
-    Failure::fixed(
-        BSSRDF_ERROR_NO_SAMPLE,
-        c"no sample: the table was baked without theta sampling, or stores no energy for this medium",
-    )
+/// The failure of a path draw with nothing to sample, naming its cause, formatted without
+/// allocating: no θ sampling in the table, a NaN uniform, u[0] or u[1] outside [0, 1], or no
+/// energy stored for the medium (ρ′) at any θ.
+#[cold]
+fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {
+    let code = BSSRDF_ERROR_NO_SAMPLE;
+    if !table.has_theta_sampling() {
+        return Failure::fixed(
+            code,
+            c"no sample: the table was baked without theta sampling (bake it with theta sampling for path draws)",
+        );
+    }
+    if let Some(k) = u.iter().position(|u| u.is_nan()) {
+        return Failure::inline(code, format_args!("no sample: u[{k}] is NaN"));
+    }
+    if let Some(k) = u[..2].iter().position(|u| !(0.0..=1.0).contains(u)) {
+        let why = format_args!("no sample: u[{k}] = {} is outside [0, 1]", Number(u[k]));
+        return Failure::inline(code, why);
+    }
+    let why = format_args!(
+        "no sample: the table stores no energy for rho' = {} where the draw fell (none at rho' = 0)",
+        Number(rho)
+    );
+    Failure::inline(code, why)
 }
 
 /// S_p(r, φ; θ) in mm⁻², stored in `*out_value` (see [`ChannelLookup::eval`]): θ in radians
@@ -642,7 +658,9 @@ pub unsafe extern "C" fn bssrdf_channel_sample_path(
         let u = *unsafe { input(u.cast::<[f64; 4]>(), c"u is NULL") }?;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_sample, c"out_sample is NULL") }?;
-        *out = lookup.sample_path(u).ok_or_else(no_path_sample)?.into();
+        *out = (lookup.sample_path(u))
+            .ok_or_else(|| no_path_sample(&lookup.table().view(), lookup.rho_prime(), u))?
+            .into();
         Ok(())
     })
 }

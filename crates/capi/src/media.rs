@@ -177,7 +177,8 @@ pub unsafe extern "C" fn bssrdf_table_sample_path(
     let sample_path = |m: MediumRef| {
         // SAFETY: the contract: 4 readable doubles, and [f64; 4] has the alignment of f64.
         let u = *unsafe { input(u.cast::<[f64; 4]>(), c"u is NULL") }?;
-        Ok(m.sample_path(u).ok_or_else(no_path_sample)?.into())
+        let failure = || no_path_sample(&m.table(), m.rho_prime(), u);
+        Ok(m.sample_path(u).ok_or_else(failure)?.into())
     };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_sample, c"out_sample is NULL"), sample_path) }

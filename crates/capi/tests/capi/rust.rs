@@ -331,8 +331,8 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
         );
         // A failed draw names its cause: a uniform a random stream cannot give, or u_r = 0
         for (u_r, u_phi, cause) in [
-            (2.0, 0.5, "no sample: u_r = 2 is outside [0, 1)"),
-            (f64::NAN, 0.5, "no sample: u_r = NaN is outside [0, 1)"),
+            (2.0, 0.5, "no sample: u_r = 2 is outside [0, 1]"),
+            (f64::NAN, 0.5, "no sample: u_r = NaN is outside [0, 1]"),
             (0.5, f64::NAN, "no sample: u_phi is NaN"),
             (0.0, 0.5, "no sample: u_r = 0 draws the entry point itself"),
         ] {
@@ -344,11 +344,18 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
         expect(
             status,
             BSSRDF_ERROR_NO_SAMPLE,
-            "no sample: u_r = -1 is outside [0, 1)",
+            "no sample: u_r = -1 is outside [0, 1]",
         );
         let status =
             bssrdf_channel_sample_path(red, [0.5, 0.5, f64::NAN, 0.5].as_ptr(), &mut path_sample);
-        expect(status, BSSRDF_ERROR_NO_SAMPLE, "no sample");
+        expect(status, BSSRDF_ERROR_NO_SAMPLE, "no sample: u[2] is NaN");
+        let status =
+            bssrdf_channel_sample_path(red, [0.5, 1.5, 0.5, 0.5].as_ptr(), &mut path_sample);
+        expect(
+            status,
+            BSSRDF_ERROR_NO_SAMPLE,
+            "no sample: u[1] = 1.5 is outside [0, 1]",
+        );
         assert_eq!(
             (value, sample),
             (0.0, NO_SAMPLE),
@@ -360,7 +367,11 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
         let status = bssrdf_channel_sample(blue, 0.3, 0.5, 0.5, &mut sample);
         expect(status, BSSRDF_ERROR_NO_SAMPLE, "no energy");
         let status = bssrdf_channel_sample_path(blue, [0.5; 4].as_ptr(), &mut path_sample);
-        expect(status, BSSRDF_ERROR_NO_SAMPLE, "no sample");
+        expect(
+            status,
+            BSSRDF_ERROR_NO_SAMPLE,
+            "no sample: the table stores no energy for rho' = 0",
+        );
         expect(
             bssrdf_channel_eval(blue, 0.3, 1.0, 0.0, &mut value),
             BSSRDF_OK,

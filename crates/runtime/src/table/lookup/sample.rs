@@ -6,7 +6,7 @@ use super::*;
 impl TableRef<'_> {
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
     /// energy there (ρ′ = 0, light beyond the critical angle), (ρ′, θ) is outside the axes,
-    /// u_r is outside [0, 1) or draws the entry point (u_r = 0 on every baked table, where the
+    /// u_r is outside [0, 1] or draws the entry point (u_r = 0 on every baked table, where the
     /// density is infinite), or u_φ is NaN: a broken random stream draws nothing rather than
     /// a plausible point. A finite u_φ outside [0, 1] is clamped into it.
     pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
