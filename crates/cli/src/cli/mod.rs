@@ -93,7 +93,6 @@ enum Command {
     Render(render::RenderArgs),
 }
 
-/// Runs the parsed command.
 /// Refuses an option whose value was forgotten. An option that takes values starting with '-'
 /// (`--phi -inf`, `--bins -1,1,2,2`) takes the next argument as its value whatever it is, so
 /// in `render --size --theta 30` `--theta` became the size and clap then called `30` a stray
@@ -121,8 +120,15 @@ pub fn check_forgotten_values(argv: &[OsString]) -> Result<(), clap::Error> {
         }
     };
     let takes_hyphen_values = |option: &str| {
+        let named = |a: &clap::Arg| match option.strip_prefix("--") {
+            Some(long) => a.get_long() == Some(long),
+            None => {
+                let mut short = option.strip_prefix('-').unwrap_or_default().chars();
+                matches!((short.next(), short.next()), (Some(c), None) if a.get_short() == Some(c))
+            }
+        };
         sub.get_arguments()
-            .any(|a| a.is_allow_hyphen_values_set() && option.strip_prefix("--") == a.get_long())
+            .any(|a| a.is_allow_hyphen_values_set() && named(a))
     };
     let mut forgotten = None;
     for pair in argv.get(2..).unwrap_or_default().windows(2) {
@@ -145,6 +151,7 @@ pub fn check_forgotten_values(argv: &[OsString]) -> Result<(), clap::Error> {
     }
 }
 
+/// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     match cli.command {
         Command::Bake(args) => bake::run(args),

@@ -52,8 +52,15 @@ fn convert(args: &UnpackArgs, level: Option<i32>) -> Result<ExitCode, CliError> 
         // In place: FILE is replaced through a temporary file, which needs a path to a regular
         // file. Through a descriptor (`/dev/stdin` redirected from the file, or a pipe) the
         // output would be written into the input it is read from.
-        if bssrdf_zoo::format::through_descriptor(&args.file)
-            || !std::fs::metadata(&args.file).is_ok_and(|m| m.is_file())
+        // (A FILE that does not exist is left to the conversion's own "cannot open".)
+        let meta = std::fs::metadata(&args.file).ok();
+        if meta.as_ref().is_some_and(|m| m.is_dir()) {
+            return Err(CliError::input(format!(
+                "FILE {} is a folder, not a library file",
+                args.file.display()
+            )));
+        }
+        if bssrdf_zoo::format::through_descriptor(&args.file) || meta.is_some_and(|m| !m.is_file())
         {
             return Err(CliError::input(format!(
                 "FILE {} is not a regular file that can be rewritten in place (a stream or a descriptor): give the output with -o",

@@ -246,10 +246,11 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             )?;
             writeln!(
                 out,
-                "{:>5} {:>6}  {:>9} {:>9} {:>9} {:>8}  {:>9} {:>11} {:>8}  bound %",
+                "{:>5} {:>6}  {:>9} {:>9} {:>9} {:>9} {:>8}  {:>9} {:>11} {:>8}  bound %",
                 "rho",
                 "theta",
                 "mean %",
+                "s.e. %",
                 "p99 %",
                 "max %",
                 ">1 %",
@@ -271,10 +272,11 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
                 }
                 writeln!(
                     out,
-                    "{:>5} {:>6}  {:>9.4} {:>9.3} {:>9.3} {:>8.5}  {:>9.1} {:>11.0} {:>8.0}  {:.3} {}",
+                    "{:>5} {:>6}  {:>9.4} {:>9.4} {:>9.3} {:>9.3} {:>8.5}  {:>9.1} {:>11.0} {:>8.0}  {:.3} {}",
                     r.rho,
                     r.theta_deg,
                     100.0 * r.mean_rel_error,
+                    100.0 * r.mean_rel_error_stderr,
                     100.0 * r.p99_rel_error,
                     100.0 * r.max_rel_error,
                     r.fraction_above_1pct,

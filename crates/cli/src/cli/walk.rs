@@ -62,9 +62,9 @@ fn parse_bins(text: &str) -> Result<[f64; 4], String> {
 pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     super::check_range("--theta", args.theta, 0.0..=90.0)?;
     // Below η = 1 no light enters beyond the critical angle (the walk's own check, in degrees)
-    if (0.75..1.0).contains(&args.eta) && args.theta.to_radians().sin() > args.eta {
+    if (0.75..1.0).contains(&args.eta) && !super::values::enters(args.theta, args.eta) {
         // In full: the stated range is the one checked (rounded, it would be narrower)
-        let critical = super::show(args.eta.asin().to_degrees());
+        let critical = super::show(super::values::critical_deg(args.eta));
         return Err(CliError::input(format!(
             "--theta {} is outside the valid range at --eta {}: [0, {critical}] deg, below the critical angle asin(eta) (beyond it no light enters)",
             super::show(args.theta),

@@ -52,14 +52,13 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     super::check_photons(args.photons)?;
     let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
     if !args.models.is_empty() {
-        for (k, model) in args.models.iter().enumerate() {
-            if let Some(first) = args.models[..k].iter().position(|m| m == model) {
-                return Err(CliError::input(format!(
-                    "--models lists {model} twice (at positions {} and {}); give each model once",
-                    first + 1,
-                    k + 1
-                )));
-            }
+        if let Some((first, k)) = first_repeat(&args.models) {
+            return Err(CliError::input(format!(
+                "--models lists {} twice (at positions {} and {}); give each model once",
+                args.models[k],
+                first + 1,
+                k + 1
+            )));
         }
         config.models = args.models.clone();
     }
@@ -69,16 +68,15 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
             .iter()
             .map(|c| parse_case(c))
             .collect::<Result<_, _>>()?;
-        for (k, case) in config.cases.iter().enumerate() {
-            if let Some(first) = config.cases[..k].iter().position(|c| c == case) {
-                return Err(CliError::input(format!(
-                    "--cases lists {}:{} twice (at positions {} and {}); give each case once",
-                    super::show(case.0),
-                    super::show(case.1),
-                    first + 1,
-                    k + 1
-                )));
-            }
+        if let Some((first, k)) = first_repeat(&config.cases) {
+            let (rho, theta) = config.cases[k];
+            return Err(CliError::input(format!(
+                "--cases lists {}:{} twice (at positions {} and {}); give each case once",
+                super::show(rho),
+                super::show(theta),
+                first + 1,
+                k + 1
+            )));
         }
     }
     check_critical(&args, &config.cases)?;
@@ -141,10 +139,10 @@ fn check_critical(args: &ZooArgs, cases: &[(f64, f64)]) -> Result<(), CliError> 
     if !(0.75..1.0).contains(&args.eta) {
         return Ok(());
     }
-    let critical = args.eta.asin().to_degrees();
+    let critical = super::values::critical_deg(args.eta);
     match cases
         .iter()
-        .find(|case| case.1.to_radians().sin() > args.eta)
+        .find(|case| !super::values::enters(case.1, args.eta))
     {
         Some(&(rho, theta)) => Err(CliError::input(format!(
             "{} case {}:{} lies beyond the critical angle of --eta {}: light enters only up to asin(eta) = {} deg; give --cases with theta in [0, {}]",
@@ -162,6 +160,14 @@ fn check_critical(args: &ZooArgs, cases: &[(f64, f64)]) -> Result<(), CliError> 
         ))),
         None => Ok(()),
     }
+}
+
+/// The first item of `items` equal to an earlier one: (the earlier one's index, its index).
+fn first_repeat<T: PartialEq>(items: &[T]) -> Option<(usize, usize)> {
+    (0..items.len()).find_map(|k| {
+        let first = items[..k].iter().position(|x| x == &items[k])?;
+        Some((first, k))
+    })
 }
 
 fn parse_case(text: &str) -> Result<(f64, f64), CliError> {

@@ -284,6 +284,11 @@ fn pack_and_unpack_never_write_into_their_input() {
             "$B pack no-such.bssrdf --level 99",
             "--level 99 is outside the valid range: [-131072, 22]",
         ),
+        ("$B pack no-such.bssrdf", "No such file or directory"),
+        (
+            "mkdir -p folder && $B unpack folder",
+            "FILE folder is a folder",
+        ),
     ] {
         let out = shell(d, script);
         let stderr = String::from_utf8_lossy(&out.stderr);

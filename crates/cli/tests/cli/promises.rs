@@ -598,7 +598,14 @@ fn an_option_given_as_a_value_is_a_missing_value() {
     ] {
         fails_with(&bssrdf(d, args), 2, missing);
     }
-    // Negative values and values after `--` stay values
+    // Negative values stay values, and after `--` nothing is read as an option
+    let after = bssrdf(d, &["sample", "--rho", "0.5", "--", "--theta"]);
+    fails_with(&after, 2, "--theta");
+    assert!(
+        !text(&after.stderr).contains("is missing"),
+        "{}",
+        text(&after.stderr)
+    );
     fails_with(
         &bssrdf(d, &["eval", "--rho", "0.5", "--theta", "-5", "--r", "1"]),
         2,
@@ -746,6 +753,31 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         2,
         "--theta 60 is outside the valid range at --eta 0.75: [0, 48.590377890729144] deg",
     );
+    // The bound stated is itself taken (at η = 0.8, asin η in degrees would not be)
+    let refused = bssrdf(
+        d,
+        &["walk", "--albedo", "0.5", "--eta", "0.8", "--theta", "60"],
+    );
+    let message = text(&refused.stderr);
+    let bound = message
+        .split("[0, ")
+        .nth(1)
+        .and_then(|rest| rest.split(']').next())
+        .expect(&message);
+    ok(&bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "0.5",
+            "--eta",
+            "0.8",
+            "--theta",
+            bound,
+            "--photons",
+            "100",
+        ],
+    ));
     fails_with(
         &bssrdf(d, &["zoo", "-q", "--eta", "0.75"]),
         2,

@@ -6,7 +6,7 @@
 //! | parameter | unit | valid range | meaning |
 //! |---|---|---|---|
 //! | reflectance | – | [0, 1] per channel | the diffuse colour: the diffuse reflectance A wanted at normal incidence |
-//! | mfp | mm | > 0, finite, per channel | the unreduced mean free path 1/σt (pbrt's convention) |
+//! | mfp | mm | [1e-12, 1e9] per channel ([`MFP_MIN`], [`MFP_MAX`]: σt = 1/mfp in the media's [1e-9, 1e12] mm⁻¹) | the unreduced mean free path 1/σt (pbrt's convention) |
 //! | g | – | (−1, 1) | Henyey–Greenstein asymmetry (default 0) |
 //!
 //! 1. ρ′ from the reflectance: the ρ′ whose diffuse reflectance at θ = 0,
