@@ -229,6 +229,14 @@ impl Session {
     pub fn verdict(&self, baked: &BakedLibrary, accept: bool) -> Result<Option<String>, CliError> {
         let mut failures = Vec::new();
         for result in baked.tables().iter().map(|t| t.check()) {
+            // A table whose rows leave no region to check is not a pass
+            if result.regions.is_empty() {
+                failures.push(format!(
+                    "  eta {}: no region of the check lies in the table's albedo rows (it covers rho' from {} to 1): nothing was checked",
+                    super::show(result.eta),
+                    super::show(bssrdf_zoo::table::RHO_BANDS[0])
+                ));
+            }
             for r in result.failures() {
                 failures.push(format!(
                     "  eta {}, rho {}-{}, theta {}-{} deg: mean {:.3} % over {} points (bound {} %), coverage max {:.3} % over {} points (bound {} %), {} silent zero(s)",

@@ -90,3 +90,54 @@ fn validate_checks_every_table_against_its_own_eta() {
     assert_eq!(one["rows"].as_array().unwrap().len(), 9);
     assert_eq!(one["rows"][0]["eta"], 1.33);
 }
+
+/// A scene of a white medium (σa = 0: ρ′ = 1) keeps only the last albedo rows, above 0.999:
+/// the check covers them (its last band is [0.999, 1]), so a table off there is refused as the
+/// full bake is, and one that meets the bound is checked, not passed with no region.
+#[test]
+fn a_scene_of_white_media_is_checked_at_the_end_of_the_albedo_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let white = |eta: &str| {
+        format!("[[material]]\nname = \"my-white\"\nsigma_s = [1, 1, 1]\nsigma_a = [0, 0, 0]\neta = {eta}\n")
+    };
+    std::fs::write(d.join("index-matched.toml"), white("1")).unwrap();
+    let refused = bssrdf(
+        d,
+        &[
+            "bake",
+            "--scene",
+            "index-matched.toml",
+            "--grid",
+            "coarse",
+            "-o",
+            "w1.bssrdf",
+        ],
+    );
+    fails_with(&refused, 1, "above its bound");
+    let stderr = text(&refused.stderr);
+    assert!(stderr.contains("-1, theta 85-90 deg"), "{stderr}");
+    assert!(!d.join("w1.bssrdf").exists());
+
+    std::fs::write(d.join("skin-like.toml"), white("1.3")).unwrap();
+    ok(&bssrdf(
+        d,
+        &[
+            "bake",
+            "--scene",
+            "skin-like.toml",
+            "--grid",
+            "coarse",
+            "-q",
+            "-o",
+            "w13.bssrdf",
+        ],
+    ));
+    let report: serde_json::Value =
+        serde_json::from_str(&ok(&bssrdf(d, &["inspect", "--json", "w13.bssrdf"]))).unwrap();
+    let regions = report["provenance"]["accuracy"]["tables"][0]["regions"]
+        .as_array()
+        .unwrap();
+    assert_eq!(regions.len(), 5, "{report}");
+    assert!(regions.iter().all(|r| r["rho"][1] == 1.0), "{report}");
+}

@@ -43,8 +43,10 @@ use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Bands of reduced albedo (edges). The first starts at 0.001 (ρ′ = 0 holds no energy), the
-/// second holds the rest of the first interval of the default axis (node 1 at 0.078).
-pub const RHO_BANDS: [f64; 6] = [0.001, 0.1, 0.3, 0.7, 0.95, 0.999];
+/// second holds the rest of the first interval of the default axis (node 1 at 0.078); the last,
+/// [0.999, 1], the end of the axis where σ_tr → 0 and the profile reaches furthest (a scene of
+/// white media keeps only rows there).
+pub const RHO_BANDS: [f64; 7] = [0.001, 0.1, 0.3, 0.7, 0.95, 0.999, 1.0];
 
 /// Bands of incidence, degrees (edges): finer towards 90°.
 pub const THETA_BANDS_DEG: [f64; 6] = [0.0, 30.0, 60.0, 75.0, 85.0, 90.0];

@@ -18,8 +18,8 @@ fn coarse(eta: f64) -> AngularTable {
 fn a_good_table_passes_in_every_region_and_is_deterministic() {
     let table = coarse(1.33);
     let result = check(&table.view(), Moments::Exact, CHECK_COARSE_BOUNDS).unwrap();
-    // 5 albedo bands x 5 incidence bands, every one with points
-    assert_eq!(result.regions.len(), 25);
+    // 6 albedo bands x 5 incidence bands, every one with points
+    assert_eq!(result.regions.len(), 30);
     for r in &result.regions {
         assert!(r.points > 300, "{r:?}");
         assert!(r.coverage_points > 50, "{r:?}");
@@ -45,7 +45,7 @@ fn the_default_table_passes_with_its_spread_points_down_to_1e_12_of_the_peak() {
     // ρ′ = 0.1 (tails up to 25 % off at r ≈ 15–18, exact zeros at ρ′ < 0.02)
     assert_eq!(CHECK_BOUNDS.peak_fraction, 1e-12);
     let result = check(&default_table().view(), Moments::Exact, CHECK_BOUNDS).unwrap();
-    assert_eq!(result.regions.len(), 25);
+    assert_eq!(result.regions.len(), 30);
     for r in &result.regions {
         assert!(r.coverage_points > 100, "{r:?}");
         assert_eq!(r.silent_zeros, 0, "{r:?}");
@@ -126,8 +126,8 @@ fn below_index_one_the_check_stays_below_the_critical_angle_and_lookups_beyond_a
     for r in &result.regions {
         assert!(r.theta_deg[1] < critical, "{r:?}");
     }
-    // 0 bands 60-75 and beyond: 3 incidence bands (0-30, 30-60 cut at 48.6) x 5 albedo bands
-    assert_eq!(result.regions.len(), 10);
+    // No bands 60-75 and beyond: 2 incidence bands (0-30, 30-60 cut at 48.6) x 6 albedo bands
+    assert_eq!(result.regions.len(), 12);
     let view = table.view();
     let beyond = (critical + 1.0).to_radians();
     for rho in [0.3, 0.9] {
