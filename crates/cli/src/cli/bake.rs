@@ -519,6 +519,7 @@ pub(super) fn table_summary(index: usize, table: &AngularTable, rows: Range<usiz
         "rho": [rho.first(), rho.last()],
         "dims": table.axes().dims(),
         "theta_sampling": table.theta_cdf().is_some(),
+        "lobes": if table.harmonics().is_some() { 2 } else { 1 },
     })
 }
 

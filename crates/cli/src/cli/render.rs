@@ -142,10 +142,21 @@ fn rgb(s: &str) -> Result<[f64; 3], String> {
     super::values::exactly(s, "R,G,B")
 }
 
-/// `W,H` as two whole numbers of pixels.
+/// `W,H` as two whole numbers of pixels, each in [1, `render::MAX_SIDE`].
 fn size(s: &str) -> Result<(usize, usize), String> {
-    let [w, h] = super::values::exactly::<usize, 2>(s, "W,H (whole numbers of pixels)")?;
-    Ok((w, h))
+    let [w, h] = super::values::exactly::<f64, 2>(s, "W,H (whole numbers of pixels)")?;
+    let max = bssrdf_zoo::render::MAX_SIDE;
+    let side = |x: f64| {
+        if x.fract() == 0.0 && (1.0..=max as f64).contains(&x) {
+            Ok(x as usize)
+        } else {
+            Err(format!(
+                "each side is a whole number of pixels in [1, {max}], not {}",
+                super::show(x)
+            ))
+        }
+    };
+    Ok((side(w)?, side(h)?))
 }
 
 fn input(e: impl std::fmt::Display) -> CliError {
@@ -222,6 +233,24 @@ fn config(args: &RenderArgs, model: ModelKind) -> Result<Config, CliError> {
     let theta = args.theta.unwrap_or(0.0);
     super::check_range("--theta", theta, 0.0..90.0)?;
     super::check_range("--cone", args.cone, 0.0..90.0)?;
+    if theta + args.cone >= 90.0 {
+        return Err(CliError::input(format!(
+            "--theta {} plus --cone {} reaches 90 deg, where grazing light does not enter: keep their sum below 90",
+            super::show(theta),
+            super::show(args.cone)
+        )));
+    }
+    super::check_range(
+        "--extent",
+        args.extent,
+        (Bound::Excluded(0.0), Bound::Unbounded),
+    )?;
+    if args.compare == Some(args.model) {
+        return Err(CliError::input(format!(
+            "--compare {0} is the --model: a picture compared with itself; give another model",
+            args.model.name()
+        )));
+    }
     let config = Config {
         model,
         theta: theta.to_radians(),

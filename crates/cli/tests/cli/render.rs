@@ -115,13 +115,32 @@ fn bad_input_exits_2_and_names_the_value() {
         bssrdf(d, &args)
     };
     fails_with(&with(&["--theta", "95"]), "--theta 95");
-    fails_with(&with(&["--theta", "60", "--cone", "40"]), "cone = 40");
-    fails_with(&with(&["--theta", "6", "--size", "0,5"]), "0x5");
+    // Each message names the flags and the values as given
+    fails_with(
+        &with(&["--theta", "30", "--cone", "60"]),
+        "--theta 30 plus --cone 60 reaches 90 deg",
+    );
+    fails_with(
+        &with(&["--theta", "6", "--size", "0,5"]),
+        "each side is a whole number of pixels in [1, 4096], not 0",
+    );
+    fails_with(
+        &with(&["--theta", "6", "--size", "-16,16"]),
+        "each side is a whole number of pixels in [1, 4096], not -16",
+    );
+    fails_with(&with(&["--theta", "6", "--size", "16.5,16"]), "not 16.5");
+    fails_with(
+        &with(&["--theta", "6", "--compare", "table"]),
+        "--compare table is the --model",
+    );
     fails_with(
         &with(&["--theta", "6", "--size", "5"]),
         "expected 2 comma-separated numbers W,H",
     );
-    fails_with(&with(&["--theta", "6", "--extent", "-2"]), "extent = -2");
+    fails_with(
+        &with(&["--theta", "6", "--extent", "-2"]),
+        "--extent -2 is outside the valid range",
+    );
     let zero = [
         "render",
         "--preset",
