@@ -88,7 +88,7 @@ fn inspect_reports_tables_materials_and_provenance() {
     assert_eq!(check["eta"], 1.33);
     assert!(check["bounds"]["mean_rel_error"].as_f64().unwrap() > 0.0);
     let regions = check["regions"].as_array().unwrap();
-    assert_eq!(regions.len(), 25, "5 albedo bands x 5 incidence bands");
+    assert_eq!(regions.len(), 30, "6 albedo bands x 5 incidence bands");
     for r in regions {
         assert!(r["points"].as_u64().unwrap() > 0, "{r}");
         assert!(r["mean_rel_error"].as_f64().unwrap() <= 0.01, "{r}");
