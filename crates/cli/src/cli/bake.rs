@@ -241,8 +241,8 @@ impl Session {
                 failures.push(format!(
                     "  eta {}, rho {}-{}, theta {}-{} deg: mean {:.3} % over {} points (bound {} %), coverage max {:.3} % over {} points (bound {} %), {} silent zero(s)",
                     super::show(result.eta),
-                    super::show(r.rho[0]),
-                    super::show(r.rho[1]),
+                    super::values::show_band(r.rho[0]),
+                    super::values::show_band(r.rho[1]),
                     super::show_deg(r.theta_deg[0]),
                     super::show_deg(r.theta_deg[1]),
                     100.0 * r.mean_rel_error,

@@ -257,7 +257,11 @@ fn check_lines(accuracy: &serde_json::Value) -> Option<Vec<String>> {
         for r in &table.regions {
             lines.push(format!(
                 "  {:>11} {:>11} {:>6} {:>8.3} {:>8.3} {:>8.3} {:>8.4}  {:>5} {:>8.3} {:>5}  {}",
-                format!("{}-{}", r.rho[0], r.rho[1]),
+                format!(
+                    "{}-{}",
+                    super::values::show_band(r.rho[0]),
+                    super::values::show_band(r.rho[1])
+                ),
                 format!(
                     "{}-{}",
                     super::show_deg(r.theta_deg[0]),

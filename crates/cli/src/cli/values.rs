@@ -12,6 +12,12 @@ pub fn show(v: f64) -> String {
     bssrdf_zoo::error::number(v)
 }
 
+/// An albedo band's edge as messages and tables print it: to 4 decimals (a scene bake's bands
+/// end at its kept rows, f32 values such as 0.47971081733703613; `--json` keeps them whole).
+pub fn show_band(v: f64) -> String {
+    show((v * 1e4).round() / 1e4)
+}
+
 /// An angle band's edge in degrees as messages and tables print it: to 3 decimals (the check's
 /// band below the critical angle ends at asin η less 10⁻⁶ of it, 64.15800307876565° at η = 0.9).
 pub fn show_deg(v: f64) -> String {
@@ -160,7 +166,15 @@ pub fn check_kept(
 
 #[cfg(test)]
 mod tests {
-    use super::{critical_deg, enters, neighbour};
+    use super::{critical_deg, enters, neighbour, show_band};
+
+    #[test]
+    fn band_edges_print_to_four_decimals() {
+        assert_eq!(show_band(0.47971081733703613), "0.4797");
+        assert_eq!(show_band(0.15068472921848297), "0.1507");
+        assert_eq!(show_band(1.0), "1");
+        assert_eq!(show_band(0.95), "0.95");
+    }
 
     /// The critical angle the messages state is the largest incidence the check takes, at every
     /// η below 1 (asin η in degrees alone is refused at about 8 % of them, η = 0.8 among them).
