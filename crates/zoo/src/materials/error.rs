@@ -23,8 +23,13 @@ pub enum MaterialError {
     #[error("{file}: {message}")]
     Parse { file: String, message: String },
     /// A field the schema does not know (`deny_unknown_fields`).
-    #[error("{file}: unknown field `{field}`")]
-    UnknownField { file: String, field: String },
+    #[error("{file}: {at}: unknown field `{field}`")]
+    UnknownField {
+        file: String,
+        /// "line L, column C" of the field's key.
+        at: String,
+        field: String,
+    },
     /// A required field is absent.
     #[error("{file}: missing field `{field}`")]
     MissingField { file: String, field: String },

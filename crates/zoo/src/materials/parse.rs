@@ -58,11 +58,13 @@ pub(super) fn material_from_toml(text: &str, origin: Origin) -> Result<Material,
         file: file.clone(),
         message: describe(text, &e),
     };
-    // Check field names on the untyped table first: serde's own messages for these are text.
-    let table: toml::Table = toml::from_str(text).map_err(parse_error)?;
-    check_fields(&file, "", &table, &FIELDS)?;
-    if let Some(toml::Value::Table(source)) = table.get("source") {
-        check_fields(&file, "source.", source, &SOURCE_FIELDS)?;
+    // Check field names on the spanned, untyped table first: serde's own messages for these
+    // are text, and the spans give an unknown field its line
+    let table = toml::de::DeTable::parse(text).map_err(parse_error)?;
+    let table = table.get_ref();
+    check_fields(text, &file, "", table, &FIELDS)?;
+    if let Some(toml::de::DeValue::Table(source)) = table.get("source").map(|v| v.get_ref()) {
+        check_fields(text, &file, "source.", source, &SOURCE_FIELDS)?;
     }
     let raw: RawMaterial = toml::from_str(text).map_err(parse_error)?;
 
@@ -112,20 +114,24 @@ pub(super) fn material_from_toml(text: &str, origin: Origin) -> Result<Material,
     })
 }
 
-/// Rejects keys outside `fields` and reports the first required one that is absent.
+/// Rejects keys outside `fields`, naming the line of the first, and reports the first
+/// required one that is absent. `text` is the file's, which the keys' spans index.
 fn check_fields(
+    text: &str,
     file: &str,
     prefix: &str,
-    table: &toml::Table,
+    table: &toml::de::DeTable<'_>,
     fields: &[(&str, bool)],
 ) -> Result<(), MaterialError> {
-    if let Some(key) = table
-        .keys()
-        .find(|key| !fields.iter().any(|(name, _)| name == key))
-    {
+    if let Some(key) = table.keys().find(|key| {
+        !fields
+            .iter()
+            .any(|(name, _)| *name == key.get_ref().as_ref())
+    }) {
         return Err(MaterialError::UnknownField {
             file: file.to_string(),
-            field: format!("{prefix}{key}"),
+            at: position(text, key.span().start),
+            field: format!("{prefix}{}", key.get_ref()),
         });
     }
     if let Some((name, _)) = fields
@@ -144,18 +150,21 @@ fn check_fields(
 fn describe(text: &str, error: &toml::de::Error) -> String {
     let message = error.message().trim_end();
     match error.span() {
-        Some(span) => {
-            let mut start = span.start.min(text.len());
-            while !text.is_char_boundary(start) {
-                start -= 1;
-            }
-            let before = &text[..start];
-            let line = before.matches('\n').count() + 1;
-            let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
-            format!("line {line}, column {column}: {message}")
-        }
+        Some(span) => format!("{}: {message}", position(text, span.start)),
         None => message.to_string(),
     }
+}
+
+/// "line L, column C" (1-based) of byte `offset` of `text`.
+fn position(text: &str, offset: usize) -> String {
+    let mut start = offset.min(text.len());
+    while !text.is_char_boundary(start) {
+        start -= 1;
+    }
+    let before = &text[..start];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+    format!("line {line}, column {column}")
 }
 
 /// Whether `id` is kebab-case: non-empty words of lowercase ASCII letters and digits joined by
@@ -311,5 +320,25 @@ mod tests {
             }
             other => panic!("expected a parse error, got {other:?}"),
         }
+    }
+
+    #[test]
+    fn an_unknown_field_is_named_with_its_line() {
+        let text = "id = \"my-x\"\nname = \"X\"\ncolour = \"red\"\n";
+        let err = material_from_toml(text, Origin::Inline).unwrap_err();
+        assert!(
+            err.to_string()
+                .ends_with("line 3, column 1: unknown field `colour`"),
+            "{err}"
+        );
+        let whole = "id = \"my-x\"\nname = \"X\"\neta = 1.3\ncoefficients = \"reduced\"\n\
+                     sigma_s = [1, 1, 1]\nsigma_a = [0, 0, 0]\ng = [0, 0, 0]\n";
+        let text = format!("{whole}[source]\ncoefficients = \"x\"\n  note = \"y\"\n");
+        let err = material_from_toml(&text, Origin::Inline).unwrap_err();
+        assert!(
+            err.to_string()
+                .ends_with("line 10, column 3: unknown field `source.note`"),
+            "{err}"
+        );
     }
 }
