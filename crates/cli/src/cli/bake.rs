@@ -114,7 +114,7 @@ pub struct BakeArgs {
     #[arg(long, value_name = "PATH")]
     pub(super) materials: Option<PathBuf>,
     /// Threads, in [1, 1024] (default: all cores); the result is identical on any count.
-    #[arg(long)]
+    #[arg(long, value_parser = super::values::whole::<usize>)]
     threads: Option<usize>,
     /// No progress bar or messages on stderr (the bar only ever shows on a terminal).
     #[arg(long, short)]

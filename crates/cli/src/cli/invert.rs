@@ -52,7 +52,7 @@ pub struct InvertArgs {
     #[arg(long, allow_hyphen_values = true)]
     eta: Option<f64>,
     /// Index of the table in FILE (default: the one of --eta, else the first); only with FILE.
-    #[arg(long)]
+    #[arg(long, value_parser = super::values::whole::<usize>)]
     table: Option<usize>,
     /// Map FILE instead of reading it into memory; only with FILE.
     #[arg(long)]
@@ -65,7 +65,7 @@ pub struct InvertArgs {
     fresnel_moments: Option<MomentsArg>,
     /// Threads of the bake without FILE, in [1, 1024] (default: all cores); the result is
     /// identical on any count.
-    #[arg(long)]
+    #[arg(long, value_parser = super::values::whole::<usize>)]
     threads: Option<usize>,
     /// Print a JSON object on stdout (the table, T(θ), the range, ρ′ and ρ_eff per value).
     #[arg(long)]

@@ -52,7 +52,7 @@ impl Channel {
 pub struct TableChoice {
     /// Index of the table in the file (default: the one of --eta or of the material, or the
     /// first).
-    #[arg(long)]
+    #[arg(long, value_parser = super::values::whole::<usize>)]
     pub table: Option<usize>,
     /// Relative index of refraction η in [0.75, 2.5]: selects the file's table with this η
     /// (refused when the file has none); without a file, the medium's η (default 1.33).

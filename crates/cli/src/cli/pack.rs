@@ -14,7 +14,7 @@ pub struct PackArgs {
     files: UnpackArgs,
     /// zstd level in [-131072, 22]: 1 to 22 from fast to small, 0 zstd's default (3), the
     /// negative ones faster still.
-    #[arg(long, default_value_t = Compression::DEFAULT_ZSTD_LEVEL, allow_hyphen_values = true)]
+    #[arg(long, value_parser = super::values::whole::<i32>, default_value_t = Compression::DEFAULT_ZSTD_LEVEL, allow_hyphen_values = true)]
     level: i32,
 }
 

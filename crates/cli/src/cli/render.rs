@@ -83,7 +83,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = render_model())]
     compare: Option<ModelKind>,
     /// Photons traced.
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1_000_000)]
     photons: u64,
     /// Picture size in pixels.
     #[arg(long, value_name = "W,H", value_parser = size, default_value = "256,256",
@@ -96,7 +96,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "DEG", default_value_t = 1.0)]
     cone: f64,
     /// Seed of the per-photon streams (the picture does not depend on the thread count).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 0)]
     seed: u64,
     /// Grid of the table baked for the material's η (not with --model mc alone) [default:
     /// default].
@@ -127,7 +127,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = render::png::DECADES, conflicts_with = "no_preview")]
     decades: f64,
     /// Threads, in [1, 1024] (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = super::values::whole::<usize>)]
     threads: Option<usize>,
     /// No progress bar.
     #[arg(short, long)]

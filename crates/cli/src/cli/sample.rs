@@ -28,10 +28,10 @@ pub struct SampleArgs {
     #[arg(long, allow_hyphen_values = true, conflicts_with = "path_tracing")]
     theta: Option<f64>,
     /// Number of samples.
-    #[arg(short = 'n', long, default_value_t = 1000)]
+    #[arg(short = 'n', long, value_parser = super::values::whole::<u64>, default_value_t = 1000)]
     count: u64,
     /// Seed of the random stream (output is pinned for a seed).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 0)]
     seed: u64,
     /// Draw (θ, r, φ, φ′) for path tracing (Ferrier algorithm 3).
     #[arg(long)]

@@ -26,10 +26,10 @@ pub struct ValidateArgs {
     /// Library file.
     file: PathBuf,
     /// Points drawn per (ρ′, θ) case, in [1, 1e8].
-    #[arg(long, default_value_t = 100_000)]
+    #[arg(long, value_parser = super::values::whole::<usize>, default_value_t = 100_000)]
     samples: usize,
     /// Seed of the point stream.
-    #[arg(long, default_value_t = 7)]
+    #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 7)]
     seed: u64,
     /// Bound on every case's mean relative error, in per cent, in [0, 10000] (default: the
     /// report's figures).

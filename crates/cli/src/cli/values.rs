@@ -93,6 +93,32 @@ pub fn check_range(name: &str, value: f64, range: impl RangeBounds<f64>) -> Resu
     )))
 }
 
+/// A whole number as an option takes it (counts, seeds, indices, levels), also in exponent
+/// form (`--photons 1e6`), or what is wrong with the text: clap's own parse says "invalid digit
+/// found in string" for `-1` or `1.5`. The commands check their own ranges after it.
+pub fn whole<T: FromStr>(text: &str) -> Result<T, String> {
+    let text = text.trim();
+    if let Ok(value) = text.parse::<T>() {
+        return Ok(value);
+    }
+    let Ok(x) = text.parse::<f64>() else {
+        return Err(format!("{text:?} is not a whole number"));
+    };
+    if !x.is_finite() || x.fract() != 0.0 {
+        return Err(format!("{} is not a whole number", show(x)));
+    }
+    // Integral and within f64's exact integers: in decimal digits, for T's own parse
+    let digits = (x.abs() < 9e15).then(|| format!("{}", x as i64));
+    match digits.and_then(|d| d.parse::<T>().ok()) {
+        Some(value) => Ok(value),
+        None if x < 0.0 => Err(format!(
+            "{} is negative: a whole number >= 0 is expected",
+            show(x)
+        )),
+        None => Err(format!("{} is too large", show(x))),
+    }
+}
+
 /// Every item of a comma-separated list, parsed as `T` ("x" is not a number).
 pub fn list<T: FromStr>(text: &str) -> Result<Vec<T>, String> {
     text.split(',')
@@ -166,7 +192,32 @@ pub fn check_kept(
 
 #[cfg(test)]
 mod tests {
-    use super::{critical_deg, enters, neighbour, show_band};
+    use super::{critical_deg, enters, neighbour, show_band, whole};
+
+    #[test]
+    fn whole_numbers_say_what_is_wrong() {
+        assert_eq!(whole::<u64>("1e6"), Ok(1_000_000));
+        assert_eq!(whole::<u64>(" 42 "), Ok(42));
+        assert_eq!(whole::<i32>("-3"), Ok(-3));
+        assert_eq!(
+            whole::<u64>("-1").unwrap_err(),
+            "-1 is negative: a whole number >= 0 is expected"
+        );
+        assert_eq!(
+            whole::<u64>("1.5").unwrap_err(),
+            "1.5 is not a whole number"
+        );
+        assert_eq!(whole::<i32>("1e10").unwrap_err(), "1e10 is too large");
+        assert_eq!(whole::<u64>("1e300").unwrap_err(), "1e300 is too large");
+        assert_eq!(
+            whole::<usize>("x").unwrap_err(),
+            "\"x\" is not a whole number"
+        );
+        assert_eq!(
+            whole::<u64>("nan").unwrap_err(),
+            "NaN is not a whole number"
+        );
+    }
 
     #[test]
     fn band_edges_print_to_four_decimals() {

@@ -26,10 +26,10 @@ pub struct WalkArgs {
     #[arg(long, default_value_t = 0.0)]
     theta: f64,
     /// Number of photons entering the medium, ≥ 2 (a standard error needs two).
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1_000_000)]
     photons: u64,
     /// Seed of the per-photon random streams (results do not depend on the thread count).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 0)]
     seed: u64,
     /// A slab of this optical thickness instead of a half-space.
     #[arg(long, value_name = "TAU")]
@@ -44,7 +44,7 @@ pub struct WalkArgs {
     #[arg(long, value_name = "OUT.csv")]
     profile: Option<PathBuf>,
     /// Threads, in [1, 1024] (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = super::values::whole::<usize>)]
     threads: Option<usize>,
     /// One JSON object instead of the summary.
     #[arg(long)]

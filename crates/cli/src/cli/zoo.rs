@@ -17,10 +17,10 @@ pub struct ZooArgs {
     #[arg(long, default_value_t = 0.0)]
     g: f64,
     /// Photons per walk (one walk per case).
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1_000_000)]
     photons: u64,
     /// Seed of the reference walks.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1)]
     seed: u64,
     /// Models to compare (default: all), comma-separated names.
     #[arg(long, value_enum, value_delimiter = ',')]
@@ -37,7 +37,7 @@ pub struct ZooArgs {
     #[arg(long, value_name = "DIR")]
     plot: Option<PathBuf>,
     /// Threads, in [1, 1024] (default: all cores); results do not depend on it.
-    #[arg(long)]
+    #[arg(long, value_parser = super::values::whole::<usize>)]
     threads: Option<usize>,
     /// One JSON object instead of the table.
     #[arg(long)]

@@ -542,6 +542,45 @@ fn negative_numbers_are_values() {
     }
 }
 
+/// Whole-number flags say what is wrong with a value (clap's own parse said "invalid digit
+/// found in string"), and take exponent form.
+#[test]
+fn whole_number_flags_name_what_is_wrong() {
+    let dir = bare();
+    let d = dir.path();
+    for (args, needle) in [
+        (
+            &["sample", "t.bssrdf", "--rho", "0.5", "-n", "-1"][..],
+            "-1 is negative",
+        ),
+        (
+            &["walk", "--albedo", "0.5", "--threads", "-1"],
+            "-1 is negative",
+        ),
+        (
+            &["walk", "--albedo", "0.5", "--seed", "1.5"],
+            "1.5 is not a whole number",
+        ),
+        (
+            &["validate", "t.bssrdf", "--samples", "1e30"],
+            "1e30 is too large",
+        ),
+        (
+            &["pack", "t.bssrdf", "--level", "2.5"],
+            "2.5 is not a whole number",
+        ),
+    ] {
+        let out = bssrdf(d, args);
+        fails_with(&out, 2, needle);
+        assert!(!text(&out.stderr).contains("invalid digit"), "{args:?}");
+    }
+    let few = ok(&bssrdf(
+        d,
+        &["sample", "t.bssrdf", "--rho", "0.5", "-n", "1e1"],
+    ));
+    assert_eq!(few.lines().count(), 11, "a header and 10 rows: {few}");
+}
+
 /// An option that takes negative values takes the next argument as its value, so a forgotten
 /// value meets the next option: the error says the value is missing, not that "--theta" is a
 /// bad number.
