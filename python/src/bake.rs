@@ -85,11 +85,28 @@ fn parse_grid(grid: &Bound<'_, PyAny>) -> PyResult<BakeGrid> {
             r: axis("r")?,
         }));
     }
-    let (n_rho, n_theta, n_r): (usize, usize, usize) = grid.extract().map_err(|_| {
+    let (n_rho, n_theta, n_r): (i64, i64, i64) = grid.extract().map_err(|_| {
         PyValueError::new_err(
             "grid is a preset's name, (n_rho, n_theta, n_r) or {\"rho\": ..., \"theta\": ..., \"r\": ...}",
         )
     })?;
+    // Each count checked before anything is allocated: the file's axes hold at most
+    // MAX_AXIS_LEN nodes, and the placement needs 2 albedos, 2 angles and 4 radii
+    let max = i64::from(bssrdf_zoo::format::spec::MAX_AXIS_LEN);
+    let count = |name: &str, n: i64, min: i64| -> PyResult<usize> {
+        if (min..=max).contains(&n) {
+            Ok(n as usize)
+        } else {
+            Err(PyValueError::new_err(format!(
+                "grid's {name} = {n} is outside [{min}, {max}]"
+            )))
+        }
+    };
+    let (n_rho, n_theta, n_r) = (
+        count("n_rho", n_rho, 2)?,
+        count("n_theta", n_theta, 2)?,
+        count("n_r", n_r, 4)?,
+    );
     Ok(BakeGrid::Custom(Grid::ferrier(n_rho, n_theta, n_r)))
 }
 
@@ -118,6 +135,33 @@ fn parse_material(item: &Bound<'_, PyAny>) -> PyResult<MaterialSpec> {
             "a material is a built-in material's name or a dict (name, sigma_s, sigma_a, g, eta, or name, reflectance, mfp, g, eta)",
         )
     })?;
+    // A misspelt key would leave a default in its place ("G" for "g": g = 0), and both kinds
+    // of parameters at once one of them unused: both refused
+    const KEYS: [&str; 8] = [
+        "name",
+        "eta",
+        "g",
+        "source",
+        "sigma_s",
+        "sigma_a",
+        "reflectance",
+        "mfp",
+    ];
+    for key in dict.keys() {
+        let key: String = key.str()?.extract()?;
+        if !KEYS.contains(&key.as_str()) {
+            return Err(PyValueError::new_err(format!(
+                "the material's dict has an unknown key {key:?}; its keys are {}",
+                KEYS.join(", ")
+            )));
+        }
+    }
+    let artist = dict.contains("reflectance")? || dict.contains("mfp")?;
+    if artist && (dict.contains("sigma_s")? || dict.contains("sigma_a")?) {
+        return Err(PyValueError::new_err(
+            "the material's dict gives both sigma_s/sigma_a and reflectance/mfp: give one pair",
+        ));
+    }
     let required = |key: &str| -> PyResult<Bound<'_, PyAny>> {
         dict.get_item(key)?
             .ok_or_else(|| PyValueError::new_err(format!("the material's dict has no {key:?}")))

@@ -34,6 +34,10 @@ use pyo3::prelude::*;
 fn on_threads<T: Send>(threads: Option<usize>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
     match threads {
         None => Ok(work()),
+        // The command line's range: thousands of threads only cost their start-up
+        Some(n) if !(1..=bssrdf_zoo::MAX_THREADS).contains(&n) => Err(PyValueError::new_err(
+            format!("threads = {n} is outside [1, {}]", bssrdf_zoo::MAX_THREADS),
+        )),
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()

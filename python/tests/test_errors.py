@@ -77,6 +77,26 @@ def test_bad_values_are_value_errors_naming_them(library, table):
         bz.models.eval("dipole", 0.5, 2.0, 1.0, 0.0)
     with pytest.raises(ValueError, match="grid"):
         bz.bake(1.33, grid="huge")
+    # Grid counts are checked before anything is allocated, never silently raised
+    for grid, needle in [
+        ((3, 3, 2**40), r"grid's n_r = 1099511627776 is outside \[4, 65536\]"),
+        ((3, 3, 70000), r"n_r = 70000 is outside"),
+        ((1, 3, 6), r"grid's n_rho = 1 is outside \[2, 65536\]"),
+        ((3, 1, 6), r"n_theta = 1 is outside"),
+        ((3, 3, 3), r"n_r = 3 is outside"),
+        ((3, -3, 6), r"n_theta = -3 is outside"),
+    ]:
+        with pytest.raises(ValueError, match=needle):
+            bz.bake(1.33, grid=grid)
+    for threads in (0, 1025, 100000):
+        with pytest.raises(ValueError, match=rf"threads = {threads} is outside \[1, 1024\]"):
+            bz.bake(1.33, grid=(3, 3, 6), threads=threads)
+    # A material's dict: no unknown key (a default would take its place), one kind of parameters
+    wax = {"name": "wax", "sigma_s": 2.0, "sigma_a": 0.01, "eta": 1.4}
+    with pytest.raises(ValueError, match='unknown key "G"'):
+        bz.bake_materials([{**wax, "G": 0.9}], grid=(3, 3, 6))
+    with pytest.raises(ValueError, match="both sigma_s/sigma_a and reflectance/mfp"):
+        bz.bake_materials([{**wax, "reflectance": 0.5, "mfp": 1.0}], grid=(3, 3, 6))
     with pytest.raises(ValueError, match="eta"):
         bz.bake(7.0, grid=(6, 4, 10))
     with pytest.raises(ValueError, match="albedo"):

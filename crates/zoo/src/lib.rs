@@ -35,3 +35,8 @@ pub mod scene;
 pub mod walk;
 
 pub use error::{Error, Result};
+
+/// Most threads a bake, walk or render may ask for (`--threads`, Python's `threads=`): far
+/// more than any machine this runs on has cores, and few enough that spawning them cannot
+/// exhaust the system (5,000 threads made a tiny bake take 19 s).
+pub const MAX_THREADS: usize = 1024;

@@ -174,9 +174,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
 
 pub use values::{check_range, show, show_deg};
 
-/// Most threads a --threads may ask for: far more than any machine this runs on has cores,
-/// and few enough that spawning them cannot exhaust the system.
-pub const MAX_THREADS: usize = 1024;
+pub use bssrdf_zoo::MAX_THREADS;
 
 /// Runs `f` on a pool of `threads` threads, or on the global pool when `None`. --threads is a
 /// whole number in [1, MAX_THREADS].
