@@ -765,9 +765,21 @@ fn decode_sections(bytes: &[u8], entries: &[SectionInfo]) -> FormatResult<Vec<Op
             continue;
         };
         let mut buf = AlignedBuf::zeroed(entry.raw_len);
-        let found = d
-            .decompress_to_buffer(stored, buf.bytes_mut())
-            .map_err(zstd_error)?;
+        let found = match d.decompress_to_buffer(stored, buf.bytes_mut()) {
+            Ok(found) => found,
+            // Frames that decode to more than the raw length fail for want of room: that is a
+            // decoded length (§7), not corrupt data
+            Err(e) => match decoded_len(stored) {
+                Some(found) if found > entry.raw_len as u64 => {
+                    return Err(FormatError::DecodedLength {
+                        section,
+                        expected: entry.raw_len as u64,
+                        found,
+                    })
+                }
+                _ => return Err(zstd_error(e)),
+            },
+        };
         if found != entry.raw_len {
             return Err(FormatError::DecodedLength {
                 section,
@@ -778,6 +790,14 @@ fn decode_sections(bytes: &[u8], entries: &[SectionInfo]) -> FormatResult<Vec<Op
         decoded.push(Some(buf));
     }
     Ok(decoded)
+}
+
+/// The number of bytes the zstd frames `stored` decode to, counted without keeping them (up to
+/// 4 GiB); `None` where they do not decode.
+fn decoded_len(stored: &[u8]) -> Option<u64> {
+    let decoder = zstd::stream::read::Decoder::with_buffer(stored).ok()?;
+    let mut counted = std::io::Read::take(decoder, u64::from(u32::MAX));
+    std::io::copy(&mut counted, &mut std::io::sink()).ok()
 }
 
 fn check_padding(bytes: &[u8], from: usize, to: usize) -> FormatResult<()> {

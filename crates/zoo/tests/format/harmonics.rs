@@ -482,6 +482,16 @@ fn compressed_harmonics() {
     s.raw_len = Some(128);
     let raw = build(2, HARMONICS | ZSTD, &short);
     assert_rejected("short frame", &raw, "decoded-length", "section 9");
+    // A frame of 132 bytes: more than the raw length is a decoded length too, not zstd's
+    // "destination buffer is too small"
+    let mut long = tiny_two_lobes_sections();
+    let s = &mut long[SECTION];
+    s.data.extend_from_slice(&[0; 4]);
+    s.data = zstd::bulk::compress(&s.data, 3).unwrap();
+    s.codec = 1;
+    s.raw_len = Some(128);
+    let raw = build(2, HARMONICS | ZSTD, &long);
+    assert_rejected("long frame", &raw, "decoded-length", "decoded to 132 bytes");
     // The whole file packed and unpacked: bits 0 and 2, then the same bytes.
     let dir = tempfile::tempdir().unwrap();
     let (a, b) = (dir.path().join("a.bssrdf"), dir.path().join("b.bssrdf"));
