@@ -172,8 +172,11 @@ fn check_key(key: &str, value: &Value) -> FormatResult<()> {
     }
 }
 
+/// Refuses a null anywhere in `value`, and an array or object nested deeper than
+/// [`MAX_JSON_DEPTH`] levels: `value` lies at `depth` (the top object's fields at 1), and an
+/// array or object at depth d is level d + 1.
 fn check_no_null(value: &Value, path: &str, depth: usize) -> FormatResult<()> {
-    if depth > MAX_JSON_DEPTH {
+    if matches!(value, Value::Array(_) | Value::Object(_)) && depth >= MAX_JSON_DEPTH {
         return Err(provenance_error(format!(
             "{path} nests deeper than {MAX_JSON_DEPTH} levels"
         )));
@@ -227,7 +230,8 @@ fn write_object<'a>(entries: impl Iterator<Item = (&'a String, &'a Value)>, out:
 }
 
 /// Deserializes a JSON value, failing on duplicate keys (recorded in `duplicate`), on null and
-/// on nesting deeper than [`MAX_JSON_DEPTH`].
+/// on nesting deeper than [`MAX_JSON_DEPTH`] levels of arrays and objects (the top object is
+/// level 1, at `depth` 0; an array or object at depth d is level d + 1, empty or not).
 #[derive(Clone, Copy)]
 struct StrictSeed<'a> {
     depth: usize,
@@ -238,12 +242,19 @@ impl<'de> DeserializeSeed<'de> for StrictSeed<'_> {
     type Value = Value;
 
     fn deserialize<D: de::Deserializer<'de>>(self, deserializer: D) -> Result<Value, D::Error> {
-        if self.depth > MAX_JSON_DEPTH {
-            return Err(de::Error::custom(format!(
+        deserializer.deserialize_any(self)
+    }
+}
+
+impl StrictSeed<'_> {
+    /// Refuses an array or object at this depth if it would be level 33 or deeper.
+    fn check_level<E: de::Error>(&self) -> Result<(), E> {
+        if self.depth >= MAX_JSON_DEPTH {
+            return Err(E::custom(format!(
                 "nests deeper than {MAX_JSON_DEPTH} levels"
             )));
         }
-        deserializer.deserialize_any(self)
+        Ok(())
     }
 }
 
@@ -287,6 +298,7 @@ impl<'de> Visitor<'de> for StrictSeed<'_> {
     }
 
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        self.check_level()?;
         let inner = StrictSeed {
             depth: self.depth + 1,
             ..self
@@ -299,6 +311,7 @@ impl<'de> Visitor<'de> for StrictSeed<'_> {
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut access: A) -> Result<Value, A::Error> {
+        self.check_level()?;
         let inner = StrictSeed {
             depth: self.depth + 1,
             ..self
@@ -343,6 +356,35 @@ mod tests {
         let text = r#"{"accuracy":{"e":[0.012062905218408027,0.012094787878159763,5e-324,1.7976931348623157e+308]},"tool_version":"t"}"#;
         let p = Provenance::from_json(text.as_bytes()).unwrap();
         assert_eq!(String::from_utf8(p.to_canonical_json()).unwrap(), text);
+    }
+
+    /// §11: arrays and objects nest at most 32 levels, the top object the first; an empty one
+    /// at level 33 counts as one (it passed, where one holding a value did not).
+    #[test]
+    fn nesting_stops_at_32_levels_empty_or_not() {
+        let nested = |levels: usize, inner: &str| {
+            let arrays = levels - 1;
+            format!(
+                r#"{{"tool_version":"t","x":{}{inner}{}}}"#,
+                "[".repeat(arrays),
+                "]".repeat(arrays)
+            )
+        };
+        for inner in ["", "1"] {
+            let ok = nested(32, inner);
+            assert!(Provenance::from_json(ok.as_bytes()).is_ok(), "{ok}");
+            let deep = nested(33, inner);
+            let err = Provenance::from_json(deep.as_bytes()).unwrap_err();
+            assert_eq!(err.code(), "provenance-json", "{deep}");
+            assert!(err.to_string().contains("deeper than 32 levels"), "{err}");
+        }
+        // The writer's check agrees: a field's value at level 2, so 31 arrays reach level 32
+        let base = Provenance::from_json(br#"{"tool_version":"t"}"#).unwrap();
+        let arrays = |n: usize| -> Value {
+            serde_json::from_str(&format!("{}{}", "[".repeat(n), "]".repeat(n))).unwrap()
+        };
+        assert!(base.clone().with("x", arrays(31)).is_ok());
+        assert!(base.with("x", arrays(32)).is_err());
     }
 
     #[test]
