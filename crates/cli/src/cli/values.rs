@@ -15,13 +15,19 @@ pub fn show(v: f64) -> String {
 /// An albedo band's edge as messages and tables print it: to 4 decimals (a scene bake's bands
 /// end at its kept rows, f32 values such as 0.47971081733703613; `--json` keeps them whole).
 pub fn show_band(v: f64) -> String {
-    show((v * 1e4).round() / 1e4)
+    show_rounded(v, 4)
 }
 
 /// An angle band's edge in degrees as messages and tables print it: to 3 decimals (the check's
 /// band below the critical angle ends at asin η less 10⁻⁶ of it, 64.15800307876565° at η = 0.9).
 pub fn show_deg(v: f64) -> String {
-    show((v * 1000.0).round() / 1000.0)
+    show_rounded(v, 3)
+}
+
+/// `v` rounded to `places` decimals, then as [`show`] prints it.
+fn show_rounded(v: f64, places: i32) -> String {
+    let scale = 10f64.powi(places);
+    show((v * scale).round() / scale)
 }
 
 /// Whether light enters at incidence `theta_deg` (degrees) below η = 1: sin θ ≤ η, the walk's
