@@ -231,6 +231,33 @@ impl Pbd {
         self.evaluate(theta, r, phi, rule).value()
     }
 
+    /// S with the refracted beam running in the surface (θ′ = 90°: η = 1 at θ = 90°, or the
+    /// critical angle asin η below η = 1), in reduced units: finite at every φ ≠ 0, +∞ at
+    /// φ = 0 (the module docs). This is the limit θ′ → 90° of S at every φ ≠ 0, but not of
+    /// the profile's energy: the limit also holds [`Pbd::surface_ridge`] on the line φ = 0.
+    pub fn eval_surface_beam(&self, r: f64, phi: f64, rule: Rule) -> f64 {
+        self.evaluate_refracted(Some((1.0, 0.0)), r, phi, rule)
+            .value()
+    }
+
+    /// The ridge of the limit θ′ → 90°: its mass per radian of φ at radius r (reduced units),
+    /// all of it on the line φ = 0, a(r) = ρ′² C_E κ e^{−r}/(2r) with κ = 1 − e^{−2r}.
+    ///
+    /// As the beam nears the surface (z_r = t cos θ′ → 0), the real source's flux term
+    /// C_E/(4π)·κ z_r (1 + σtr d_r) e^{−σtr d_r}/d_r³ of each beam point t concentrates on the
+    /// exit point straight above it, where it integrates over the plane to C_E κ(t, 0)/2
+    /// (∫ z/d³ dA = 2π): weighted by the beam's ρ′² e^{−t} and with t = r (sin θ′ = 1), a line
+    /// density ρ′² C_E κ e^{−r}/2 along φ = 0, which S at θ′ = 90° exactly (z_r = 0) does not
+    /// hold. Over r it adds ρ′² C_E/3 to ρ_eff, the step between [`Pbd::effective_albedo`] at
+    /// grazing and the integral of [`Pbd::eval_surface_beam`] (tested).
+    pub fn surface_ridge(&self, r: f64) -> f64 {
+        if r.is_nan() || r <= 0.0 || r.is_infinite() {
+            return 0.0;
+        }
+        let rho = self.diffusion.rho_prime;
+        rho * rho * self.boundary.c_e() * -(-2.0 * r).exp_m1() * (-r).exp() / (2.0 * r)
+    }
+
     /// ln S_p^MS, accurate where S itself underflows (−∞ where S = 0).
     pub fn ln_eval(&self, theta: f64, r: f64, phi: f64, rule: Rule) -> f64 {
         self.evaluate(theta, r, phi, rule).ln_value()
@@ -253,7 +280,12 @@ impl Pbd {
     /// beam's flux term, z_r/d_r³ with κ ≈ 2(d_r + t) ≈ 4t, integrates k/t from t ~ r outward;
     /// the other terms stay finite. 0 where no light enters.
     pub fn log_slope(&self, theta: f64) -> f64 {
-        let Some((_, cos_t)) = self.refract(theta) else {
+        self.log_slope_refracted(self.refract(theta))
+    }
+
+    /// [`Pbd::log_slope`] of the refracted beam (sin θ′, cos θ′); 0 for `None`.
+    fn log_slope_refracted(&self, refracted: Option<(f64, f64)>) -> f64 {
+        let Some((_, cos_t)) = refracted else {
             return 0.0;
         };
         let rho = self.diffusion.rho_prime;
@@ -269,14 +301,27 @@ impl Pbd {
     }
 
     fn evaluate(&self, theta: f64, r: f64, phi: f64, rule: Rule) -> Evaluated {
+        self.evaluate_refracted(self.refract(theta), r, phi, rule)
+    }
+
+    /// [`Pbd::evaluate`] of the refracted beam (sin θ′, cos θ′); `None` where no light enters.
+    fn evaluate_refracted(
+        &self,
+        refracted: Option<(f64, f64)>,
+        r: f64,
+        phi: f64,
+        rule: Rule,
+    ) -> Evaluated {
         if r > 0.0 && r < R_SMALL {
             // The small-r expansion: S(r) = S(R_SMALL) + k·ln(R_SMALL/r), with ln r taken
             // apart so that R_SMALL/r cannot overflow at subnormal r.
-            let mut at = self.evaluate(theta, R_SMALL, phi, rule);
-            at.scaled += self.log_slope(theta) * (R_SMALL.ln() - r.ln()) * (-at.ln_scale).exp();
+            let mut at = self.evaluate_refracted(refracted, R_SMALL, phi, rule);
+            at.scaled += self.log_slope_refracted(refracted)
+                * (R_SMALL.ln() - r.ln())
+                * (-at.ln_scale).exp();
             return at;
         }
-        match self.setup(theta, r, phi) {
+        match self.setup(refracted, r, phi) {
             Setup::Value(v) => Evaluated::exact(v),
             Setup::Integrate(beam, log_scaled) => {
                 let (scaled, error, converged) = match rule {
@@ -358,13 +403,13 @@ impl Pbd {
         rho_prime * rho_prime * outer.value
     }
 
-    fn setup(&self, theta: f64, r: f64, phi: f64) -> Setup {
+    fn setup(&self, refracted: Option<(f64, f64)>, r: f64, phi: f64) -> Setup {
         if !r.is_finite() || r < 0.0 || !phi.is_finite() || r > R_LARGE {
             // Beyond R_LARGE, S < 1e-24 and its exponent is no longer resolved: 0.
             return Setup::Value(0.0);
         }
         // Where no light enters, or with ρ′ = 0 where nothing scatters, S = 0.
-        let Some((sin_t, cos_t)) = self.refract(theta) else {
+        let Some((sin_t, cos_t)) = refracted else {
             return Setup::Value(0.0);
         };
         if self.diffusion.rho_prime == 0.0 {
@@ -687,7 +732,7 @@ mod tests {
             let Ok(pbd) = Pbd::new(rho, Boundary::new(eta, Moments::Exact).unwrap()) else {
                 continue;
             };
-            let Setup::Integrate(beam, _) = pbd.setup(theta, r, phi) else {
+            let Setup::Integrate(beam, _) = pbd.setup(pbd.refract(theta), r, phi) else {
                 continue;
             };
             let sigma = pbd.diffusion.sigma_tr;

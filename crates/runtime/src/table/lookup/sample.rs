@@ -184,11 +184,15 @@ impl TableRef<'_> {
         })
     }
 
-    /// Density of θ in [`TableRef::sample_path`], per radian.
+    /// Density of θ in [`TableRef::sample_path`], per radian: 0 where no light enters (beyond
+    /// the critical angle of an η < 1, where the θ CDF is constant).
     pub fn pdf_theta(&self, rho: f64, theta: f64) -> f64 {
         let (Some(theta_cdf), Some(w_rho)) = (self.theta_cdf, self.axes.rho.weights(rho)) else {
             return 0.0;
         };
+        if !self.light_enters(theta) {
+            return 0.0;
+        }
         let (_, n_theta, n_r) = self.axes.dims();
         let rho_eff = |j: usize| {
             w_rho.apply_rows(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))

@@ -5,7 +5,7 @@ use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::gwc::ANCHOR_COS;
 use bssrdf_zoo::medium::{Boundary, Medium, ReducedDiffusion};
 use bssrdf_zoo::pbd::{eval_world, Pbd, Rule};
-use bssrdf_zoo::quadrature::GaussLegendre;
+use bssrdf_zoo::quadrature::{adaptive, GaussLegendre};
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{Grid, GridPreset, REFINE_PHI_DEG};
 use std::f64::consts::PI;
@@ -293,6 +293,53 @@ fn plane_integral_matches_the_effective_albedo() {
         assert!(
             (sum / want - 1.0).abs() < 1e-5,
             "{rho} {theta_deg}: {sum} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn the_surface_ridge_is_what_the_limit_of_a_grazing_beam_adds_to_the_beam_in_the_surface() {
+    // As the refracted beam nears the surface (θ′ → 90°), the energy at r, ∫ S dφ, tends to
+    // ∫ S_surface dφ + a(r): the beam exactly in the surface (`eval_surface_beam`) plus the
+    // ridge on φ = 0 (`surface_ridge`, a closed form) that its value leaves out. Checked by
+    // adaptive quadrature over φ of S at cos θ′ = 10⁻⁶ (the ridge, of width ~cos θ′, resolved
+    // by breaks down to 10⁻⁹), at η = 1 and at the critical angle of two η < 1, over random
+    // albedos and radii.
+    let breaks = [
+        0.0, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 0.1, 1.0, PI,
+    ];
+    let integral = |f: &dyn Fn(f64) -> f64| adaptive(f, &breaks, 1e-10, 0.0, 20_000).value;
+    let mut rng = SplitMix64::seed_from_u64(31);
+    let mut worst: f64 = 0.0;
+    for eta in [1.0, 0.9, 0.75] {
+        let cos_t: f64 = 1e-6;
+        let theta = (eta * (1.0 - cos_t * cos_t).sqrt()).asin();
+        for _ in 0..8 {
+            let rho = 0.05 + 0.95 * rng.next_f64();
+            let r = 10f64.powf(-2.0 + 3.3 * rng.next_f64());
+            let p = pbd(rho, eta);
+            let near = integral(&|phi| p.eval(theta, r, phi, Rule::Fast));
+            let surface = integral(&|phi| p.eval_surface_beam(r, phi, Rule::Fast));
+            // ∫ over [0, π] is half of the ridge's mass over [−π, π]
+            let limit = surface + 0.5 * p.surface_ridge(r);
+            let error = (near / limit - 1.0).abs();
+            worst = worst.max(error);
+            assert!(
+                error < 1e-4,
+                "{eta} {rho} {r}: {near} vs {limit} ({surface} + ridge)"
+            );
+        }
+    }
+    eprintln!("surface ridge: largest relative difference {worst:.2e}");
+    // Over the plane the ridge adds ρ′² C_E/3 to ρ_eff: the step between the effective albedo
+    // just below grazing and with the beam in the surface (computed independently of eval)
+    for rho in [0.3, 0.9, 1.0] {
+        let p = pbd(rho, 1.0);
+        let step = p.effective_albedo(PI / 2.0 - 1e-7) - p.effective_albedo(PI / 2.0);
+        let ridge = rho * rho * p.boundary().c_e() / 3.0;
+        assert!(
+            (step / ridge - 1.0).abs() < 1e-4,
+            "{rho}: {step} vs {ridge}"
         );
     }
 }
