@@ -93,8 +93,14 @@ pub fn check_range(name: &str, value: f64, range: impl RangeBounds<f64>) -> Resu
             format!("{open}{a}, {b}{close}")
         }
     };
+    // A number beyond f64's range parses to ±inf: say so, or `1e400` would come back as `inf`
+    let overflow = if value.is_infinite() {
+        " (a number beyond ±1.8e308 reads as ±inf)"
+    } else {
+        ""
+    };
     Err(CliError::input(format!(
-        "{name} {} is outside the valid range: {domain}",
+        "{name} {} is outside the valid range: {domain}{overflow}",
         show(value)
     )))
 }

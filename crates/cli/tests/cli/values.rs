@@ -42,6 +42,11 @@ fn large_values_print_short_and_eta_has_its_domain() {
             "--abs-tolerance -1e300 is outside the valid range: a finite number >= 0",
         ),
         (
+            vec!["diff", "t.bssrdf", "t.bssrdf", "--abs-tolerance", "1e400"],
+            "--abs-tolerance inf is outside the valid range: a finite number >= 0 (a number \
+             beyond ±1.8e308 reads as ±inf)",
+        ),
+        (
             vec![
                 "eval", "t.bssrdf", "--eta", "1e308", "--rho", "0.5", "--theta", "0", "--r", "1",
             ],

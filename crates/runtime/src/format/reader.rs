@@ -758,6 +758,13 @@ fn decode_sections(bytes: &[u8], entries: &[SectionInfo]) -> FormatResult<Vec<Op
             section,
             message: e.to_string(),
         };
+        if stored.is_empty() {
+            // zstd decodes no input to no output; §7 asks for one frame or more
+            return Err(FormatError::Zstd {
+                section,
+                message: "no zstd frame: a compressed section holds one or more".into(),
+            });
+        }
         if decompressor.is_none() {
             decompressor = Some(zstd::bulk::Decompressor::new().map_err(zstd_error)?);
         }

@@ -166,6 +166,15 @@ pub enum SceneError {
         material: String,
         source: ArtistError,
     },
+    /// The η a manifest gives a library material, outside [`crate::medium::ETA_MIN`,
+    /// `ETA_MAX`].
+    #[error(
+        "material {material:?}: eta = {} is outside [{}, {}] (the manifest's eta for this library material)",
+        crate::error::number(*eta),
+        crate::error::number(crate::medium::ETA_MIN),
+        crate::error::number(crate::medium::ETA_MAX)
+    )]
+    EtaOverride { material: String, eta: f64 },
     /// The same material twice.
     #[error("material {0:?} is listed twice")]
     Duplicate(String),
@@ -548,6 +557,12 @@ fn resolve(
             .unwrap_or_default();
         let m = match eta {
             Some(eta) => {
+                if !(crate::medium::ETA_MIN..=crate::medium::ETA_MAX).contains(&eta) {
+                    return Err(SceneError::EtaOverride {
+                        material: owned(),
+                        eta,
+                    });
+                }
                 source = format!("{source}; eta {eta} set by the scene manifest");
                 Material::from_coefficients(
                     found.id(),

@@ -166,6 +166,13 @@ fn inline_errors_name_the_field_and_value() {
     assert!(m("reflectance = [0.5, 0.5, 0.5]\nmfp = [1, 0, 1]").contains("mfp[g] = 0"));
     let named = error("[[material]]\nname = \"skin1\"\ng = 0.5\n");
     assert!(named.contains("inline materials only"), "{named}");
+    // A library material's η from the manifest is the manifest's, not an inline material's
+    let eta = error("[[material]]\nname = \"skin1\"\neta = 3\n");
+    assert_eq!(
+        eta,
+        "material \"skin1\": eta = 3 is outside [0.75, 2.5] (the manifest's eta for this \
+         library material)"
+    );
     let err = error("[[material]]\nname = \"My Wax\"\nsigma_s = [1, 1, 1]\nsigma_a = [1, 1, 1]\n");
     assert!(err.contains("kebab-case"), "{err}");
 }

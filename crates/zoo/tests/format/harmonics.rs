@@ -492,6 +492,21 @@ fn compressed_harmonics() {
     s.raw_len = Some(128);
     let raw = build(2, HARMONICS | ZSTD, &long);
     assert_rejected("long frame", &raw, "decoded-length", "decoded to 132 bytes");
+    // No frame at all: a compressed section holds one or more (§7), even one that decodes to
+    // nothing (the materials section of a library without materials)
+    let mut builder = LibraryBuilder::new();
+    builder
+        .add_table(synthetic_table(1.3, 2, 2, 4, true))
+        .unwrap();
+    let mut empty = Raw::new(builder.to_bytes(Compression::None).unwrap()).sections();
+    let materials = empty
+        .iter_mut()
+        .find(|s| s.kind == kind::MATERIALS)
+        .unwrap();
+    assert!(materials.data.is_empty());
+    (materials.codec, materials.raw_len) = (1, Some(0));
+    let raw = build(2, ZSTD, &empty);
+    assert_rejected("no frame", &raw, "zstd", "no zstd frame");
     // The whole file packed and unpacked: bits 0 and 2, then the same bytes.
     let dir = tempfile::tempdir().unwrap();
     let (a, b) = (dir.path().join("a.bssrdf"), dir.path().join("b.bssrdf"));
