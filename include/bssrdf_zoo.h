@@ -76,7 +76,8 @@ extern "C" {
 #define BSSRDF_ERROR_INVALID_ARGUMENT 2
 /* The operating system refused to open, map or read the file. */
 #define BSSRDF_ERROR_IO 3
-/* The file is not a valid library file (the message names the failed check). */
+/* The file is not a valid library file (the message names the failed check), or a table of
+ * it takes no lookups (the message says why). */
 #define BSSRDF_ERROR_FORMAT 4
 /* No material of that name, or no table or material of that index. */
 #define BSSRDF_ERROR_NOT_FOUND 5
@@ -138,7 +139,9 @@ typedef struct bssrdf_channel_info {
 /* Opens the library file at `path` (NUL-terminated; any bytes on Unix, UTF-8 elsewhere) and
  * validates all of it (structure, checksums, every value finite). `flags` is BSSRDF_OPEN_MAP
  * or BSSRDF_OPEN_READ. Stores a new handle in *out_library (NULL on failure); free it with
- * bssrdf_library_close. */
+ * bssrdf_library_close. A valid table no lookup can interpolate (one node on an axis, eta
+ * outside [0.75, 2.5]) does not fail the open: the lookups on it fail with
+ * BSSRDF_ERROR_FORMAT, the message saying why. */
 int bssrdf_library_open(const char *path, uint32_t flags, bssrdf_library **out_library);
 
 /* Frees a library handle; NULL does nothing. Channels made from it remain valid. */

@@ -28,7 +28,7 @@ pub fn _loop_eval(
             .map_err(|_| PyValueError::new_err("the points must be C-contiguous"))
     };
     let (rho, theta, r, phi) = (slice(&rho)?, slice(&theta)?, slice(&r)?, slice(&phi)?);
-    let view = table.view();
+    let view = table.view()?;
     Ok(py.detach(|| {
         let start = Instant::now();
         let mut acc = 0.0;

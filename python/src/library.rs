@@ -156,7 +156,12 @@ impl Library {
             .iter()
             .map(|m| format!("{:?}", m.name))
             .collect();
-        let etas: Vec<String> = self.inner.tables().map(|t| t.eta().to_string()).collect();
+        let etas: Vec<String> = self
+            .inner
+            .format()
+            .tables()
+            .map(|t| t.eta().to_string())
+            .collect();
         format!(
             "<bssrdf_zoo.Library {}: tables at eta [{}], materials [{}]>",
             self.path

@@ -21,13 +21,27 @@ use crate::views::readonly_f32;
 #[pyclass(frozen, module = "bssrdf_zoo")]
 pub struct Table {
     library: embed::Library,
-    lookup: TableLookup,
+    index: usize,
+    /// The table's lookups; `None` for a valid table no lookup can interpolate (one node on
+    /// an axis, η outside [0.75, 2.5]), whose record stays readable.
+    lookup: Option<TableLookup>,
 }
 
 impl Table {
+    /// The table's lookups, or ValueError saying why it takes none.
+    fn lookups(&self) -> PyResult<&TableLookup> {
+        match &self.lookup {
+            Some(lookup) => Ok(lookup),
+            None => Err(self.library.table(self.index).err().map_or_else(
+                || PyValueError::new_err(format!("table {}: no lookups", self.index)),
+                errors::embed,
+            )),
+        }
+    }
+
     /// The table's lookups in reduced units.
-    pub(crate) fn view(&self) -> TableRef<'_> {
-        self.lookup.view()
+    pub(crate) fn view(&self) -> PyResult<TableRef<'_>> {
+        Ok(self.lookups()?.view())
     }
 
     /// The view, its domain and σ′t of a lookup: `sigma_t`, or 1 (reduced units).
@@ -36,7 +50,7 @@ impl Table {
         py: Python<'py>,
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<(TableRef<'_>, Domain, Arg<'py>)> {
-        let view = self.lookup.view();
+        let view = self.view()?;
         let st = match sigma_t {
             Some(st) => st,
             None => PyFloat::new(py, 1.0).extract()?,
@@ -65,15 +79,23 @@ impl Table {
 
     /// Table `index` of `library`; ValueError if there is none.
     pub fn new(library: &embed::Library, index: usize) -> PyResult<Self> {
+        if index >= library.table_count() {
+            // The library's own refusal, which says how many tables it has
+            return Err(errors::embed(embed::EmbedError::NoTable {
+                index,
+                count: library.table_count(),
+            }));
+        }
         Ok(Self {
             library: library.clone(),
-            lookup: library.table(index).map_err(errors::embed)?,
+            index,
+            lookup: library.table(index).ok(),
         })
     }
 
     /// The table's record in the file, whose arrays the views borrow.
     pub(crate) fn record(&self) -> PyResult<bssrdf_zoo::format::Table<'_>> {
-        let index = self.lookup.index();
+        let index = self.index;
         self.library
             .format()
             .table(index)
@@ -307,12 +329,12 @@ impl Table {
     /// Position of the table in the file.
     #[getter]
     fn index(&self) -> usize {
-        self.lookup.index()
+        self.index
     }
     /// Relative index of refraction η the table was baked for.
     #[getter]
-    fn eta(&self) -> f64 {
-        self.lookup.eta()
+    fn eta(&self) -> PyResult<f64> {
+        Ok(self.record()?.eta())
     }
     /// (nρ, nθ, nr).
     #[getter]
@@ -322,13 +344,13 @@ impl Table {
     }
     /// Whether the table keeps the θ CDF that `sample_path` needs.
     #[getter]
-    fn has_theta_sampling(&self) -> bool {
-        self.lookup.view().has_theta_sampling()
+    fn has_theta_sampling(&self) -> PyResult<bool> {
+        Ok(self.record()?.theta_cdf().is_some())
     }
     /// Whether the table has a second wrapped Cauchy lobe (`harmonics`).
     #[getter]
-    fn two_lobes(&self) -> bool {
-        self.lookup.view().harmonics().is_some()
+    fn two_lobes(&self) -> PyResult<bool> {
+        Ok(self.record()?.harmonics().is_some())
     }
 
     /// ρ′ nodes as stored (f32, read-only, zero-copy).
@@ -446,7 +468,7 @@ impl Table {
         sigma_t: Option<Arg<'py>>,
     ) -> PyResult<Path6<'py>> {
         let (view, domain, st) = self.units(py, sigma_t)?;
-        path_tracing(&self.lookup)?;
+        path_tracing(self.lookups()?)?;
         let args = [&rho, &u1, &u2, &u3, &u4, &st];
         let drawn = points::map(py, PATH_NAMES, args, |[rho, a, b, c, d, st]| {
             domain.rho(rho)?;
@@ -465,7 +487,7 @@ impl Table {
         rho: Arg<'py>,
         theta: Arg<'py>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let view = self.lookup.view();
+        let view = self.view()?;
         let domain = Domain::of(&view);
         let [p] = points::map(py, ["rho", "theta"], [&rho, &theta], |[rho, t]| {
             domain.point(rho, t)?;
@@ -481,7 +503,7 @@ impl Table {
         rho: Arg<'py>,
         theta: Arg<'py>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let view = self.lookup.view();
+        let view = self.view()?;
         let domain = Domain::of(&view);
         let [a] = points::map(py, ["rho", "theta"], [&rho, &theta], |[rho, t]| {
             domain.point(rho, t)?;
@@ -495,7 +517,7 @@ impl Table {
     /// [1e-9, 1e12] mm⁻¹.
     fn medium(&self, rho_prime: f64, sigma_t: f64) -> PyResult<Channel> {
         let lookup = self
-            .lookup
+            .lookups()?
             .medium(rho_prime, sigma_t)
             .map_err(errors::embed)?;
         Ok(Channel::new(
@@ -506,13 +528,23 @@ impl Table {
         ))
     }
 
-    fn __repr__(&self) -> String {
-        let (n_rho, n_theta, n_r) = self.lookup.view().axes().dims();
-        format!(
-            "<bssrdf_zoo.Table {}: eta {}, {n_rho} x {n_theta} x {n_r}{}>",
-            self.lookup.index(),
-            self.lookup.eta(),
-            if self.two_lobes() { ", two lobes" } else { "" }
-        )
+    fn __repr__(&self) -> PyResult<String> {
+        let record = self.record()?;
+        let [n_rho, n_theta, n_r] = record.dims();
+        Ok(format!(
+            "<bssrdf_zoo.Table {}: eta {}, {n_rho} x {n_theta} x {n_r}{}{}>",
+            self.index,
+            record.eta(),
+            if record.harmonics().is_some() {
+                ", two lobes"
+            } else {
+                ""
+            },
+            if self.lookup.is_none() {
+                ", no lookups"
+            } else {
+                ""
+            }
+        ))
     }
 }

@@ -1,6 +1,7 @@
 """Zero-copy, read-only views of a table's stored arrays."""
 
 import gc
+import re
 import os
 
 import numpy as np
@@ -59,3 +60,22 @@ def test_a_view_keeps_the_file_alive(library_path):
     gc.collect()
     assert np.array_equal(view, expected)
     assert view.base is not None
+
+
+def test_every_valid_vector_opens_and_a_table_without_lookups_says_why(data_dir):
+    # The format allows a table no lookup can interpolate (the spec's example has one albedo
+    # node): the file opens, its record and arrays read, and only its lookups are refused
+    for path in sorted((data_dir / "valid").glob("*.bssrdf")):
+        bz.Library.open(path)
+    library = bz.Library.open(data_dir / "valid" / "spec-example.bssrdf")
+    (table,) = library.tables
+    assert table.dims == (1, 1, 2)
+    assert table.r_nodes.tolist() == [0.5, 1.0]
+    assert "no lookups" in repr(table)
+    reason = "table 0: axis rho has 1 node(s): lookups interpolate along every axis and need at least 2"
+    with pytest.raises(bz.FormatError, match=re.escape(reason)):
+        table.eval(0.5, 0.0, 1.0, 0.0)
+    with pytest.raises(bz.FormatError, match=re.escape(reason)):
+        table.medium(0.5, 1.0)
+    with pytest.raises(bz.FormatError, match=re.escape(reason)):
+        library.channel("wax", "r")

@@ -228,7 +228,9 @@ unsafe fn string<'a>(ptr: *const c_char, name: &'static CStr) -> Result<&'a str,
 
 /// Opens the library file at `path` (a NUL-terminated path; any bytes on Unix, UTF-8
 /// elsewhere), validating all of it, and stores the new handle in `*out_library` (NULL on
-/// failure). `flags` is `BSSRDF_OPEN_MAP` (0) or `BSSRDF_OPEN_READ`.
+/// failure). `flags` is `BSSRDF_OPEN_MAP` (0) or `BSSRDF_OPEN_READ`. A valid table no lookup
+/// can interpolate does not fail the open; its lookups fail with `BSSRDF_ERROR_FORMAT`
+/// (`embed::Library::from_format`).
 ///
 /// # Safety
 /// `path` is NULL or a NUL-terminated string; `out_library` is NULL or points to writable

@@ -394,6 +394,33 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
 }
 
 #[test]
+fn a_valid_file_with_a_table_no_lookup_can_interpolate_opens_and_refuses_its_lookups() {
+    // The spec's example: valid, with one albedo node
+    let example = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/valid/spec-example.bssrdf");
+    let example = CString::new(example.to_str().unwrap()).unwrap();
+    let library = open(&example, BSSRDF_OPEN_READ);
+    let (mut count, mut channel) = (0, null_mut());
+    // SAFETY: a live library and valid outputs; the library is closed once.
+    unsafe {
+        expect(
+            bssrdf_library_table_count(library, &mut count),
+            BSSRDF_OK,
+            "",
+        );
+        assert_eq!(count, 1);
+        let status = bssrdf_library_medium(library, 0, 0.5, 1.0, &mut channel);
+        let reason = "table 0: axis rho has 1 node(s): lookups interpolate along every axis \
+                      and need at least 2 (the file itself is valid)";
+        expect(status, BSSRDF_ERROR_FORMAT, reason);
+        let status = bssrdf_library_channel(library, c"wax".as_ptr(), 0, &mut channel);
+        expect(status, BSSRDF_ERROR_FORMAT, reason);
+        assert!(channel.is_null());
+        bssrdf_library_close(library);
+    }
+}
+
+#[test]
 fn path_sampling_without_the_theta_table_is_no_sample() {
     let dir = tempfile::tempdir().unwrap();
     let path = crate::fixture::without_theta_sampling(dir.path(), &grid());

@@ -10,13 +10,15 @@ use super::Rgb;
 use crate::format::{self, Compression, LibraryBuilder, SectionKind, Verify};
 use crate::gwc::Rebuild;
 use crate::medium::{Boundary, Medium};
-use crate::table::{Axes, FileTable, TableRef};
+use crate::table::{Axes, FileTable, TableError, TableRef};
 
 /// What every handle shares: the file and, per table, what [`TableRef::new`] derives from it
 /// once (axes in f64, C_E of the boundary) after checking it.
 struct Inner {
     file: format::Library,
-    tables: Vec<Prepared>,
+    /// Per table of the file, in file order: its lookups, or why it takes none (a valid file
+    /// may hold a table no lookup can interpolate: one node on an axis, η outside the domain).
+    tables: Vec<Result<Prepared, TableError>>,
 }
 
 /// A table's lookups minus its arrays, which stay in `file` and are borrowed per lookup
@@ -43,7 +45,7 @@ impl Inner {
     /// The view of table `index` (< `tables.len()`), with or without the θ-sampling CDF.
     #[inline]
     fn view(&self, index: usize, theta_cdf: bool) -> TableRef<'_> {
-        let (p, file) = (&self.tables[index], &self.file);
+        let (p, file) = (self.prepared(index), &self.file);
         TableRef::prevalidated(
             p.eta,
             p.c_e,
@@ -57,6 +59,31 @@ impl Inner {
             p.rebuild,
             p.shares.as_deref(),
         )
+    }
+
+    /// The lookups of table `index`, which a handle was made for: [`Library::table`] and
+    /// [`Library::view`] make none for a table without lookups.
+    fn prepared(&self, index: usize) -> &Prepared {
+        match &self.tables[index] {
+            Ok(prepared) => prepared,
+            Err(_) => unreachable!("a handle of table {index}, which takes no lookups"),
+        }
+    }
+
+    /// Table `index`'s lookups checked: [`EmbedError::NoTable`] beyond the file's tables,
+    /// [`EmbedError::Table`] for one that takes no lookups.
+    fn check(&self, index: usize) -> Result<(), EmbedError> {
+        match self.tables.get(index) {
+            Some(Ok(_)) => Ok(()),
+            Some(Err(source)) => Err(EmbedError::Table {
+                index,
+                source: source.clone(),
+            }),
+            None => Err(EmbedError::NoTable {
+                index,
+                count: self.tables.len(),
+            }),
+        }
     }
 }
 
@@ -121,7 +148,9 @@ impl Library {
     /// Prepares an already opened file: checks every table's arrays against its axes and for
     /// finite values (O(size), once) and converts the axes. A file opened with
     /// [`Verify::HeaderOnly`] is therefore still fully checked for NaN here, though not for
-    /// section checksums.
+    /// section checksums. A table no lookup can interpolate (one node on an axis, η outside
+    /// [0.75, 2.5]: the format allows both) does not fail the file: [`Library::table`] and
+    /// [`Library::view`] refuse it with the reason, and its record stays readable.
     ///
     /// ```
     /// # use bssrdf_zoo::embed::Library;
@@ -137,11 +166,20 @@ impl Library {
     pub fn from_format(file: format::Library) -> Result<Library, EmbedError> {
         let mut tables = Vec::with_capacity(file.table_count());
         for (index, record) in file.tables().enumerate() {
-            let table =
-                FileTable::new(record).map_err(|source| EmbedError::Table { index, source })?;
-            let view = table
-                .view()
-                .map_err(|source| EmbedError::Table { index, source })?;
+            let table = match FileTable::new(record) {
+                Ok(table) => table,
+                Err(reason) => {
+                    tables.push(Err(reason));
+                    continue;
+                }
+            };
+            let view = match table.view() {
+                Ok(view) => view,
+                Err(reason) => {
+                    tables.push(Err(reason));
+                    continue;
+                }
+            };
             let eta = view.eta();
             // `TableRef::new` accepted η, so this cannot fail; it is C_E exactly as it computed it.
             let c_e = Boundary::new(eta, table.moments())
@@ -190,7 +228,7 @@ impl Library {
             if !located {
                 return Err(unlocated());
             }
-            tables.push(prepared);
+            tables.push(Ok(prepared));
         }
         Ok(Library {
             inner: Arc::new(Inner { file, tables }),
@@ -251,17 +289,11 @@ impl Library {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn table(&self, index: usize) -> Result<TableLookup, EmbedError> {
-        if index < self.inner.tables.len() {
-            Ok(TableLookup {
-                inner: Arc::clone(&self.inner),
-                index,
-            })
-        } else {
-            Err(EmbedError::NoTable {
-                index,
-                count: self.inner.tables.len(),
-            })
-        }
+        self.inner.check(index)?;
+        Ok(TableLookup {
+            inner: Arc::clone(&self.inner),
+            index,
+        })
     }
 
     /// Table `index`'s lookups in reduced units, borrowed from the library: what
@@ -282,17 +314,12 @@ impl Library {
     /// ```
     #[inline]
     pub fn view(&self, index: usize) -> Result<TableRef<'_>, EmbedError> {
-        if index < self.inner.tables.len() {
-            Ok(self.inner.view(index, true))
-        } else {
-            Err(EmbedError::NoTable {
-                index,
-                count: self.inner.tables.len(),
-            })
-        }
+        self.inner.check(index)?;
+        Ok(self.inner.view(index, true))
     }
 
-    /// Every table, in file order.
+    /// Every table that takes lookups, in file order ([`Library::table_count`] counts them
+    /// all; [`Library::table`] says why one takes none).
     ///
     /// ```
     /// # use bssrdf_zoo::embed::Library;
@@ -303,11 +330,13 @@ impl Library {
     /// }
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn tables(&self) -> impl ExactSizeIterator<Item = TableLookup> + '_ {
-        (0..self.inner.tables.len()).map(|index| TableLookup {
-            inner: Arc::clone(&self.inner),
-            index,
-        })
+    pub fn tables(&self) -> impl Iterator<Item = TableLookup> + '_ {
+        (0..self.inner.tables.len())
+            .filter(|&index| self.inner.tables[index].is_ok())
+            .map(|index| TableLookup {
+                inner: Arc::clone(&self.inner),
+                index,
+            })
     }
 
     /// The material records of the file, in file order (name, source, σs, σa, g, η, tables).
@@ -421,8 +450,8 @@ impl TableLookup {
     }
 
     fn prepared(&self) -> &Prepared {
-        // `index` was checked against `tables` when the handle was made; both never change.
-        &self.inner.tables[self.index]
+        // `index` was checked when the handle was made; the tables never change.
+        self.inner.prepared(self.index)
     }
 
     /// Relative index of refraction η the table was baked for.

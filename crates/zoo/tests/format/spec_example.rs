@@ -107,3 +107,63 @@ fn hexdump_matches_the_usual_layout() {
          00000012\n"
     );
 }
+
+#[test]
+fn the_embedding_layer_opens_every_valid_vector_and_refuses_only_the_lookups_it_cannot_make() {
+    use bssrdf_zoo::embed;
+    use bssrdf_zoo::format::LibraryBuilder;
+    use bssrdf_zoo::materials::Rgb;
+    // Every valid conformance vector opens for lookups (the C API and the Python package open
+    // files this way); a table no lookup can interpolate refuses its lookups, saying why
+    let valid = manifest("../../tests/data/valid");
+    let mut without_lookups = 0;
+    for entry in std::fs::read_dir(&valid).unwrap() {
+        let path = entry.unwrap().path();
+        let library =
+            embed::Library::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let count = library.format().table_count();
+        assert_eq!(library.table_count(), count);
+        for index in 0..count {
+            if let Err(e) = library.table(index) {
+                assert!(e.to_string().contains("(the file itself is valid)"), "{e}");
+                assert!(library.view(index).is_err());
+                without_lookups += 1;
+            }
+        }
+        let refused = count - library.tables().count();
+        assert!(library.tables().all(|t| library.table(t.index()).is_ok()));
+        assert_eq!(
+            refused,
+            (0..count).filter(|&i| library.table(i).is_err()).count()
+        );
+    }
+    assert!(
+        without_lookups >= 2,
+        "spec-example and aligned-4096 have one albedo node"
+    );
+    // The spec's example: one albedo node; its material's channels refuse with the reason
+    let library = embed::Library::read(valid.join("spec-example.bssrdf")).unwrap();
+    let reason = "table 0: axis rho has 1 node(s): lookups interpolate along every axis and \
+                  need at least 2 (the file itself is valid)";
+    assert_eq!(library.table(0).unwrap_err().to_string(), reason);
+    assert_eq!(library.tables().count(), 0);
+    let channel = library.channel("wax", Rgb::Red).unwrap_err().to_string();
+    assert_eq!(channel, reason);
+    // A table of η outside the lookups' [0.75, 2.5], which the format allows
+    let mut builder = LibraryBuilder::new();
+    builder
+        .add_table(bssrdf_testkit::files::synthetic_table(3.0, 2, 2, 4, true))
+        .unwrap();
+    builder
+        .add_table(bssrdf_testkit::files::synthetic_table(1.3, 2, 2, 4, true))
+        .unwrap();
+    let file =
+        Library::from_bytes(&builder.to_bytes(Compression::None).unwrap(), Verify::Full).unwrap();
+    let library = embed::Library::from_format(file).unwrap();
+    assert_eq!(
+        library.table(0).unwrap_err().to_string(),
+        "table 0: eta = 3 is outside [0.75, 2.5]"
+    );
+    assert_eq!(library.table(1).unwrap().eta(), 1.3);
+    assert_eq!(library.tables().map(|t| t.index()).collect::<Vec<_>>(), [1]);
+}
