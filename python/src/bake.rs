@@ -248,7 +248,7 @@ pub fn bake(
     lobes: Option<u8>,
     moments: &str,
     theta_sampling: bool,
-    threads: Option<usize>,
+    #[pyo3(from_py_with = crate::args::threads)] threads: Option<usize>,
     path: Option<PathBuf>,
 ) -> PyResult<Library> {
     let etas: Vec<f64> = match eta {
@@ -276,7 +276,7 @@ pub fn bake_materials(
     lobes: Option<u8>,
     moments: &str,
     theta_sampling: bool,
-    threads: Option<usize>,
+    #[pyo3(from_py_with = crate::args::threads)] threads: Option<usize>,
     path: Option<PathBuf>,
 ) -> PyResult<Library> {
     let specs = materials

@@ -17,6 +17,7 @@
 //! Values are the Rust API's bit for bit: every lookup is one call of the runtime at each point
 //! (`python/tests/` compares them with the `bssrdf` command's).
 
+mod args;
 mod bake;
 mod bench;
 mod errors;

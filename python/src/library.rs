@@ -85,7 +85,7 @@ impl Library {
     }
 
     /// Table `index`; ValueError if the library has no such table.
-    fn table(&self, index: usize) -> PyResult<Table> {
+    fn table(&self, #[pyo3(from_py_with = crate::args::index)] index: usize) -> PyResult<Table> {
         Table::new(&self.inner, index)
     }
 

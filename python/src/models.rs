@@ -56,8 +56,8 @@ pub fn model_eval<'py>(
     moments: Option<&str>,
     table: Option<PyRef<'py, Table>>,
     grid: Option<(usize, usize, usize)>,
-    photons: u64,
-    seed: u64,
+    #[pyo3(from_py_with = crate::args::photons)] photons: u64,
+    #[pyo3(from_py_with = crate::args::seed)] seed: u64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let kind: ModelKind = name.parse().map_err(errors::value)?;
     let uses_table = matches!(kind, ModelKind::Table | ModelKind::Perpendicular);

@@ -115,11 +115,11 @@ pub fn walk(
     g: f64,
     eta: f64,
     theta: f64,
-    photons: u64,
-    seed: u64,
+    #[pyo3(from_py_with = crate::args::photons)] photons: u64,
+    #[pyo3(from_py_with = crate::args::seed)] seed: u64,
     bins: Option<(f64, f64, usize, usize)>,
     slab: Option<f64>,
-    threads: Option<usize>,
+    #[pyo3(from_py_with = crate::args::threads)] threads: Option<usize>,
 ) -> PyResult<Walk> {
     let mut config = Config::new(albedo, g, eta, theta);
     config.photons = photons;

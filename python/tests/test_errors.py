@@ -1,5 +1,7 @@
 """Every refusal as a Python exception with the library's message."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -103,6 +105,25 @@ def test_bad_values_are_value_errors_naming_them(library, table):
         bz.walk(1.5, photons=10)
     with pytest.raises(ValueError):
         bz.bake_materials(["no-such-material"], grid=(6, 4, 10))
+
+
+def test_negative_or_huge_whole_numbers_are_value_errors_naming_the_argument(library):
+    # pyo3's own conversion said OverflowError "can't convert negative int to unsigned"
+    for call, needle in [
+        (lambda: bz.walk(0.9, photons=10, seed=-1), "seed = -1 is negative"),
+        (lambda: bz.walk(0.9, photons=-5), "photons = -5 is negative"),
+        (lambda: bz.walk(0.9, photons=2**70), "photons = 1180591620717411303424 is too large"),
+        (lambda: bz.walk(0.9, photons=10, threads=-1), "threads = -1 is negative"),
+        (lambda: bz.models.eval("mc", 0.5, 0.0, 1.0, 0.0, photons=-1), "photons = -1 is negative"),
+        (lambda: bz.bake(1.33, (4, 3, 8), threads=-2), "threads = -2 is negative"),
+        (lambda: library.table(-1), "index = -1 is negative"),
+    ]:
+        with pytest.raises(ValueError, match=re.escape(needle)):
+            call()
+    # Not an int at all: pyo3's TypeError, which names the argument
+    with pytest.raises(TypeError, match="seed"):
+        bz.walk(0.9, photons=10, seed="x")
+    assert bz.walk(0.9, photons=10, threads=None).photons == 10
 
 
 def test_lookups_beyond_the_critical_angle_draw_nothing():
