@@ -16,9 +16,10 @@
 //! # The provenance
 //!
 //! `tool_version` (`bssrdf-zoo` and the crate's version), `settings` (the grid's name, or
-//! `"custom"` for a grid given node by node, its dims and those of a two-lobe table, the Fresnel
-//! moments, θ sampling, the fit's anchors and refinement, the lobes, the two-lobe fit's
-//! azimuths, and for a scene its plan under `scene`), `quadrature` (PBD's fast rule) and
+//! `"custom"` for a grid given node by node, its dims, the Fresnel moments, θ sampling, the
+//! fit's anchors and refinement, the lobes; where a table of the file took them, the dims and
+//! fit azimuths of two lobes, the θ nodes near η = 1 and the rule of the node where the beam
+//! runs in the surface; and for a scene its plan under `scene`), `quadrature` (PBD's fast rule) and
 //! `accuracy` (every table's [`TableCheck`], in file order). These depend on the inputs only:
 //! the same bake writes the same bytes on any machine and thread count. The one field measured
 //! at run time, `bake_seconds` (the wall-clock time of the tables' bakes, without their
@@ -361,10 +362,21 @@ impl Baker {
             BakeGrid::Custom(grid) => ("custom".to_string(), grid.clone(), grid.clone(), None),
         };
         let dims = |g: &Grid| [g.rho.len(), g.theta.len(), g.r.len()];
+        // The rules of two lobes, of the θ nodes near η = 1 and of the node where the beam runs
+        // in the surface are recorded only where a table of the file took them
+        let two_lobes = tables.iter().any(|t| t.table.harmonics().is_some());
+        let near_eta_1 = tables
+            .iter()
+            .any(|t| t.table.eta() < table::GRAZING_NODES_BELOW_ETA);
+        let surface = tables.iter().any(|t| {
+            let theta = t.table.axes().theta().as_slice();
+            theta
+                .iter()
+                .any(|&node| table::beam_in_surface(t.table.eta(), node))
+        });
         let mut settings = json!({
             "grid": name,
             "dims": dims(&grid),
-            "two_lobe_dims": dims(&two),
             "fresnel_moments": self.moments.name(),
             "theta_sampling": theta_sampling,
             "anchors_cos_phi": crate::gwc::ANCHOR_COS,
@@ -378,12 +390,22 @@ impl Baker {
                 Some(Lobes::One) => json!(1),
                 Some(Lobes::Two) => json!(2),
             },
-            "two_lobe_fit": {
+        });
+        if two_lobes {
+            settings["two_lobe_dims"] = json!(dims(&two));
+            settings["two_lobe_fit"] = json!({
                 "azimuths_deg": table::two_lobe_azimuths().map(f64::to_degrees),
                 "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
-            },
-        });
-        if let Some(grazing) = grazing {
+            });
+        }
+        if surface {
+            settings["beam_in_surface"] = json!({
+                "cos_refracted_below": table::SURFACE_BEAM_COS,
+                "and": "the critical node below eta = 1",
+                "stored": "the limit theta' -> 90 deg by its harmonics: PBD with the beam in the surface, 8-point Gauss-Legendre panels [0, pi 1e-5] then a decade wide, plus the ridge rho'^2 C_E kappa e^-r/(2r) on phi = 0",
+            });
+        }
+        if let (Some(grazing), true) = (grazing, near_eta_1) {
             // A custom grid is baked as given at every η
             settings["theta_nodes_near_eta_1"] = json!({
                 "below_eta": table::GRAZING_NODES_BELOW_ETA,

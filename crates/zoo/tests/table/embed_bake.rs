@@ -174,3 +174,36 @@ fn a_diffuse_material_is_inverted_through_the_table_of_its_eta() {
     let bad = MaterialSpec::diffuse("Not An Id", [0.5; 3], [1.0; 3], [0.0; 3], 1.4, "");
     assert!(bad.is_err());
 }
+
+#[test]
+fn the_provenance_records_the_rules_of_two_lobes_and_of_grazing_nodes_only_where_a_table_took_them()
+{
+    let keys = |baked: &bssrdf_zoo::bake::BakedLibrary| {
+        let settings = &baked.provenance().get("settings").unwrap();
+        [
+            "two_lobe_dims",
+            "two_lobe_fit",
+            "theta_nodes_near_eta_1",
+            "beam_in_surface",
+        ]
+        .map(|k| settings.get(k).is_some())
+    };
+    // One lobe at η = 1.33: none of them
+    let coarse = Baker::new(GridPreset::Coarse).with_theta_sampling(false);
+    let baked = coarse.bake(&[], &[1.33], None).unwrap();
+    assert_eq!(keys(&baked), [false; 4]);
+    // Two lobes at η = 1.2: the two-lobe rules only
+    let small = Baker::new(Grid::ferrier(6, 4, 10)).with_theta_sampling(false);
+    assert_eq!(
+        keys(&small.bake(&[], &[1.2], None).unwrap()),
+        [true, true, false, false]
+    );
+    // η = 1 on a preset: also its θ nodes near η = 1 and the node at 90°, where the beam runs
+    // in the surface (a custom grid records no preset nodes)
+    let baked = coarse.bake(&[], &[1.0], None).unwrap();
+    assert_eq!(keys(&baked), [true; 4]);
+    assert_eq!(
+        keys(&small.bake(&[], &[1.0], None).unwrap()),
+        [true, true, false, true]
+    );
+}
