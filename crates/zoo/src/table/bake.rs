@@ -227,10 +227,10 @@ pub fn critical_node(eta: f64) -> f64 {
 pub const SURFACE_BEAM_COS: f64 = 1e-3;
 
 /// Whether the node at incidence θ (radians, as stored) is baked as the limit θ′ → 90° of a
-/// refracted beam running in the surface ([`surface_cells`]): where light enters with
-/// cos θ′ below [`SURFACE_BEAM_COS`] (η = 1 at 90°, η within 5·10⁻⁷ above 1 at 90°, or just
-/// below a critical angle), and at the critical node of an η < 1 ([`critical_node`]), which
-/// lies at or just beyond the critical angle and stands for it.
+/// refracted beam running in the surface (by its harmonics, with the ridge): where light
+/// enters with cos θ′ below [`SURFACE_BEAM_COS`] (η = 1 at 90°, η within 5·10⁻⁷ above 1 at
+/// 90°, or just below a critical angle), and at the critical node of an η < 1
+/// ([`critical_node`]), which lies at or just beyond the critical angle and stands for it.
 ///
 /// PBD's value with the beam exactly in the surface is not the limit of the profile: as
 /// θ′ → 90° a ridge of finite energy gathers on φ = 0 ([`Pbd::surface_ridge`]), which the
