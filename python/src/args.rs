@@ -51,3 +51,40 @@ pub fn threads(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
     }
     Ok(Some(whole("threads", obj, usize::MAX as u64)? as usize))
 }
+
+/// `lobes`: None (by η), 1 or 2; any other int (negative and huge ones too) is refused by
+/// `bake::Settings`, which names the choices, as 0.
+pub fn lobes(obj: &Bound<'_, PyAny>) -> PyResult<Option<i64>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    match obj.extract::<i64>() {
+        Ok(n) => Ok(Some(n)),
+        Err(e) if e.is_instance_of::<PyOverflowError>(obj.py()) => {
+            let shown = obj.str().map(|s| s.to_string()).unwrap_or_default();
+            Err(PyValueError::new_err(format!(
+                "lobes = {shown} is not one of None (by eta), 1, 2"
+            )))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// `bins`: None, or (r_min, r_max, radial count, azimuthal count), the counts whole numbers
+/// named `bins[2]` and `bins[3]` when refused.
+pub fn bins(obj: &Bound<'_, PyAny>) -> PyResult<Option<(f64, f64, usize, usize)>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    let (r_min, r_max, radial, phi): (f64, f64, Bound<'_, PyAny>, Bound<'_, PyAny>) =
+        obj.extract()?;
+    let count = |name: &str, v: &Bound<'_, PyAny>| -> PyResult<usize> {
+        Ok(whole(name, v, usize::MAX as u64)? as usize)
+    };
+    Ok(Some((
+        r_min,
+        r_max,
+        count("bins[2]", &radial)?,
+        count("bins[3]", &phi)?,
+    )))
+}

@@ -26,7 +26,7 @@ struct Settings {
 impl Settings {
     fn new(
         grid: &Bound<'_, PyAny>,
-        lobes: Option<u8>,
+        lobes: Option<i64>,
         moments: &str,
         theta_sampling: bool,
     ) -> PyResult<Self> {
@@ -245,7 +245,7 @@ pub fn bake(
     py: Python<'_>,
     eta: Option<&Bound<'_, PyAny>>,
     grid: Option<&Bound<'_, PyAny>>,
-    lobes: Option<u8>,
+    #[pyo3(from_py_with = crate::args::lobes)] lobes: Option<i64>,
     moments: &str,
     theta_sampling: bool,
     #[pyo3(from_py_with = crate::args::threads)] threads: Option<usize>,
@@ -273,7 +273,7 @@ pub fn bake_materials(
     materials: Vec<Bound<'_, PyAny>>,
     grid: Option<&Bound<'_, PyAny>>,
     etas: Vec<f64>,
-    lobes: Option<u8>,
+    #[pyo3(from_py_with = crate::args::lobes)] lobes: Option<i64>,
     moments: &str,
     theta_sampling: bool,
     #[pyo3(from_py_with = crate::args::threads)] threads: Option<usize>,

@@ -117,7 +117,7 @@ pub fn walk(
     theta: f64,
     #[pyo3(from_py_with = crate::args::photons)] photons: u64,
     #[pyo3(from_py_with = crate::args::seed)] seed: u64,
-    bins: Option<(f64, f64, usize, usize)>,
+    #[pyo3(from_py_with = crate::args::bins)] bins: Option<(f64, f64, usize, usize)>,
     slab: Option<f64>,
     #[pyo3(from_py_with = crate::args::threads)] threads: Option<usize>,
 ) -> PyResult<Walk> {

@@ -117,6 +117,9 @@ def test_negative_or_huge_whole_numbers_are_value_errors_naming_the_argument(lib
         (lambda: bz.models.eval("mc", 0.5, 0.0, 1.0, 0.0, photons=-1), "photons = -1 is negative"),
         (lambda: bz.bake(1.33, (4, 3, 8), threads=-2), "threads = -2 is negative"),
         (lambda: library.table(-1), "index = -1 is negative"),
+        (lambda: bz.walk(0.9, photons=10, bins=(0.1, 10.0, -3, 4)), "bins[2] = -3 is negative"),
+        (lambda: bz.bake(1.33, (4, 3, 8), lobes=-1), "lobes = -1 is not one of None (by eta), 1, 2"),
+        (lambda: bz.bake(1.33, (4, 3, 8), lobes=2**80), "lobes = 1208925819614629174706176 is not one"),
     ]:
         with pytest.raises(ValueError, match=re.escape(needle)):
             call()
