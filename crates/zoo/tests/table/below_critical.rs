@@ -130,8 +130,56 @@ fn a_node_where_the_beam_runs_in_the_surface_holds_the_limit_of_the_profile() {
             let pdf_beyond = view.pdf_theta(rho, end + 1e-3);
             assert_eq!(pdf_beyond, if eta < 1.0 { 0.0 } else { pdf_beyond });
         }
+        path_draws_of_theta_follow_pdf_theta(&view, end);
     }
     eprintln!("largest relative error of rho_eff towards the surface beam: {worst:.4}");
+}
+
+/// Path draws of θ at ρ′ = 0.5 and 0.99: every one lands where light enters (θ ≤ `end`), and
+/// their histogram over the θ node intervals (the last ones, next to the surface beam, hold the
+/// least) agrees with `pdf_theta` integrated over each interval (chi-square at p = 10⁻⁶).
+fn path_draws_of_theta_follow_pdf_theta(view: &bssrdf_zoo::table::TableRef<'_>, end: f64) {
+    use bssrdf_testkit::stats::chi2_critical_1e6;
+    use bssrdf_zoo::quadrature::GaussLegendre;
+    let nodes: Vec<f64> = view
+        .axes()
+        .theta()
+        .as_slice()
+        .iter()
+        .map(|&t| t.min(end))
+        .collect();
+    let gl = GaussLegendre::new(16);
+    for rho in [0.5, 0.99] {
+        let n = 40_000;
+        let mut counts = vec![0usize; nodes.len() - 1];
+        let mut rng = SplitMix64::seed_from_u64(17);
+        for _ in 0..n {
+            let u = [0; 4].map(|_| rng.next_f64());
+            let s = view
+                .sample_path(rho, u)
+                .expect("a draw wherever light enters");
+            assert!(s.theta <= end && s.pdf_theta > 0.0, "{s:?}");
+            let k = nodes
+                .partition_point(|&t| t <= s.theta)
+                .clamp(1, nodes.len() - 1);
+            counts[k - 1] += 1;
+        }
+        let (mut chi2, mut dof) = (0.0, 0);
+        for (k, &o) in counts.iter().enumerate() {
+            let (a, b) = (nodes[k], nodes[k + 1]);
+            let e = n as f64 * gl.integrate(a, b, |t| view.pdf_theta(rho, t));
+            if e > 0.0 {
+                chi2 += (o as f64 - e).powi(2) / e;
+                dof += 1;
+            } else {
+                assert_eq!(o, 0, "draws in [{a}, {b}], where pdf_theta is 0");
+            }
+        }
+        assert!(
+            chi2 < chi2_critical_1e6(dof - 1),
+            "{rho}: chi2 {chi2} over {dof} bins"
+        );
+    }
 }
 
 #[test]
