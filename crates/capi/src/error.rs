@@ -109,18 +109,22 @@ impl Failure {
     }
 }
 
+/// The status of an [`EmbedError`].
+pub(crate) fn embed_code(e: &EmbedError) -> c_int {
+    match e {
+        EmbedError::Format(FormatError::Io { .. }) => BSSRDF_ERROR_IO,
+        EmbedError::Format(_) | EmbedError::Table { .. } | EmbedError::Sections { .. } => {
+            BSSRDF_ERROR_FORMAT
+        }
+        EmbedError::NoMaterial { .. } | EmbedError::NoTable { .. } => BSSRDF_ERROR_NOT_FOUND,
+        EmbedError::Medium { .. } => BSSRDF_ERROR_INVALID_ARGUMENT,
+        EmbedError::AlbedoOutsideTable { .. } => BSSRDF_ERROR_OUT_OF_RANGE,
+    }
+}
+
 impl From<EmbedError> for Failure {
     fn from(e: EmbedError) -> Failure {
-        let code = match &e {
-            EmbedError::Format(FormatError::Io { .. }) => BSSRDF_ERROR_IO,
-            EmbedError::Format(_) | EmbedError::Table { .. } | EmbedError::Sections { .. } => {
-                BSSRDF_ERROR_FORMAT
-            }
-            EmbedError::NoMaterial { .. } | EmbedError::NoTable { .. } => BSSRDF_ERROR_NOT_FOUND,
-            EmbedError::Medium { .. } => BSSRDF_ERROR_INVALID_ARGUMENT,
-            EmbedError::AlbedoOutsideTable { .. } => BSSRDF_ERROR_OUT_OF_RANGE,
-        };
-        Failure::text(code, e.to_string())
+        Failure::text(embed_code(&e), e.to_string())
     }
 }
 

@@ -31,7 +31,7 @@ pub(crate) unsafe fn table_view<'a>(
     library
         .library
         .view(table)
-        .map_err(|e| Failure::inline(BSSRDF_ERROR_NOT_FOUND, format_args!("{e}")))
+        .map_err(|e| Failure::inline(super::error::embed_code(&e), format_args!("{e}")))
 }
 
 /// The medium (ρ′, σ′t) on table `table` of an open library, or a failure naming the value.

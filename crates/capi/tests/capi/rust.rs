@@ -416,6 +416,18 @@ fn a_valid_file_with_a_table_no_lookup_can_interpolate_opens_and_refuses_its_loo
         let status = bssrdf_library_channel(library, c"wax".as_ptr(), 0, &mut channel);
         expect(status, BSSRDF_ERROR_FORMAT, reason);
         assert!(channel.is_null());
+        // The per-call lookups and the batches too
+        let mut value = -1.0;
+        let status = bssrdf_table_eval(library, 0, 0.5, 1.0, 0.0, 1.0, 0.0, &mut value);
+        expect(status, BSSRDF_ERROR_FORMAT, reason);
+        let x = [0.5];
+        let mut out = [-1.0];
+        let p = x.as_ptr();
+        let status = bssrdf_table_eval_n(library, 0, 1, p, p, p, p, p, out.as_mut_ptr());
+        expect(status, BSSRDF_ERROR_FORMAT, reason);
+        assert_eq!((value, out), (-1.0, [-1.0]));
+        let status = bssrdf_table_eval(library, 1, 0.5, 1.0, 0.0, 1.0, 0.0, &mut value);
+        expect(status, BSSRDF_ERROR_NOT_FOUND, "no table 1");
         bssrdf_library_close(library);
     }
 }

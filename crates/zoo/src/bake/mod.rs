@@ -17,8 +17,8 @@
 //!
 //! `tool_version` (`bssrdf-zoo` and the crate's version), `settings` (the grid's name, or
 //! `"custom"` for a grid given node by node, its dims, the Fresnel moments, θ sampling, the
-//! fit's anchors and refinement, the lobes; where a table of the file took them, the dims and
-//! fit azimuths of two lobes, the θ nodes near η = 1 and the rule of the node where the beam
+//! fit's anchors and refinement, the lobes; where a table of the file took them, the fit
+//! azimuths of two lobes, the θ nodes near η = 1 and the rule of the node where the beam
 //! runs in the surface; and for a scene its plan under `scene`), `quadrature` (PBD's fast rule) and
 //! `accuracy` (every table's [`TableCheck`], in file order). These depend on the inputs only:
 //! the same bake writes the same bytes on any machine and thread count. The one field measured
@@ -352,14 +352,13 @@ impl Baker {
         scene: Option<Value>,
         tables: &[BakedTable],
     ) -> Result<Provenance, BakeError> {
-        let (name, grid, two, grazing) = match &self.grid {
+        let (name, grid, grazing) = match &self.grid {
             BakeGrid::Preset(preset) => (
                 format!("{preset:?}").to_lowercase(),
                 Grid::preset(*preset),
-                preset.grid(1.0, Lobes::Two),
                 Some(preset.grazing_nodes()),
             ),
-            BakeGrid::Custom(grid) => ("custom".to_string(), grid.clone(), grid.clone(), None),
+            BakeGrid::Custom(grid) => ("custom".to_string(), grid.clone(), None),
         };
         let dims = |g: &Grid| [g.rho.len(), g.theta.len(), g.r.len()];
         // The rules of two lobes, of the θ nodes near η = 1 and of the node where the beam runs
@@ -392,7 +391,6 @@ impl Baker {
             },
         });
         if two_lobes {
-            settings["two_lobe_dims"] = json!(dims(&two));
             settings["two_lobe_fit"] = json!({
                 "azimuths_deg": table::two_lobe_azimuths().map(f64::to_degrees),
                 "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",

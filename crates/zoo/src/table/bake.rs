@@ -184,10 +184,12 @@ impl Grid {
     /// 0 like a square root. Nodes uniform in θ leave the last lit interval (50°–60° at η = 0.9,
     /// θ′ from 58° to 74°) too wide for the profile's change (7–10 % off at 55°), and every
     /// node beyond the critical angle holds 0, which bends the spline below it. Nodes placed by
-    /// θ′ follow the beam instead; the node at 90°, beyond the critical angle, holds 0 like the
-    /// critical one, so the spline of the lit intervals does not depend on the unlit ones
-    /// (lookups beyond the critical angle are 0 whatever it gives there). Its node is the f32 at
-    /// or above asin η, so that every angle at which light enters lies below it.
+    /// θ′ follow the beam instead. The critical node holds the limit of the profile there
+    /// ([`beam_in_surface`]), and the bake gives the node at 90°, beyond it, the same values,
+    /// so that the spline's slope at the critical node does not see a 0 (lookups beyond the
+    /// critical angle are 0 whatever it gives there, and the θ CDF takes nothing beyond it).
+    /// Its node is the f32 at or above asin η, so that every angle at which light enters lies
+    /// below it.
     pub fn below_critical(mut self, eta: f64, refracted_deg: &[f64]) -> Self {
         let mut theta: Vec<f64> = refracted_deg
             .iter()
@@ -400,6 +402,26 @@ pub fn bake_lobes(
         }
     }
 
+    // Below η = 1, the nodes beyond a critical node (`Grid::below_critical`), where no light
+    // enters, take its values: a 0 there bent the last lit interval through the spline's slope
+    // at the critical node (15 % off in ρ_eff at η = 1 − 10⁻⁷), and lookups beyond it are 0
+    let critical = grid
+        .theta
+        .iter()
+        .position(|&t| crate::fresnel::refracted_cos(t.min(0.5 * PI), eta).is_none())
+        .filter(|&j| beam_in_surface(eta, grid.theta[j]));
+    if let Some(jc) = critical {
+        let per_row = [n_r * PARAMS_PER_NODE, harmonics.len() / (n_rho * n_theta)];
+        for (values, width) in [(&mut params, per_row[0]), (&mut harmonics, per_row[1])] {
+            for i in 0..n_rho {
+                let from = (i * n_theta + jc) * width;
+                for j in jc + 1..n_theta {
+                    values.copy_within(from..from + width, (i * n_theta + j) * width);
+                }
+            }
+        }
+    }
+
     // Radial CDF of the spline through the stored (f32) E of each row.
     let mut radial_cdf = vec![0.0f32; n_rho * n_theta * n_r];
     let mut cumulative = vec![0.0f64; n_r];
@@ -415,14 +437,14 @@ pub fn bake_lobes(
         }
     }
 
-    // Below η = 1 the nodes beyond the critical one, where no light enters, take no share
-    let lit = grid
+    // Below η = 1 the θ CDF ends with the interval that holds the critical angle (the critical
+    // node's on the presets): the nodes beyond, where no light enters, take no share
+    let entering = grid
         .theta
         .iter()
-        .take_while(|&&t| {
-            crate::fresnel::refracted_cos(t.min(0.5 * PI), eta).is_some() || beam_in_surface(eta, t)
-        })
+        .take_while(|&&t| crate::fresnel::refracted_cos(t.min(0.5 * PI), eta).is_some())
         .count();
+    let lit = (entering + 1).min(n_theta);
     let theta_cdf =
         theta_sampling.then(|| theta_cdf(axes.theta(), &radial_cdf, [n_rho, n_theta, n_r], lit));
     let mut table = AngularTable::from_parts(eta, moments, axes, params, radial_cdf, theta_cdf)
@@ -634,7 +656,9 @@ fn surface_cells(pbd: &Pbd, r: f64, lobes: Lobes) -> [f64; 5] {
             [r * m0, r * beta, c, r * m3, r * m4]
         }
         Lobes::One => {
+            // c capped as every one-lobe node's, and β with it so that β c stays μ₁
             let c = c.min(C_MAX_FIT);
+            let beta = if c > 0.0 { m1 / c } else { beta };
             let beta = if c > 0.0 {
                 beta.min(m0 * (1.0 + c) / (2.0 * c))
             } else {

@@ -105,7 +105,8 @@ fn a_node_where_the_beam_runs_in_the_surface_holds_the_limit_of_the_profile() {
     // table was 13 % high at 88.5° and 29 % low at 89.9° (η = 1); with the critical node at 0,
     // it fell to 0 within 0.01° of the critical angle (η < 1).
     let mut worst: f64 = 0.0;
-    for eta in [1.0, 0.9] {
+    // (1 − 10⁻⁷: the 90° node held 0 and bent the last lit interval, 15 % off in ρ_eff)
+    for eta in [1.0, 0.9, 1.0 - 1e-7] {
         let table = default_at(eta, true);
         let view = table.view();
         let end = if eta < 1.0 { eta.asin() } else { FRAC_PI_2 };
@@ -133,6 +134,33 @@ fn a_node_where_the_beam_runs_in_the_surface_holds_the_limit_of_the_profile() {
         path_draws_of_theta_follow_pdf_theta(&view, end);
     }
     eprintln!("largest relative error of rho_eff towards the surface beam: {worst:.4}");
+}
+
+#[test]
+fn on_a_grid_without_a_critical_node_theta_is_drawn_up_to_the_critical_angle() {
+    // A custom grid below η = 1 (θ nodes 0, 30, 60, 90°; light enters up to 53.13° at η = 0.8):
+    // the θ CDF keeps the interval that holds the critical angle, so path draws reach it
+    let grid = Grid::ferrier(6, 4, 10);
+    let table = bake_lobes(0.8, Moments::Exact, &grid, true, Lobes::Two)
+        .unwrap()
+        .0;
+    let view = table.view();
+    let critical = 0.8f64.asin();
+    assert!(view.pdf_theta(0.5, 35f64.to_radians()) > 0.0);
+    assert_eq!(view.pdf_theta(0.5, critical + 1e-6), 0.0);
+    let mut rng = SplitMix64::seed_from_u64(5);
+    let (mut above_30, mut drawn) = (0, 0);
+    for _ in 0..4_000 {
+        if let Some(s) = view.sample_path(0.5, [0; 4].map(|_| rng.next_f64())) {
+            assert!(s.theta <= critical, "{s:?}");
+            drawn += 1;
+            above_30 += usize::from(s.theta > 30f64.to_radians());
+        }
+    }
+    assert!(
+        above_30 > drawn / 10,
+        "{above_30} of {drawn} draws above 30°"
+    );
 }
 
 /// Path draws of θ at ρ′ = 0.5 and 0.99: every one lands where light enters (θ ≤ `end`), and

@@ -180,30 +180,32 @@ fn the_provenance_records_the_rules_of_two_lobes_and_of_grazing_nodes_only_where
 {
     let keys = |baked: &bssrdf_zoo::bake::BakedLibrary| {
         let settings = &baked.provenance().get("settings").unwrap();
-        [
-            "two_lobe_dims",
-            "two_lobe_fit",
-            "theta_nodes_near_eta_1",
-            "beam_in_surface",
-        ]
-        .map(|k| settings.get(k).is_some())
+        ["two_lobe_fit", "theta_nodes_near_eta_1", "beam_in_surface"]
+            .map(|k| settings.get(k).is_some())
     };
     // One lobe at η = 1.33: none of them
     let coarse = Baker::new(GridPreset::Coarse).with_theta_sampling(false);
     let baked = coarse.bake(&[], &[1.33], None).unwrap();
-    assert_eq!(keys(&baked), [false; 4]);
+    assert_eq!(keys(&baked), [false; 3]);
+    // (each table's dims are in its record, not the settings)
+    assert!(baked
+        .provenance()
+        .get("settings")
+        .unwrap()
+        .get("two_lobe_dims")
+        .is_none());
     // Two lobes at η = 1.2: the two-lobe rules only
     let small = Baker::new(Grid::ferrier(6, 4, 10)).with_theta_sampling(false);
     assert_eq!(
         keys(&small.bake(&[], &[1.2], None).unwrap()),
-        [true, true, false, false]
+        [true, false, false]
     );
     // η = 1 on a preset: also its θ nodes near η = 1 and the node at 90°, where the beam runs
     // in the surface (a custom grid records no preset nodes)
     let baked = coarse.bake(&[], &[1.0], None).unwrap();
-    assert_eq!(keys(&baked), [true; 4]);
+    assert_eq!(keys(&baked), [true; 3]);
     assert_eq!(
         keys(&small.bake(&[], &[1.0], None).unwrap()),
-        [true, true, false, true]
+        [true, false, true]
     );
 }
