@@ -253,7 +253,8 @@ pub struct BakeReport {
     pub seconds: f64,
     /// Threads used.
     pub threads: usize,
-    /// Count of nodes per fit branch (by name).
+    /// Count of nodes per fit branch (by name): a one-lobe fit's branch, `TwoLobes`, or
+    /// `SurfaceBeam` for the limit where the refracted beam runs in the surface.
     pub fit_branches: BTreeMap<String, usize>,
     /// Nodes whose stored profile is the minimax refinement of their three-anchor fit.
     pub refined: usize,
@@ -360,7 +361,7 @@ pub fn bake_lobes(
                     if lobes == Lobes::Two {
                         second.extend([to_f32(m3), to_f32(m4)]);
                     }
-                    branches.push(None);
+                    branches.push(NodeKind::SurfaceBeam);
                     continue;
                 }
                 if lobes == Lobes::Two && theta > 0.0 && r > 0.0 {
@@ -368,7 +369,7 @@ pub fn bake_lobes(
                     hint = fitted;
                     row.extend([to_f32(e), to_f32(e_beta), c as f32]);
                     second.extend([to_f32(m3), to_f32(m4)]);
-                    branches.push(None);
+                    branches.push(NodeKind::TwoLobes);
                     continue;
                 }
                 let node = node_at(&pbd, theta, r, anchors)?;
@@ -377,7 +378,7 @@ pub fn bake_lobes(
                 if lobes == Lobes::Two {
                     second.extend([0.0, 0.0]);
                 }
-                branches.push(Some(node.branch));
+                branches.push(NodeKind::Fit(node.branch));
                 refined += usize::from(node.refined);
             }
             if grid.r[0] == 0.0 && n_r >= 3 {
@@ -397,8 +398,7 @@ pub fn bake_lobes(
         harmonics.extend(second);
         refined += row_refined;
         for b in branches {
-            let name = b.map_or_else(|| "TwoLobes".to_string(), |b| format!("{b:?}"));
-            *fit_branches.entry(name).or_insert(0) += 1;
+            *fit_branches.entry(b.name()).or_insert(0) += 1;
         }
     }
 
@@ -577,9 +577,29 @@ fn r0_concentration(row: &[f32], r: &[f64]) -> f32 {
 }
 
 /// One baked (ρ′, θ) row: nr cells of (E, E_β, c), nr of (rμ₃, rμ₄) with two lobes (empty
-/// with one), the fit branch of each node (`None` for a two-lobe fit), and how many nodes were
-/// refined.
-type BakedRow = (Vec<f32>, Vec<f32>, Vec<Option<FitBranch>>, usize);
+/// with one), how each node was made, and how many nodes were refined.
+type BakedRow = (Vec<f32>, Vec<f32>, Vec<NodeKind>, usize);
+
+/// How a bake made a node, as [`BakeReport::fit_branches`] counts it.
+#[derive(Debug, Clone, Copy)]
+enum NodeKind {
+    /// A one-lobe fit, by its branch.
+    Fit(FitBranch),
+    /// A two-lobe fit.
+    TwoLobes,
+    /// The limit of a refracted beam in the surface ([`beam_in_surface`]).
+    SurfaceBeam,
+}
+
+impl NodeKind {
+    fn name(self) -> String {
+        match self {
+            NodeKind::Fit(branch) => format!("{branch:?}"),
+            NodeKind::TwoLobes => "TwoLobes".to_string(),
+            NodeKind::SurfaceBeam => "SurfaceBeam".to_string(),
+        }
+    }
+}
 
 /// Azimuths at which a two-lobe node samples PBD: φₖ = π(k/7)², k = 0 … 7, denser towards
 /// φ = 0, where the sharp lobe is (its half-width 1 − c₁ is 0.02 rad at (η, θ) = (1, 89°)).
