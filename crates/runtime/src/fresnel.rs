@@ -101,7 +101,9 @@ pub fn transmittance(cos_i: f64, eta: f64) -> f64 {
 /// T(θ) = 1 − F_r: the unpolarised Fresnel transmittance into a medium of relative index η for
 /// light arriving from outside at incidence θ (radians from the normal, before refraction). It
 /// is 0 at grazing incidence (the f64 nearest π/2 stands for 90° exactly, as in
-/// [`refracted_cos`]), beyond the critical angle (η < 1), and for θ outside [0, π/2] or NaN.
+/// [`refracted_cos`]), beyond the critical angle (η < 1), and for θ outside [0, π/2] or NaN;
+/// at index matching (η = 1: no interface) it is 1 at every θ in [0, π/2], grazing included,
+/// as its limit there is.
 ///
 /// Computed as the sum of the two polarisations' transmittances, 1 − r² = 4ab/(a + b)² for
 /// r = (a − b)/(a + b), rather than 1 − [`reflectance`]: near grazing incidence, where
@@ -110,6 +112,9 @@ pub fn entry_transmittance(theta: f64, eta: f64) -> f64 {
     let Some(cos_t) = refracted_cos(theta, eta) else {
         return 0.0;
     };
+    if eta == 1.0 {
+        return 1.0;
+    }
     let cos_i = if theta == std::f64::consts::FRAC_PI_2 {
         0.0
     } else {
@@ -354,7 +359,9 @@ mod tests {
                 assert!((got - closed).abs() < 1e-12, "{eta} {k}: {got} {closed}");
                 assert!((got - transmittance(ti.cos(), eta)).abs() < 1e-14);
             }
-            assert_eq!(entry_transmittance(FRAC_PI_2, eta), 0.0);
+            // Grazing: no light enters, but at index matching, where nothing reflects
+            let grazing = if eta == 1.0 { 1.0 } else { 0.0 };
+            assert_eq!(entry_transmittance(FRAC_PI_2, eta), grazing);
             for bad in [-1e-9, FRAC_PI_2 + 1e-9, f64::NAN] {
                 assert_eq!(entry_transmittance(bad, eta), 0.0);
             }

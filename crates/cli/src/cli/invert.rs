@@ -101,10 +101,13 @@ fn refusal(flag: &str, theta_deg: f64, error: ReflectanceError) -> CliError {
             show(rho_max)
         ),
         ReflectanceError::NoLight { eta, .. } if eta < 1.0 && theta_deg < 90.0 => format!(
-            "--theta {}: no light enters beyond the critical angle, asin(eta = {}) = {} deg: every rho' gives a diffuse reflectance of 0",
+            "--theta {}: no light enters beyond the critical angle, asin(eta = {}): --theta at most {} deg; every rho' gives a diffuse reflectance of 0",
             show(theta_deg),
             show(eta),
-            show(eta.asin().to_degrees())
+            // The largest --theta that lets light in, as this command tests it
+            show(super::values::last_degree(eta, |deg| {
+                entry_transmittance(deg.to_radians(), eta) > 0.0
+            }))
         ),
         ReflectanceError::NoLight { .. } => format!(
             "--theta {}: no light enters at grazing incidence: every rho' gives a diffuse reflectance of 0",

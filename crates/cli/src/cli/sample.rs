@@ -133,7 +133,7 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
 fn no_sample(rho: f64, theta: Option<f64>) -> CliError {
     let rho = super::show(rho);
     CliError::input(match theta {
-        Some(t) => format!("no light leaves at rho {rho}, theta {t}: nothing to sample (rho = 0, or beyond the critical angle)"),
+        Some(t) => format!("no light leaves at rho {rho}, theta {t}: nothing to sample (rho = 0 scatters nothing, and no light enters beyond the critical angle)"),
         None => format!("no light leaves at rho {rho}: nothing to sample"),
     })
 }

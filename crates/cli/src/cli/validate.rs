@@ -167,7 +167,7 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
                 super::show_deg(theta_hi.to_degrees())
             )
         } else {
-            "no light leaves: no point to check".to_string()
+            "no light leaves (rho' = 0, or no light enters beyond the critical angle): no point to check".to_string()
         }
     };
     let count = |rows: &[ValidationRow], s: Status| rows.iter().filter(|r| status(r) == s).count();

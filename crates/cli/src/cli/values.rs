@@ -40,11 +40,18 @@ pub fn enters(theta_deg: f64, eta: f64) -> bool {
 /// asin η as the check sees it: the messages state it, so that the printed bound is itself
 /// accepted (asin η in degrees can round just above it: at η = 0.8 its sine is 0.8 + 2e-16).
 pub fn critical_deg(eta: f64) -> f64 {
-    let mut theta = eta.asin().to_degrees();
-    while !enters(theta, eta) {
+    last_degree(eta, |theta| enters(theta, eta))
+}
+
+/// The largest incidence in degrees, near the critical angle asin η of an η < 1, that `takes`
+/// (a command's own test of whether light enters) accepts: what its message prints, so that
+/// the printed bound is itself accepted.
+pub fn last_degree(eta: f64, takes: impl Fn(f64) -> bool) -> f64 {
+    let mut theta = eta.min(1.0).asin().to_degrees();
+    while !takes(theta) && theta > 0.0 {
         theta = neighbour(theta, -1);
     }
-    while enters(neighbour(theta, 1), eta) && neighbour(theta, 1) <= 90.0 {
+    while takes(neighbour(theta, 1)) && neighbour(theta, 1) <= 90.0 {
         theta = neighbour(theta, 1);
     }
     theta

@@ -224,7 +224,7 @@ fn invert_refuses_every_value_outside_its_domain() {
         ),
         (
             &["--reflectance", "0.1", "--theta", "60", "--eta", "0.8"],
-            "--theta 60: no light enters beyond the critical angle, asin(eta = 0.8) = 53.1",
+            "--theta 60: no light enters beyond the critical angle, asin(eta = 0.8): --theta at most 53.1",
         ),
         (
             &["--reflectance", "0.5", "--table", "0"],

@@ -817,6 +817,44 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
             "100",
         ],
     ));
+    // So is invert's (its own test: the entry transmittance is above 0), which printed asin η
+    // in degrees, itself refused
+    for eta in ["0.8", "0.9999999"] {
+        let refused = bssrdf(
+            d,
+            &[
+                "invert",
+                "--reflectance",
+                "0",
+                "--eta",
+                eta,
+                "--theta",
+                "89.99999",
+                "--grid",
+                "coarse",
+            ],
+        );
+        let message = text(&refused.stderr);
+        let bound = message
+            .split("--theta at most ")
+            .nth(1)
+            .and_then(|rest| rest.split(" deg").next())
+            .expect(&message);
+        ok(&bssrdf(
+            d,
+            &[
+                "invert",
+                "--reflectance",
+                "0",
+                "--eta",
+                eta,
+                "--theta",
+                bound,
+                "--grid",
+                "coarse",
+            ],
+        ));
+    }
     fails_with(
         &bssrdf(d, &["zoo", "-q", "--eta", "0.75"]),
         2,
