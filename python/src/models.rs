@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use bssrdf_zoo::bake::BakeGrid;
 use bssrdf_zoo::fresnel::{refracted_cos, Moments};
 use bssrdf_zoo::models::dirpole::DirpoleFresnel;
 use bssrdf_zoo::models::table::TableSource;
@@ -85,8 +86,8 @@ pub fn model_eval<'py>(
         let shared = match file_table {
             Some(t) => Arc::new(t),
             None => {
-                let grid = grid.map_or(Grid::preset(GridPreset::Default), |(a, b, c)| {
-                    Grid::ferrier(a, b, c)
+                let grid = grid.map_or(BakeGrid::Preset(GridPreset::Default), |(a, b, c)| {
+                    BakeGrid::Custom(Grid::ferrier(a, b, c))
                 });
                 let source = TableSource::Bake(grid);
                 let params = Params::new(0.5, eta, moments).map_err(errors::value)?;

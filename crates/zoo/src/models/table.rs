@@ -22,24 +22,27 @@
 //! finite continuous limit from the first radius interval (PBD is +∞ there).
 
 use super::{entering, Model, ModelKind, Params, Sample};
+use crate::bake::{BakeGrid, Baker};
 use crate::error::{Error, Result};
-use crate::table::{bake, AngularTable, Grid, GridPreset};
+use crate::table::{bake, AngularTable, GridPreset};
 use crate::walk::Component;
 use std::sync::Arc;
 
 /// Where a table model gets its table.
 #[derive(Debug, Clone)]
 pub enum TableSource {
-    /// Bake one at construction on this grid (with the model's η and moments).
-    Bake(Grid),
+    /// Bake one at construction (with the model's η and moments) on a preset, the table
+    /// `bssrdf bake --eta ETA --grid PRESET` makes (its grid and lobes at η,
+    /// `Baker::grid_at`), or on a custom grid as given.
+    Bake(BakeGrid),
     /// Use a table baked elsewhere (its η must be the model's).
     Shared(Arc<AngularTable>),
 }
 
 impl Default for TableSource {
-    /// Bake on the report's default grid (100 × 10 × 64).
+    /// Bake the default preset's table for the model's η (`bssrdf bake --eta ETA`).
     fn default() -> Self {
-        TableSource::Bake(Grid::preset(GridPreset::Default))
+        TableSource::Bake(BakeGrid::Preset(GridPreset::Default))
     }
 }
 
@@ -48,7 +51,8 @@ impl TableSource {
     pub fn table(&self, params: &Params) -> Result<Arc<AngularTable>> {
         match self {
             TableSource::Bake(grid) => {
-                let (table, _) = bake(params.eta(), params.moments(), grid, false)?;
+                let grid = Baker::new(grid.clone()).grid_at(params.eta());
+                let (table, _) = bake(params.eta(), params.moments(), &grid, false)?;
                 Ok(Arc::new(table))
             }
             TableSource::Shared(table) => {

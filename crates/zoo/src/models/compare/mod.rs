@@ -30,14 +30,14 @@ pub use svg::write_svgs;
 use super::mc::{McModel, McOptions};
 use super::table::TableSource;
 use super::{build, integrate_total, Model, ModelKind, Options, Params};
+use crate::bake::BakeGrid;
 use crate::error::{in_range, Result};
 use crate::fresnel::Moments;
 use crate::quadrature::GaussLegendre;
-use crate::table::{bake, Grid, GridPreset};
+use crate::table::GridPreset;
 use crate::walk::{self, Bins, Component};
 use std::f64::consts::PI;
 use std::hint::black_box;
-use std::sync::Arc;
 use std::time::Instant;
 
 /// Which walk bins take part in the error statistics.
@@ -81,8 +81,9 @@ pub struct CompareConfig {
     pub moments: Moments,
     /// Walk bins (unreduced mean free paths).
     pub bins: Bins,
-    /// Grid of the table bake (one bake per run, shared by `table` and `perpendicular`).
-    pub grid: Grid,
+    /// Grid of the table bake (one bake per run, shared by `table` and `perpendicular`): a
+    /// preset bakes the table `bssrdf bake --eta ETA --grid PRESET` makes.
+    pub grid: BakeGrid,
     /// Dipole and Christensen–Burley options (the table and Monte Carlo options are set here).
     pub options: Options,
     /// Which bins count.
@@ -120,7 +121,7 @@ impl CompareConfig {
             models: ModelKind::ALL.to_vec(),
             moments: Moments::Exact,
             bins: Bins::default(),
-            grid: Grid::preset(GridPreset::Default),
+            grid: BakeGrid::Preset(GridPreset::Default),
             options: Options::default(),
             resolution: Resolution::default(),
             burley_albedo_from_walk: false,
@@ -257,8 +258,9 @@ pub fn run_with_progress(config: &CompareConfig, progress: &dyn Fn(u64)) -> Resu
         .iter()
         .any(|k| matches!(k, ModelKind::Table | ModelKind::Perpendicular))
     {
-        let (table, _) = bake(config.eta, config.moments, &config.grid, false)?;
-        options.table = TableSource::Shared(Arc::new(table));
+        let source = TableSource::Bake(config.grid.clone());
+        let params = Params::new(0.5, config.eta, config.moments)?;
+        options.table = TableSource::Shared(source.table(&params)?);
     }
     let mut rows = Vec::new();
     let mut cases = Vec::new();
