@@ -793,67 +793,31 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         "--theta 60 is outside the valid range at --eta 0.75: [0, 48.590377890729144] deg",
     );
     // The bound stated is itself taken (at η = 0.8, asin η in degrees would not be)
-    let refused = bssrdf(
+    let walk = ["walk", "--albedo", "0.5", "--eta", "0.8", "--theta"];
+    stated_bound_is_taken(
         d,
-        &["walk", "--albedo", "0.5", "--eta", "0.8", "--theta", "60"],
+        &[&walk[..], &["60"]].concat(),
+        ("[0, ", "]"),
+        &[&walk[..], &["{}", "--photons", "100"]].concat(),
     );
-    let message = text(&refused.stderr);
-    let bound = message
-        .split("[0, ")
-        .nth(1)
-        .and_then(|rest| rest.split(']').next())
-        .expect(&message);
-    ok(&bssrdf(
-        d,
-        &[
-            "walk",
-            "--albedo",
-            "0.5",
-            "--eta",
-            "0.8",
-            "--theta",
-            bound,
-            "--photons",
-            "100",
-        ],
-    ));
     // So is invert's (its own test: the entry transmittance is above 0), which printed asin η
     // in degrees, itself refused
     for eta in ["0.8", "0.9999999"] {
-        let refused = bssrdf(
+        let invert = [
+            "invert",
+            "--reflectance",
+            "0",
+            "--grid",
+            "coarse",
+            "--eta",
+            eta,
+        ];
+        stated_bound_is_taken(
             d,
-            &[
-                "invert",
-                "--reflectance",
-                "0",
-                "--eta",
-                eta,
-                "--theta",
-                "89.99999",
-                "--grid",
-                "coarse",
-            ],
+            &[&invert[..], &["--theta", "89.99999"]].concat(),
+            ("--theta at most ", " deg"),
+            &[&invert[..], &["--theta", "{}"]].concat(),
         );
-        let message = text(&refused.stderr);
-        let bound = message
-            .split("--theta at most ")
-            .nth(1)
-            .and_then(|rest| rest.split(" deg").next())
-            .expect(&message);
-        ok(&bssrdf(
-            d,
-            &[
-                "invert",
-                "--reflectance",
-                "0",
-                "--eta",
-                eta,
-                "--theta",
-                bound,
-                "--grid",
-                "coarse",
-            ],
-        ));
     }
     fails_with(
         &bssrdf(d, &["zoo", "-q", "--eta", "0.75"]),
@@ -1523,4 +1487,25 @@ fn a_closed_stderr_is_not_a_panic() {
             .unwrap();
         assert_eq!(status.code(), Some(code), "{args:?}");
     }
+}
+
+/// The bound that the refusal of `refused` states in its message, between `before` and
+/// `after`, is taken by the same command: `args`, with `{}` standing for the bound.
+fn stated_bound_is_taken(
+    d: &std::path::Path,
+    refused: &[&str],
+    (before, after): (&str, &str),
+    args: &[&str],
+) {
+    let message = text(&bssrdf(d, refused).stderr);
+    let bound = message
+        .split(before)
+        .nth(1)
+        .and_then(|rest| rest.split(after).next())
+        .expect(&message);
+    let args: Vec<&str> = args
+        .iter()
+        .map(|&a| if a == "{}" { bound } else { a })
+        .collect();
+    ok(&bssrdf(d, &args));
 }
