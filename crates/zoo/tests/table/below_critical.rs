@@ -137,6 +137,24 @@ fn a_node_where_the_beam_runs_in_the_surface_holds_the_limit_of_the_profile() {
 }
 
 #[test]
+fn just_above_eta_1_the_90_degree_node_keeps_the_profiles_energy() {
+    // η = 1 + 2·10⁻⁶: cos θ′ = 0.002 at 90°, a ridge no fit through azimuths resolves; the
+    // fit's energy was 28–33 % high there (`table::RESCALE_BELOW_COS`). ρ_eff at 90° against
+    // PBD's independent quadrature, on the coarse grid
+    let eta = 1.0 + 2e-6;
+    let grid = GridPreset::Coarse.grid(eta, Lobes::Two);
+    let table = bake_lobes(eta, Moments::Exact, &grid, false, Lobes::Two)
+        .unwrap()
+        .0;
+    let boundary = Boundary::new(eta, Moments::Exact).unwrap();
+    for rho in [0.1, 0.5, 0.9, 0.99] {
+        let want = Pbd::new(rho, boundary).unwrap().effective_albedo(FRAC_PI_2);
+        let got = table.view().effective_albedo(rho, FRAC_PI_2).unwrap();
+        assert!((got / want - 1.0).abs() < 0.01, "{rho}: {got} vs {want}");
+    }
+}
+
+#[test]
 fn on_a_grid_without_a_critical_node_theta_is_drawn_up_to_the_critical_angle() {
     // A custom grid below η = 1 (θ nodes 0, 30, 60, 90°; light enters up to 53.13° at η = 0.8):
     // the θ CDF keeps the interval that holds the critical angle, so path draws reach it
