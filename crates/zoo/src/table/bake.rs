@@ -684,26 +684,26 @@ fn surface_cells(pbd: &Pbd, r: f64, lobes: Lobes) -> [f64; 5] {
     let [m0, m1, m2, m3, m4] = surface_harmonics(pbd, r, None);
     let (beta, c) = one_lobe_of(m1, m2);
     match lobes {
-        Lobes::Two => {
-            // As in `two_lobe_cells`: the one lobe of μ₁, μ₂ within the floor's cap
-            let beta = if c > 0.0 {
-                beta.min(m0 * (1.0 + c) / (2.0 * c))
-            } else {
-                beta
-            };
-            [r * m0, r * beta, c, r * m3, r * m4]
-        }
+        Lobes::Two => [r * m0, r * within_floor(beta, c, m0), c, r * m3, r * m4],
         Lobes::One => {
             // c capped as every one-lobe node's, and β with it so that β c stays μ₁
-            let c = c.min(C_MAX_FIT);
-            let beta = if c > 0.0 { m1 / c } else { beta };
-            let beta = if c > 0.0 {
-                beta.min(m0 * (1.0 + c) / (2.0 * c))
+            let (beta, c) = if c > C_MAX_FIT {
+                (m1 / C_MAX_FIT, C_MAX_FIT)
             } else {
-                beta
+                (beta, c)
             };
-            [r * m0, r * beta, c, 0.0, 0.0]
+            [r * m0, r * within_floor(beta, c, m0), c, 0.0, 0.0]
         }
+    }
+}
+
+/// The lobe mass β of concentration c at most (1 + c)/(2c) of the energy e: the one lobe of
+/// μ₁, μ₂ over a floor that stays ≥ 0 (format-spec.md §10).
+fn within_floor(beta: f64, c: f64, e: f64) -> f64 {
+    if c > 0.0 {
+        beta.min(e * (1.0 + c) / (2.0 * c))
+    } else {
+        beta
     }
 }
 
@@ -758,12 +758,7 @@ fn two_lobe_cells(g: &TwoLobe, r: f64) -> [f64; 5] {
     // (E, E_β, c), for every pair of lobes of one sign; for a signed pair it may reach
     // below, up to 0.25 % of E (far tails of the default bake at η = 1.05), and μ₁, μ₂
     // are scaled down by that much
-    let beta = if c > 0.0 {
-        beta.min(e * (1.0 + c) / (2.0 * c))
-    } else {
-        beta
-    };
-    [r * e, r * beta, c, r * m3, r * m4]
+    [r * e, r * within_floor(beta, c, e), c, r * m3, r * m4]
 }
 
 /// The profile a lookup rebuilds at a node of `g` at radius `r` from its stored f32 values:
