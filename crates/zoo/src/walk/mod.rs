@@ -93,6 +93,7 @@
 
 pub mod bins;
 mod exits;
+pub mod harmonics;
 mod result;
 pub mod rng;
 mod tally;

@@ -8,6 +8,7 @@
 use super::*;
 use crate::fresnel;
 use crate::quadrature::adaptive;
+use harmonics::{harmonics, unreduced_albedo, HarmonicsConfig, WalkHarmonics, HARMONICS};
 use std::f64::consts::{PI, TAU};
 
 /// Photons of the fast checks.
@@ -734,4 +735,237 @@ fn full_single_scattering_matches_quadrature() {
         let what = format!("single scattering a = {albedo}, g = {g}, eta = {eta}, {theta_deg}°");
         assert_full(&what, r.single_reflectance(), q);
     }
+}
+
+// --- The harmonics of many albedos from one walk (harmonics.rs) ---
+
+/// Radii of the harmonics checks: a geometric axis from 0 with ratio 1.33 up to ~25 mfp.
+fn harmonics_radii() -> Vec<f64> {
+    std::iter::once(0.0)
+        .chain((0..24).map(|i| 0.03 * 1.33f64.powi(i)))
+        .collect()
+}
+
+fn walk_harmonics(rho: &[f64], g: f64, theta_deg: f64, photons: u64, seed: u64) -> WalkHarmonics {
+    let config = HarmonicsConfig {
+        rho: rho.to_vec(),
+        g,
+        eta: 1.4,
+        theta: theta_deg.to_radians(),
+        r: harmonics_radii(),
+        photons,
+        seed,
+    };
+    harmonics(&config, &|_| {}).unwrap()
+}
+
+/// The hat kernel of node i of `r` (r[i − 1] > 0 or i = 1 with r[0] = 0) over ln r, as
+/// harmonics.rs documents it, written out here: its weight at radius x per unit ln r, and the
+/// kernel average of f over ln r by Gauss–Legendre on each side.
+fn kernel_average(r: &[f64], i: usize, f: impl Fn(f64) -> f64) -> f64 {
+    let c = r[i].ln();
+    let right = if i + 1 < r.len() {
+        r[i + 1].ln() - c
+    } else {
+        c - r[i - 1].ln()
+    };
+    let left = if r[i - 1] > 0.0 {
+        c - r[i - 1].ln()
+    } else {
+        right
+    };
+    let rule = crate::quadrature::GaussLegendre::new(24);
+    let lower = rule.integrate(c - left, c, |u| (1.0 - (c - u) / left) * f(u.exp()));
+    let upper = rule.integrate(c, c + right, |u| (1.0 - (u - c) / right) * f(u.exp()));
+    (lower + upper) / (0.5 * (left + right))
+}
+
+#[test]
+fn harmonics_single_scattering_matches_quadrature_in_every_row() {
+    // At normal incidence single scattering is isotropic in φ: μ₀(r′) = 2π E₁(r′/s)/s² in a
+    // row's reduced units (s = 1 − g a), μₙ = 0 for n ≥ 1. Rows of three albedos from one walk
+    // at the largest; each against the exact exitance E₁ by quadrature, kernel-averaged.
+    let (g, eta) = (0.5, 1.4);
+    let rho = [0.3, 0.95, 0.7];
+    let h = walk_harmonics(&rho, g, 0.0, FAST_PHOTONS, 5);
+    let r = harmonics_radii();
+    let (mut chi2, mut count) = (0.0, 0);
+    for (row, &rho) in rho.iter().enumerate() {
+        let a = unreduced_albedo(rho, g);
+        let s = 1.0 - g * a;
+        // Up to 2 reduced mfp: farther out single-scattering exits are rare and the batch
+        // means far from normal
+        for node in (1..r.len()).filter(|&i| r[i] < 2.0) {
+            let mean = h.mean(Component::Single, row, node).unwrap();
+            let se = h.stderr(Component::Single, row, node).unwrap();
+            let exact = kernel_average(&r, node, |x| {
+                TAU * single_scattering_exitance(a, g, eta, x / s) / (s * s)
+            });
+            for n in 0..HARMONICS {
+                let expected = if n == 0 { exact } else { 0.0 };
+                let z = (mean[n] - expected) / se[n];
+                assert!(
+                    z.abs() < 4.5,
+                    "rho {rho}, r {}, n {n}: {} vs {expected} ± {}",
+                    r[node],
+                    mean[n],
+                    se[n]
+                );
+                chi2 += z * z;
+                count += 1;
+            }
+        }
+    }
+    // Batch means with 31 degrees of freedom: z² averages 31/29 ≈ 1.07
+    assert!(chi2 < 1.5 * count as f64, "chi2 = {chi2} over {count}");
+}
+
+#[test]
+fn harmonics_one_row_is_the_sum_over_its_walks_exits() {
+    // One row walks at its own albedo: its estimates are the exits of `ExitWalk` with the same
+    // streams, summed through the kernel written out in `kernel_average`'s terms.
+    let (rho, g, eta, theta) = (0.8, 0.3, 1.4, 50f64.to_radians());
+    let photons = 2 * BLOCK + 100;
+    let h = walk_harmonics(&[rho], g, 50.0, photons, 3);
+    let r = harmonics_radii();
+    let a = unreduced_albedo(rho, g);
+    let s = 1.0 - g * a;
+    let exits = ExitWalk::new(a, g, eta).unwrap();
+    let mut sums = vec![[0.0; HARMONICS]; r.len()];
+    for index in 0..photons {
+        let mut rng = rng::photon_stream(3, index);
+        exits.trace(theta, &mut rng, |e| {
+            if e.component != Component::Multiple {
+                return;
+            }
+            let x = e.x.hypot(e.y) * s;
+            let phi = e.y.atan2(e.x);
+            for i in 1..r.len() {
+                let c = r[i].ln();
+                let right = if i + 1 < r.len() {
+                    r[i + 1].ln() - c
+                } else {
+                    c - r[i - 1].ln()
+                };
+                let left = if r[i - 1] > 0.0 {
+                    c - r[i - 1].ln()
+                } else {
+                    right
+                };
+                let u = x.ln() - c;
+                let hat = if u < 0.0 {
+                    1.0 + u / left
+                } else {
+                    1.0 - u / right
+                };
+                if hat > 0.0 {
+                    let k = e.weight * hat / (0.5 * (left + right)) / (x * x);
+                    for (n, v) in sums[i].iter_mut().enumerate() {
+                        *v += k * (n as f64 * phi).cos();
+                    }
+                }
+            }
+        });
+    }
+    for (i, sum) in sums.iter().enumerate() {
+        let mean = h.mean(Component::Multiple, 0, i).unwrap();
+        for n in 0..HARMONICS {
+            let expected = sum[n] / photons as f64;
+            let scale = sum[0].abs() / photons as f64 + 1e-300;
+            assert!(
+                (mean[n] - expected).abs() <= 1e-9 * scale,
+                "r {}, n {n}: {} vs {expected}",
+                r[i],
+                mean[n]
+            );
+        }
+    }
+    assert_eq!(h.mean(Component::Multiple, 0, 0).unwrap(), [0.0; HARMONICS]);
+}
+
+#[test]
+fn harmonics_rows_agree_with_walks_at_their_own_albedo() {
+    // Reweighting one walk at the largest albedo against a walk at each row's own albedo
+    // (different roulette, different seed): the multiple-scattering harmonics agree within
+    // their standard errors at every node up to 10 mfp.
+    let (g, theta_deg) = (0.5, 60.0);
+    let rho = [0.4, 0.9, 0.99];
+    let together = walk_harmonics(&rho, g, theta_deg, FAST_PHOTONS, 21);
+    let r = harmonics_radii();
+    let (mut chi2, mut count) = (0.0, 0);
+    for (row, &one) in rho.iter().enumerate() {
+        let alone = walk_harmonics(&[one], g, theta_deg, FAST_PHOTONS, 22);
+        for node in (1..r.len()).filter(|&i| r[i] < 10.0) {
+            let (m1, s1) = (
+                together.mean(Component::Multiple, row, node).unwrap(),
+                together.stderr(Component::Multiple, row, node).unwrap(),
+            );
+            let (m2, s2) = (
+                alone.mean(Component::Multiple, 0, node).unwrap(),
+                alone.stderr(Component::Multiple, 0, node).unwrap(),
+            );
+            for n in 0..HARMONICS {
+                let z = (m1[n] - m2[n]) / s1[n].hypot(s2[n]);
+                assert!(
+                    z.abs() < 4.5,
+                    "rho {one}, r {}, n {n}: {} ± {} vs {} ± {}",
+                    r[node],
+                    m1[n],
+                    s1[n],
+                    m2[n],
+                    s2[n]
+                );
+                chi2 += z * z;
+                count += 1;
+            }
+        }
+    }
+    assert!(chi2 < 1.5 * count as f64, "chi2 = {chi2} over {count}");
+}
+
+#[test]
+fn harmonics_do_not_depend_on_the_thread_count() {
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| walk_harmonics(&[0.5, 0.9], 0.2, 30.0, 5 * BLOCK + 7, 4))
+    };
+    assert_eq!(run(1), run(2));
+}
+
+#[test]
+fn harmonics_refuse_what_they_cannot_walk() {
+    let good = HarmonicsConfig {
+        rho: vec![0.5],
+        g: 0.0,
+        eta: 1.33,
+        theta: 0.3,
+        r: vec![0.0, 1.0, 2.0],
+        photons: harmonics::MIN_HARMONICS_PHOTONS,
+        seed: 0,
+    };
+    assert!(good.validate().is_ok());
+    let bad = |f: &dyn Fn(&mut HarmonicsConfig), says: &str| {
+        let mut c = good.clone();
+        f(&mut c);
+        let message = c.validate().unwrap_err().to_string();
+        assert!(message.contains(says), "{message}");
+    };
+    bad(&|c| c.rho.clear(), "rho rows = 0");
+    bad(&|c| c.rho.push(1.5), "rho = 1.5");
+    bad(&|c| c.g = 1.0, "g = 1");
+    bad(&|c| c.eta = 3.0, "eta = 3");
+    bad(&|c| (c.eta, c.theta) = (0.8, 1.2), "theta = 1.2");
+    bad(
+        &|c| c.r = vec![0.0, 2.0, 1.0],
+        "r node = 2 must be below the next r node = 1",
+    );
+    bad(&|c| c.r = vec![-1.0, 2.0], "first r node = -1");
+    bad(&|c| c.photons = 2 * BLOCK - 1, "photons = 2047");
+    let h = harmonics(&good, &|_| {}).unwrap();
+    assert!(h.mean(Component::Total, 0, 1).is_none());
+    assert!(h.mean(Component::Multiple, 1, 1).is_none());
+    assert!(h.mean(Component::Multiple, 0, 3).is_none());
 }
