@@ -420,6 +420,29 @@ pub fn bake_lobes(
         }
     }
 
+    let table = assemble(eta, moments, grid, axes, params, harmonics, theta_sampling)?;
+    let report = BakeReport {
+        seconds: start.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+        fit_branches,
+        refined,
+    };
+    Ok((table, report))
+}
+
+/// The table of a bake's node values (`params`, and `harmonics`, empty with one lobe, in the
+/// order of the grid's rows): below η = 1 the nodes beyond the critical node copy it, then the
+/// radial CDFs, the θ CDF (`theta_sampling`) and the table.
+pub(super) fn assemble(
+    eta: f64,
+    moments: Moments,
+    grid: &Grid,
+    axes: Axes,
+    mut params: Vec<f32>,
+    mut harmonics: Vec<f32>,
+    theta_sampling: bool,
+) -> Result<AngularTable> {
+    let (n_rho, n_theta, n_r) = axes.dims();
     // Below η = 1, the nodes beyond a critical node (`Grid::below_critical`), where no light
     // enters, take its values: a 0 there bent the last lit interval through the spline's slope
     // at the critical node (15 % off in ρ_eff at η = 1 − 10⁻⁷), and lookups beyond it are 0
@@ -467,16 +490,10 @@ pub fn bake_lobes(
         theta_sampling.then(|| theta_cdf(axes.theta(), &radial_cdf, [n_rho, n_theta, n_r], lit));
     let mut table = AngularTable::from_parts(eta, moments, axes, params, radial_cdf, theta_cdf)
         .map_err(Error::from)?;
-    if lobes == Lobes::Two {
+    if !harmonics.is_empty() {
         table = table.with_harmonics(harmonics).map_err(Error::from)?;
     }
-    let report = BakeReport {
-        seconds: start.elapsed().as_secs_f64(),
-        threads: rayon::current_num_threads(),
-        fit_branches,
-        refined,
-    };
-    Ok((table, report))
+    Ok(table)
 }
 
 /// What a bake stores at one node, before rounding to f32 (at r₀ = 0 the bake then replaces
@@ -588,7 +605,7 @@ fn oblique_node(
 /// after: 1.37 % → 1.14 % at (ρ′, θ) = (0.9, 89°), seed 7; 1.25 % → 1.00 % at (0.5, 60°),
 /// seed 2024; 0.96 % → 0.67 % at (0.9, 89°), seed 1. Clamped to ±[`C_MAX_FIT`]; 0 at θ = 0,
 /// where every c is 0.
-fn r0_concentration(row: &[f32], r: &[f64]) -> f32 {
+pub(super) fn r0_concentration(row: &[f32], r: &[f64]) -> f32 {
     let c = |k: usize| f64::from(row[k * PARAMS_PER_NODE + 2]);
     let slope = (c(2) - c(1)) / (r[2] - r[1]);
     (c(1) - slope * r[1]).clamp(-C_MAX_FIT, C_MAX_FIT) as f32
@@ -648,7 +665,19 @@ fn two_lobe_node(
         .map(|&p| (p, pbd.eval(theta, r, p, Rule::Fast)))
         .filter(|(_, v)| v.is_finite())
         .unzip();
-    let fit = fit_two_lobes(&phi, &y, hint).and_then(|g| {
+    two_lobe_node_of(&phi, &y, r, hint)
+}
+
+/// The two-lobe node at radius r of a profile sampled at azimuths `phi` (values `y`), as
+/// [`two_lobe_node`] stores PBD's: the cells of [`fit_two_lobes`] and the concentrations for
+/// the next radius' `hint`.
+pub(super) fn two_lobe_node_of(
+    phi: &[f64],
+    y: &[f64],
+    r: f64,
+    hint: Option<[f64; 2]>,
+) -> ([f64; 5], Option<[f64; 2]>) {
+    let fit = fit_two_lobes(phi, y, hint).and_then(|g| {
         if !g.is_signed() {
             return Some(g);
         }
@@ -657,7 +686,7 @@ fn two_lobe_node(
         // harmonics do not carry) gives way to the best lobes of one sign
         let error = |f: &dyn Fn(f64) -> f64| -> f64 {
             phi.iter()
-                .zip(&y)
+                .zip(y)
                 .map(|(&p, &v)| if v > 0.0 { (f(p) / v - 1.0).abs() } else { 0.0 })
                 .fold(0.0, f64::max)
         };
@@ -665,7 +694,7 @@ fn two_lobe_node(
         if error(&|p| stored.eval(p)) <= 2.0 * error(&|p| g.eval(p)) + STORED_TOLERANCE {
             Some(g)
         } else {
-            fit_two_lobes_one_sign(&phi, &y, hint)
+            fit_two_lobes_one_sign(phi, y, hint)
         }
     });
     match fit {
@@ -699,7 +728,7 @@ fn surface_cells(pbd: &Pbd, r: f64, lobes: Lobes) -> [f64; 5] {
 
 /// The lobe mass β of concentration c at most (1 + c)/(2c) of the energy e: the one lobe of
 /// μ₁, μ₂ over a floor that stays ≥ 0 (format-spec.md §10).
-fn within_floor(beta: f64, c: f64, e: f64) -> f64 {
+pub(super) fn within_floor(beta: f64, c: f64, e: f64) -> f64 {
     if c > 0.0 {
         beta.min(e * (1.0 + c) / (2.0 * c))
     } else {
@@ -825,7 +854,7 @@ fn theta_cdf(
 
 /// f64 → f32, flushing values below the smallest normal f32 to 0 (far tails underflow; keeping
 /// subnormals would only slow lookups down).
-fn to_f32(v: f64) -> f32 {
+pub(super) fn to_f32(v: f64) -> f32 {
     let f = v as f32;
     if f.abs() < f32::MIN_POSITIVE {
         0.0

@@ -5,6 +5,7 @@
 mod bake;
 mod check;
 mod validate;
+mod walk_bake;
 
 pub use bake::{
     bake, bake_lobes, bake_rows, bake_rows_lobes, beam_in_surface, critical_node, node_cell,
@@ -18,3 +19,7 @@ pub use check::{
     THETA_BANDS_DEG, WEIGHTED_POINTS,
 };
 pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
+pub use walk_bake::{
+    bake_walk, walk_bake_photons, WalkBake, WalkBakeReport, MIN_HARMONICS_PHOTONS,
+    WALK_GROUP_EDGES, WALK_LAST_GROUP_SHARE,
+};

@@ -131,21 +131,25 @@ fn samples_follow_the_pdf_chi_square() {
 }
 
 fn samples_follow_the_pdf(table: &AngularTable) {
-    let view = table.view();
-    let r_nodes = table.axes().r().as_slice();
-    // Bin edges: every radius node (bins follow the spline segments), 12 φ bins.
-    let n_phi = 12;
-    for (case, (rho, theta_deg)) in [
+    let cases = [
         (0.5, 0.0),
         (0.9, 60.0),
         (0.999, 89.0),
         (0.999, 0.0),
         (0.3, 89.0),
         (0.99, 35.0),
-    ]
-    .into_iter()
-    .enumerate()
-    {
+    ];
+    samples_follow_the_pdf_at(table, &cases);
+}
+
+/// Chi-square of 200,000 draws of `sample` at each (ρ′, θ in degrees) of `cases` against the
+/// bins' probabilities under `pdf` (every radius node an edge, 12 φ bins), which must add to 1.
+pub(crate) fn samples_follow_the_pdf_at(table: &AngularTable, cases: &[(f64, f64)]) {
+    let view = table.view();
+    let r_nodes = table.axes().r().as_slice();
+    // Bin edges: every radius node (bins follow the spline segments), 12 φ bins.
+    let n_phi = 12;
+    for (case, &(rho, theta_deg)) in cases.iter().enumerate() {
         let theta = f64::to_radians(theta_deg);
         let expected = expected_fractions(table, rho, theta, r_nodes, n_phi);
         let total: f64 = expected.iter().sum();

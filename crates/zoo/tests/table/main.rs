@@ -16,3 +16,4 @@ mod pinned;
 mod reflectance;
 mod separable;
 mod subset;
+mod walk;

@@ -1,0 +1,608 @@
+//! Baking the angular table from the Monte Carlo walk instead of PBD: the same (ρ′, θ, r)
+//! grid and two-lobe nodes, each node's harmonics measured by the walk.
+//!
+//! | parameter | unit | range |
+//! |---|---|---|
+//! | `eta` | – | η in [0.75, 2.5] |
+//! | `g` | – | Henyey–Greenstein asymmetry, (−1, 1) |
+//! | grid | as [`Grid`] | ρ′ in [0, 1], θ in [0, π/2], r ≥ 0 (reduced mfp) |
+//! | `photons` | – | per θ node and row group, at least [`MIN_HARMONICS_PHOTONS`] |
+//!
+//! # What a node stores
+//! The walk's multiple scattering (two or more vertices, the part PBD models) per unit power
+//! entering, in reduced units, described as a **tilt of PBD**: at each node the profile is
+//! k · P(φ) · (1 + a₁ cos φ + a₂ cos 2φ), P PBD's profile at (ρ′, θ, r), with the walk's scale k
+//! and tilt (a₁, a₂). PBD is smooth, shaped like the walk, and without noise; the walk only has
+//! to tell how far off it is, which changes slowly along r. The steps, per θ node and row:
+//! 1. **Measure.** One walk per group of rows ([`crate::walk::harmonics`]: every albedo of a
+//!    group from one walk at its largest) gives, at every node rᵢ > 0, the harmonics μ̂₀ … μ̂₄
+//!    averaged over a hat kernel in ln r, with standard errors.
+//! 2. **Tilt.** At each node whose μ̂₀ has a relative standard error ≤ [`MAX_REL_STDERR`], the
+//!    tilt whose kernel average of the tilted PBD has the walk's μ̂₀, μ̂₁ and μ̂₂ (PBD's own
+//!    kernel averages by quadrature). Comparing averages with averages takes the kernel's
+//!    bias out: the kernel average differs from the value at rᵢ by the profile's curvature over
+//!    the kernel, as much as 7 % at r = 10 on the default two-lobe grid, and PBD has the same
+//!    curvature (the table's ρ_eff was 2–2.8 % high without it, measured). |a₁| + |a₂| is kept
+//!    ≤ [`MAX_TILT`], so the profile stays ≥ 0.
+//! 3. **Smooth.** ln k, a₁ and a₂ are smoothed along ln r by a local linear fit over
+//!    [`SMOOTH_NODES`] measured nodes on each side, weighted by 1/σ² and a tricube; a node not
+//!    measured well (the first radii, where the walk's multiple scattering rarely exits, and
+//!    the far tail) takes the nearest measured node's smoothed tilt.
+//! 4. **Store.** Two lobes fitted to the tilted PBD at the azimuths of the PBD bake
+//!    (`two_lobe_node`), scaled to the tilted profile's energy r·μ₀: the walk's energy with a
+//!    shape a two-lobe node can hold. (Storing the tilted harmonics themselves rebuilt, through
+//!    Prony's method, into spikes of a few per cent of the energy at small r.) At θ = 0 the
+//!    node is PBD's isotropic node scaled to the walk's energy; for a beam in the surface
+//!    (below η = 1, the critical node) the harmonics of the tilted limit; r = 0 and the nodes
+//!    beyond the critical angle as in the PBD bake.
+//!
+//! # Row groups
+//! A walk's cost per photon grows with its largest albedo (scattering events per photon at
+//! θ = 60°, η = 1.33, g = 0: 131 up to ρ′ = 0.99, 422 up to 0.999, 4,938 up to 1, where the
+//! vertex cap ends the longest paths). The rows are walked in three groups, ρ′ ≤ 0.99,
+//! ≤ 0.999 and above, the last with an eighth of the photons.
+
+use super::bake::{
+    assemble, beam_in_surface, node_cell, r0_concentration, to_f32, two_lobe_azimuths,
+    two_lobe_node_of, within_floor,
+};
+use super::{AngularTable, Axes, Grid, PARAMS_PER_NODE};
+use crate::error::{in_range, Error, Result};
+use crate::fresnel::Moments;
+use crate::gwc::one_lobe_of;
+use crate::medium::Boundary;
+use crate::pbd::{Pbd, Rule};
+use crate::quadrature::GaussLegendre;
+use crate::walk::harmonics::{harmonics, HarmonicsConfig, WalkHarmonics, HARMONICS};
+use crate::walk::Component;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+use std::time::Instant;
+
+pub use crate::walk::harmonics::MIN_HARMONICS_PHOTONS;
+
+/// Upper ρ′ of each row group but the last (module docs).
+pub const WALK_GROUP_EDGES: [f64; 2] = [0.99, 0.999];
+
+/// The last group (ρ′ above 0.999) walks this fraction of the photons.
+pub const WALK_LAST_GROUP_SHARE: u64 = 8;
+
+/// What to bake.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WalkBake {
+    /// Relative index η.
+    pub eta: f64,
+    /// Henyey–Greenstein asymmetry g of the walk.
+    pub g: f64,
+    /// Nodes of the table.
+    pub grid: Grid,
+    /// Photons per θ node for each group of rows (the last group takes
+    /// 1/[`WALK_LAST_GROUP_SHARE`] of them).
+    pub photons: u64,
+    /// Seed of the walks.
+    pub seed: u64,
+    /// Whether to keep the CDF over θ for path tracing.
+    pub theta_sampling: bool,
+}
+
+/// What a walk bake did.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WalkBakeReport {
+    /// Wall time, seconds.
+    pub seconds: f64,
+    /// Threads of the pool.
+    pub threads: usize,
+    /// Photons walked in all.
+    pub photons: u64,
+    /// Scattering events of all walks.
+    pub scattering_events: u64,
+    /// Median relative standard error of the nodes' E with ρ′ ≥ 0.1 and r in [0.01, 20]
+    /// reduced mfp.
+    pub median_rel_stderr: f64,
+    /// 90th percentile of the same.
+    pub p90_rel_stderr: f64,
+}
+
+/// A row's harmonics per node and the relative standard errors it adds to the report.
+type RowCells = (Vec<[f64; 5]>, Vec<f64>);
+
+/// Points of the kernel averages of PBD on each side of a node, in ln r.
+const CONTROL_POINTS: usize = 3;
+
+/// Largest relative standard error of a node's μ̂₀ for its own tilt to be measured; a noisier
+/// node takes the nearest measured node's (module docs).
+const MAX_REL_STDERR: f64 = 0.1;
+
+/// Half-width, in reliable nodes, of the local fit that smooths the walk/PBD ratio along r.
+const SMOOTH_NODES: usize = 3;
+
+/// Points of PBD's harmonics over φ ([`control_harmonics`]).
+const CONTROL_AZIMUTHS: usize = 16;
+
+/// Bakes the table of `config` from the walk (module docs). Deterministic for a seed on any
+/// thread count (runs on the current rayon pool); `progress(n)` receives photons as they are
+/// walked, [`walk_bake_photons`] in all.
+pub fn bake_walk(
+    config: &WalkBake,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<(AngularTable, WalkBakeReport)> {
+    let start = Instant::now();
+    let (eta, grid) = (config.eta, &config.grid);
+    let boundary = Boundary::new(eta, Moments::Exact)?;
+    for &rho in &grid.rho {
+        in_range("rho node", rho, 0.0, 1.0)?;
+    }
+    for &theta in &grid.theta {
+        in_range("theta node", theta, 0.0, f64::from((0.5 * PI) as f32))?;
+    }
+    let round = |v: &[f64]| -> Vec<f64> { v.iter().map(|&x| f64::from(x as f32)).collect() };
+    let grid = &Grid {
+        rho: round(&grid.rho),
+        theta: round(&grid.theta),
+        r: round(&grid.r),
+    };
+    let axes = Axes::new(grid.rho.clone(), grid.theta.clone(), grid.r.clone())?;
+    let (n_rho, n_theta, n_r) = axes.dims();
+    let groups = row_groups(&grid.rho);
+    for (_, share) in groups.iter().filter(|(rows, _)| !rows.is_empty()) {
+        check_photons(config.photons / share)?;
+    }
+
+    let mut params = vec![0.0f32; n_rho * n_theta * n_r * PARAMS_PER_NODE];
+    let mut second = vec![0.0f32; n_rho * n_theta * n_r * 2];
+    let (mut photons, mut events) = (0u64, 0u64);
+    let mut rel_stderr = Vec::new();
+    let rules = (
+        GaussLegendre::new(CONTROL_POINTS),
+        GaussLegendre::new(CONTROL_AZIMUTHS),
+    );
+    for (j, &theta_node) in grid.theta.iter().enumerate() {
+        let theta = theta_node.min(0.5 * PI);
+        // Beyond the critical angle no light enters: `assemble` copies the critical node
+        if crate::fresnel::refracted_cos(theta, eta).is_none() && !beam_in_surface(eta, theta) {
+            continue;
+        }
+        // The critical node rounded to f32 may lie a hair beyond asin η
+        let walk_theta = if eta < 1.0 {
+            theta.min(eta.asin())
+        } else {
+            theta
+        };
+        for (group, (rows, share)) in groups.iter().enumerate() {
+            if rows.is_empty() {
+                continue;
+            }
+            let walk = HarmonicsConfig {
+                rho: rows.iter().map(|&i| grid.rho[i]).collect(),
+                g: config.g,
+                eta,
+                theta: walk_theta,
+                r: grid.r.clone(),
+                photons: config.photons / share,
+                seed: crate::rng::mix64(
+                    crate::rng::mix64(config.seed) ^ (j as u64 * 4 + group as u64 + 1),
+                ),
+            };
+            let h = harmonics(&walk, progress)?;
+            photons += h.photons();
+            events += h.scattering_events();
+            // Each row's nodes, corrected by PBD, in parallel
+            let cells: Vec<Result<RowCells>> = rows
+                .par_iter()
+                .enumerate()
+                .map(|(k, &i)| {
+                    let pbd = Pbd::new(grid.rho[i], boundary)?;
+                    let control = Control {
+                        pbd: &pbd,
+                        theta: (!beam_in_surface(eta, theta)).then_some(theta),
+                        rules: &rules,
+                    };
+                    let (tilts, rel) = row_tilts(&h, k, &grid.r, &control);
+                    let out = row_cells(&tilts, &grid.r, &control)?;
+                    let noise = if grid.rho[i] >= 0.1 {
+                        (0..n_r)
+                            .filter(|&node| (0.01..=20.0).contains(&grid.r[node]))
+                            .filter_map(|node| rel[node])
+                            .collect()
+                    } else {
+                        Vec::new()
+                    };
+                    Ok((out, noise))
+                })
+                .collect();
+            for (&i, row) in rows.iter().zip(cells) {
+                let (harm, noise) = row?;
+                rel_stderr.extend(noise);
+                let base = (i * n_theta + j) * n_r;
+                for (node, cell) in harm.iter().enumerate() {
+                    let at = base + node;
+                    params[at * PARAMS_PER_NODE] = to_f32(cell[0]);
+                    params[at * PARAMS_PER_NODE + 1] = to_f32(cell[1]);
+                    params[at * PARAMS_PER_NODE + 2] = cell[2] as f32;
+                    second[at * 2] = to_f32(cell[3]);
+                    second[at * 2 + 1] = to_f32(cell[4]);
+                }
+            }
+        }
+    }
+    let table = assemble(
+        eta,
+        Moments::Exact,
+        grid,
+        axes,
+        params,
+        second,
+        config.theta_sampling,
+    )?;
+    rel_stderr.sort_by(f64::total_cmp);
+    let quantile = |q: f64| -> f64 {
+        if rel_stderr.is_empty() {
+            f64::NAN
+        } else {
+            rel_stderr[((rel_stderr.len() - 1) as f64 * q).round() as usize]
+        }
+    };
+    let report = WalkBakeReport {
+        seconds: start.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+        photons,
+        scattering_events: events,
+        median_rel_stderr: quantile(0.5),
+        p90_rel_stderr: quantile(0.9),
+    };
+    Ok((table, report))
+}
+
+/// The photons a [`bake_walk`] of `config` walks in all (for a progress bar).
+pub fn walk_bake_photons(config: &WalkBake) -> u64 {
+    let groups = row_groups(&config.grid.rho);
+    let lit = config
+        .grid
+        .theta
+        .iter()
+        .filter(|&&t| {
+            let t = f64::from(t as f32).min(0.5 * PI);
+            crate::fresnel::refracted_cos(t, config.eta).is_some() || beam_in_surface(config.eta, t)
+        })
+        .count() as u64;
+    let per_theta: u64 = groups
+        .iter()
+        .filter(|(rows, _)| !rows.is_empty())
+        .map(|(_, share)| config.photons / share)
+        .sum();
+    lit * per_theta
+}
+
+/// The rows of each group and the divisor of its photons.
+fn row_groups(rho: &[f64]) -> [(Vec<usize>, u64); 3] {
+    let mut groups = [
+        (Vec::new(), 1),
+        (Vec::new(), 1),
+        (Vec::new(), WALK_LAST_GROUP_SHARE),
+    ];
+    for (i, &p) in rho.iter().enumerate() {
+        let g = WALK_GROUP_EDGES
+            .iter()
+            .take_while(|&&edge| p > edge)
+            .count();
+        groups[g].0.push(i);
+    }
+    groups
+}
+
+fn check_photons(photons: u64) -> Result<()> {
+    if photons < MIN_HARMONICS_PHOTONS {
+        return Err(Error::CountOutOfRange {
+            name: "photons of a row group",
+            value: photons,
+            min: MIN_HARMONICS_PHOTONS,
+            max: u64::MAX,
+        });
+    }
+    Ok(())
+}
+
+/// PBD at one (ρ′, θ), the model of the correction: `theta` `None` for a beam in the surface.
+struct Control<'a> {
+    pbd: &'a Pbd,
+    theta: Option<f64>,
+    rules: &'a (GaussLegendre, GaussLegendre),
+}
+
+/// PBD's harmonics kept for the correction: μ₀ … μ₆ (the tilt of μ₄ reaches μ₆).
+const PBD_HARMONICS: usize = HARMONICS + 2;
+
+/// One node of a row as the walk measured it, with PBD at the node and its kernel average.
+struct Measured {
+    mean: [f64; HARMONICS],
+    /// Relative standard error of μ̂₀ (`None` where μ̂₀ ≤ 0 or r = 0).
+    rel: Option<f64>,
+    at_node: [f64; PBD_HARMONICS],
+    average: [f64; PBD_HARMONICS],
+}
+
+impl Measured {
+    /// Whether the node's walk/PBD ratio is known well enough to stand for its neighbours'.
+    fn reliable(&self) -> bool {
+        self.rel.is_some_and(|x| x <= MAX_REL_STDERR)
+            && self.at_node[0] > 0.0
+            && self.average[0] > 0.0
+    }
+}
+
+/// The harmonics of k · P(φ) · (1 + a₁ cos φ + a₂ cos 2φ), P the profile of harmonics `p`
+/// (μₙ = ∫ P cos nφ dφ, so cos mφ · cos nφ moves half of μₙ to μₙ₋ₘ and half to μₙ₊ₘ).
+fn tilted(p: &[f64; PBD_HARMONICS], [ln_k, a1, a2]: [f64; 3]) -> [f64; HARMONICS] {
+    let at = |n: i32| p[n.unsigned_abs() as usize];
+    std::array::from_fn(|n| {
+        let n = n as i32;
+        let value = at(n) + 0.5 * a1 * (at(n - 1) + at(n + 1)) + 0.5 * a2 * (at(n - 2) + at(n + 2));
+        ln_k.exp() * value
+    })
+}
+
+/// Largest |a₁| + |a₂| of a tilt: 1 + a₁ cos φ + a₂ cos 2φ stays ≥ 0.05.
+const MAX_TILT: f64 = 0.95;
+
+/// The tilt (ln k, a₁, a₂) whose [`tilted`] kernel averages of PBD have the walk's μ̂₀, μ̂₁
+/// and μ̂₂: two linear equations for a₁, a₂ from μ̂ₙ/μ̂₀, n = 1, 2, then k from μ̂₀; the
+/// tilt scaled back to [`MAX_TILT`] where it goes beyond (a profile that stays ≥ 0).
+fn fit_tilt(mean: &[f64; HARMONICS], p: &[f64; PBD_HARMONICS]) -> [f64; 3] {
+    let at = |n: i32| p[n.unsigned_abs() as usize];
+    let a = |n: i32| 0.5 * (at(n - 1) + at(n + 1));
+    let b = |n: i32| 0.5 * (at(n - 2) + at(n + 2));
+    let ratio = [mean[1] / mean[0], mean[2] / mean[0]];
+    // a₁ (Aₙ − ρₙA₀) + a₂ (Bₙ − ρₙB₀) = ρₙP₀ − Pₙ, n = 1, 2
+    let row = |n: usize| {
+        let q = ratio[n - 1];
+        let n = n as i32;
+        [a(n) - q * a(0), b(n) - q * b(0), q * at(0) - at(n)]
+    };
+    let (r1, r2) = (row(1), row(2));
+    let det = r1[0] * r2[1] - r1[1] * r2[0];
+    let (mut a1, mut a2) = if det.abs() > 1e-12 * (r1[0].abs() * r2[1].abs()).max(1e-300) {
+        (
+            (r1[2] * r2[1] - r1[1] * r2[2]) / det,
+            (r1[0] * r2[2] - r1[2] * r2[0]) / det,
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let size = a1.abs() + a2.abs();
+    if !size.is_finite() {
+        (a1, a2) = (0.0, 0.0);
+    } else if size > MAX_TILT {
+        (a1, a2) = (a1 * MAX_TILT / size, a2 * MAX_TILT / size);
+    }
+    let base = at(0) + a1 * a(0) + a2 * b(0);
+    [(mean[0] / base).ln(), a1, a2]
+}
+
+/// A node's smoothed tilt (ln k, a₁, a₂) and PBD's harmonics there.
+type NodeTilt = ([f64; 3], [f64; PBD_HARMONICS]);
+
+/// The tilt of every node of row `row` (module docs; `None` at r = 0, where PBD is 0, or where
+/// no node of the row was measured well) and the relative standard error of each node's μ̂₀.
+fn row_tilts(
+    h: &WalkHarmonics,
+    row: usize,
+    r: &[f64],
+    control: &Control,
+) -> (Vec<Option<NodeTilt>>, Vec<Option<f64>>) {
+    let (gl, azimuths) = control.rules;
+    let pbd_at = |x: f64| control_harmonics(control.pbd, x, control.theta, azimuths);
+    let measured: Vec<Measured> = (0..r.len())
+        .map(|node| {
+            let mean = h.mean(Component::Multiple, row, node).unwrap_or_default();
+            let se = h.stderr(Component::Multiple, row, node).unwrap_or_default();
+            if r[node] == 0.0 {
+                let zero = [0.0; PBD_HARMONICS];
+                return Measured {
+                    mean,
+                    rel: None,
+                    at_node: zero,
+                    average: zero,
+                };
+            }
+            Measured {
+                mean,
+                rel: (mean[0] > 0.0).then(|| se[0] / mean[0]),
+                at_node: pbd_at(r[node]),
+                average: kernel_average(r, node, gl, pbd_at),
+            }
+        })
+        .collect();
+    let reliable: Vec<usize> = (0..r.len()).filter(|&k| measured[k].reliable()).collect();
+    // The walk against PBD at each reliable node, as a tilt of PBD's profile, smoothed along
+    // ln r (`smooth_tilt`)
+    let tilts: Vec<(f64, f64, [f64; 3])> = reliable
+        .iter()
+        .map(|&k| {
+            let m = &measured[k];
+            let rel = m.rel.unwrap_or(MAX_REL_STDERR);
+            (r[k].ln(), 1.0 / (rel * rel), fit_tilt(&m.mean, &m.average))
+        })
+        .collect();
+    let smoothed: Vec<[f64; 3]> = (0..reliable.len())
+        .map(|i| smooth_tilt(&tilts, i))
+        .collect();
+    // Each node takes the (nearest) reliable node's smoothed tilt
+    let node_tilts = (0..r.len())
+        .map(|node| {
+            let here = &measured[node];
+            let nearest = (0..reliable.len()).min_by_key(|&i| reliable[i].abs_diff(node));
+            nearest
+                .filter(|_| r[node] > 0.0 && here.at_node[0] > 0.0)
+                .map(|i| (smoothed[i], here.at_node))
+        })
+        .collect();
+    (node_tilts, measured.iter().map(|m| m.rel).collect())
+}
+
+/// The cells (E, E_β, c, r·μ₃, r·μ₄) of a row from its nodes' tilts (module docs): at r = 0
+/// zeros (the bake then extends c); at θ = 0 PBD's isotropic node scaled to the walk's energy;
+/// for a beam in the surface the harmonics of the tilted limit; elsewhere the two lobes fitted
+/// to the tilted PBD at the azimuths of the PBD bake, scaled to the walk's energy.
+fn row_cells(tilts: &[Option<NodeTilt>], r: &[f64], control: &Control) -> Result<Vec<[f64; 5]>> {
+    let azimuths = two_lobe_azimuths();
+    let mut hint = None;
+    let mut cells = Vec::with_capacity(r.len());
+    for (node, tilt) in tilts.iter().enumerate() {
+        let Some((tilt, at_node)) = tilt else {
+            cells.push([0.0; 5]);
+            continue;
+        };
+        let r = r[node];
+        let m = tilted(at_node, *tilt);
+        let energy = r * m[0];
+        let cell = match control.theta {
+            None => {
+                let (beta, c) = one_lobe_of(m[1], m[2]);
+                [
+                    energy,
+                    r * within_floor(beta, c, m[0]),
+                    c,
+                    r * m[3],
+                    r * m[4],
+                ]
+            }
+            Some(0.0) => {
+                let [e, e_beta, _] = node_cell(control.pbd, 0.0, r)?.cell;
+                [energy, (e_beta * energy / e).min(energy), 0.0, 0.0, 0.0]
+            }
+            Some(theta) => {
+                let [ln_k, a1, a2] = *tilt;
+                let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
+                    .iter()
+                    .map(|&p| {
+                        let pbd = control.pbd.eval(theta, r, p, Rule::Fast);
+                        let factor = 1.0 + a1 * p.cos() + a2 * (2.0 * p).cos();
+                        (p, ln_k.exp() * pbd * factor)
+                    })
+                    .filter(|(_, v)| v.is_finite())
+                    .unzip();
+                let (fit, next) = two_lobe_node_of(&phi, &y, r, hint);
+                hint = next;
+                if fit[0] > 0.0 {
+                    let k = energy / fit[0];
+                    [energy, fit[1] * k, fit[2], fit[3] * k, fit[4] * k]
+                } else {
+                    [0.0; 5]
+                }
+            }
+        };
+        cells.push(cell);
+    }
+    if r[0] == 0.0 && r.len() >= 3 {
+        let mut flat: Vec<f32> = cells
+            .iter()
+            .flat_map(|c| [c[0] as f32, c[1] as f32, c[2] as f32])
+            .collect();
+        flat[2] = r0_concentration(&flat, r);
+        cells[0][2] = f64::from(flat[2]);
+    }
+    Ok(cells)
+}
+
+/// The local linear fit in ln r, at point `i`, of the points within [`SMOOTH_NODES`] of it
+/// ((ln r, weight, values) in increasing r): weighted least squares with the points' weights
+/// times the tricube of their distance in points; the point itself where fewer than three.
+fn smooth_tilt(points: &[(f64, f64, [f64; 3])], i: usize) -> [f64; 3] {
+    let lo = i.saturating_sub(SMOOTH_NODES);
+    let hi = (i + SMOOTH_NODES + 1).min(points.len());
+    if hi - lo < 3 {
+        return points[i].2;
+    }
+    let u0 = points[i].0;
+    let (mut sw, mut su, mut suu) = (0.0, 0.0, 0.0);
+    let (mut sy, mut suy) = ([0.0; 3], [0.0; 3]);
+    for (j, (u, weight, y)) in points.iter().enumerate().take(hi).skip(lo) {
+        let d = j.abs_diff(i) as f64 / (SMOOTH_NODES + 1) as f64;
+        let w = weight * (1.0 - d * d * d).powi(3);
+        let x = u - u0;
+        sw += w;
+        su += w * x;
+        suu += w * x * x;
+        for n in 0..3 {
+            sy[n] += w * y[n];
+            suy[n] += w * x * y[n];
+        }
+    }
+    let det = sw * suu - su * su;
+    if det.is_nan() || det <= 1e-12 * sw * suu {
+        return points[i].2;
+    }
+    // The intercept at x = 0: (Σx² Σy − Σx Σxy) / det
+    let mut fit: [f64; 3] = std::array::from_fn(|n| (suu * sy[n] - su * suy[n]) / det);
+    let size = fit[1].abs() + fit[2].abs();
+    if size > MAX_TILT {
+        fit[1] *= MAX_TILT / size;
+        fit[2] *= MAX_TILT / size;
+    }
+    fit
+}
+
+/// PBD's harmonics μ₀ … μ₄ at radius r > 0 and incidence `theta`, or (`None`) in the limit of a
+/// refracted beam in the surface with its ridge ([`Pbd::surface_ridge`]), by Gauss-Legendre
+/// in t with φ = π t², points gathered towards the forward peak. Coarse (the profile's forward
+/// ridge is as narrow as cos θ′), but only the ratios of values at nearby radii by the same
+/// rule enter the correction, where its error cancels to first order.
+fn control_harmonics(
+    pbd: &Pbd,
+    r: f64,
+    theta: Option<f64>,
+    rule: &GaussLegendre,
+) -> [f64; PBD_HARMONICS] {
+    let mut m = [if theta.is_none() {
+        pbd.surface_ridge(r)
+    } else {
+        0.0
+    }; PBD_HARMONICS];
+    for (x, w) in rule.nodes().iter().zip(rule.weights()) {
+        let t = 0.5 * (1.0 + x);
+        let phi = PI * t * t;
+        let value = match theta {
+            Some(theta) => pbd.eval(theta, r, phi, Rule::Fast),
+            None => pbd.eval_surface_beam(r, phi, Rule::Fast),
+        };
+        // ∫ over [−π, π] of an even profile, dφ = 2π t dt, dt = dx/2
+        let s = 2.0 * w * 0.5 * 2.0 * PI * t * value;
+        for (n, mn) in m.iter_mut().enumerate() {
+            *mn += s * (n as f64 * phi).cos();
+        }
+    }
+    m
+}
+
+/// The average of `f` over the hat kernel of node `i` in ln r ([`crate::walk::harmonics`]).
+fn kernel_average<const N: usize>(
+    r: &[f64],
+    i: usize,
+    gl: &GaussLegendre,
+    f: impl Fn(f64) -> [f64; N],
+) -> [f64; N] {
+    let c = r[i].ln();
+    let right = if i + 1 < r.len() {
+        r[i + 1].ln() - c
+    } else {
+        c - r[i - 1].ln()
+    };
+    let left = if i > 0 && r[i - 1] > 0.0 {
+        c - r[i - 1].ln()
+    } else {
+        right
+    };
+    let mut sum = [0.0; N];
+    for (from, width, rising) in [(c - left, left, true), (c, right, false)] {
+        for (x, w) in gl.nodes().iter().zip(gl.weights()) {
+            let t = 0.5 * (1.0 + x);
+            let hat = if rising { t } else { 1.0 - t };
+            let v = f((from + t * width).exp());
+            for (s, vn) in sum.iter_mut().zip(v) {
+                *s += 0.5 * width * w * hat * vn;
+            }
+        }
+    }
+    let area = 0.5 * (left + right);
+    sum.map(|s| s / area)
+}
