@@ -45,6 +45,7 @@ pub fn synthetic_table(
     });
     TableData {
         model: ModelKind::PbdAngular,
+        walk: None,
         eta,
         fresnel: FresnelMoments::Exact,
         rho,
@@ -143,6 +144,7 @@ pub fn spec_example_builder() -> LibraryBuilder {
     let mut b = LibraryBuilder::new();
     let table = TableData {
         model: ModelKind::PbdAngular,
+        walk: None,
         eta: 1.5,
         fresnel: FresnelMoments::Exact,
         rho: vec![0.5],

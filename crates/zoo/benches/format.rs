@@ -25,6 +25,7 @@ fn default_table() -> TableData {
     let n = n_rho * n_theta * n_r as usize;
     TableData {
         model: ModelKind::PbdAngular,
+        walk: None,
         eta: 1.33,
         fresnel: FresnelMoments::Exact,
         gwc: (0..n).flat_map(gwc_node).collect(),

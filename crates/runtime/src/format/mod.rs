@@ -47,7 +47,9 @@ pub use library::{Library, Table};
 pub use provenance::{json_number, Provenance, KEY_ACCURACY};
 pub use reader::{SectionInfo, Verify};
 pub use records::{AlbedoRange, Material, TableHeader, CHANNELS};
-pub use spec::{AxisKind, Codec, Dtype, FresnelMoments, ModelKind, SectionKind};
+pub use spec::{
+    AxisKind, Codec, Dtype, FresnelMoments, ModelKind, SectionKind, WalkComponent, WalkSource,
+};
 pub use writer::{
     pack, unpack, zstd_levels, Compression, Conversion, ExtraSection, LibraryBuilder, TableData,
 };

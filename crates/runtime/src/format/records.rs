@@ -7,7 +7,7 @@ use zerocopy::IntoBytes;
 
 use super::error::{FormatError, FormatResult};
 use super::spec::{
-    AxisKind, FresnelMoments, ModelKind, RawMaterial, RawTable, SectionKind,
+    AxisKind, FresnelMoments, ModelKind, RawMaterial, RawTable, SectionKind, WalkSource,
     MATERIAL_HAS_ALBEDO_RANGE, MATERIAL_RESERVED_OFFSET, MAX_AXIS_LEN, MAX_NAME_BYTES,
     MAX_SOURCE_BYTES, PROFILE_ABS_SLACK, PROFILE_REL_SLACK, TABLE_RESERVED_OFFSET,
 };
@@ -283,6 +283,8 @@ pub(crate) fn reserved_bits(what: String, offset: usize, bits: u32) -> FormatErr
 pub struct TableHeader {
     /// The model the table was baked for.
     pub model: ModelKind,
+    /// The walk of a [`ModelKind::WalkAngular`] table (`Some` exactly for that model).
+    pub walk: Option<WalkSource>,
     /// Relative index of refraction η the table was baked for, > 0.
     pub eta: f64,
     /// How the Fresnel moments were computed.
@@ -334,6 +336,14 @@ impl TableHeader {
     /// Sections a table of this model must have.
     pub fn required_sections(&self) -> &'static [SectionKind] {
         match self.model {
+            ModelKind::WalkAngular => &[
+                SectionKind::AxisRho,
+                SectionKind::AxisTheta,
+                SectionKind::AxisR,
+                SectionKind::GwcParams,
+                SectionKind::RadialCdf,
+                SectionKind::Harmonics,
+            ],
             ModelKind::PbdAngular => &[
                 SectionKind::AxisRho,
                 SectionKind::AxisTheta,
@@ -375,6 +385,7 @@ impl TableHeader {
             })?;
         let header = TableHeader {
             model,
+            walk: None,
             eta: raw.eta.get(),
             fresnel,
             n_rho: raw.n_rho.get(),
@@ -594,6 +605,7 @@ mod tests {
     fn header(n_rho: u32, n_theta: u32, n_r: u32) -> TableHeader {
         TableHeader {
             model: ModelKind::PbdAngular,
+            walk: None,
             eta: 1.3,
             fresnel: FresnelMoments::Exact,
             n_rho,

@@ -320,17 +320,21 @@ impl Codec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(u32)]
 pub enum ModelKind {
-    /// Photon beam diffusion at any incidence, tabulated as Ferrier's General Wrapped Cauchy (GWC)
+    /// Photon beam diffusion at any incidence, tabulated as Ferrier's General Wrapped Cauchy
     /// (GWC) fit over (ρ′, θ, r).
     PbdAngular = 1,
+    /// The Monte Carlo random walk at any incidence, for one Henyey–Greenstein g, tabulated
+    /// as a pbd-angular table with two lobes ([`WalkSource`]; format 1.5).
+    WalkAngular = 3,
 }
 
 impl ModelKind {
-    /// The model with this code, if version 1.0 defines one. Code 2 is reserved for
+    /// The model with this code, if this version defines one. Code 2 is reserved for
     /// "pbd-perpendicular".
     pub fn from_code(code: u32) -> Option<ModelKind> {
         match code {
             1 => Some(ModelKind::PbdAngular),
+            3 => Some(ModelKind::WalkAngular),
             _ => None,
         }
     }
@@ -344,8 +348,53 @@ impl ModelKind {
     pub fn name(self) -> &'static str {
         match self {
             ModelKind::PbdAngular => "pbd-angular",
+            ModelKind::WalkAngular => "walk-angular",
         }
     }
+}
+
+/// What a walk-angular table tabulates: its table record's `component`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum WalkComponent {
+    /// Multiple scattering: exits after two or more scattering vertices (what PBD models).
+    Multiple = 0,
+    /// Everything that leaves: single scattering included.
+    Total = 1,
+}
+
+impl WalkComponent {
+    /// The component with this code, if this version defines one.
+    pub fn from_code(code: u32) -> Option<WalkComponent> {
+        match code {
+            0 => Some(WalkComponent::Multiple),
+            1 => Some(WalkComponent::Total),
+            _ => None,
+        }
+    }
+
+    /// The component's code in a table record.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+
+    /// Lowercase name used in messages and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            WalkComponent::Multiple => "multiple",
+            WalkComponent::Total => "total",
+        }
+    }
+}
+
+/// The walk a walk-angular table was measured with: its table record's `g` and `component`.
+/// A walk depends on g beyond the reduced coefficients, so each table holds one g.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WalkSource {
+    /// Henyey–Greenstein asymmetry g of the walk, in (−1, 1).
+    pub g: f64,
+    /// What the table tabulates.
+    pub component: WalkComponent,
 }
 
 /// How the table's Fresnel moments were computed.

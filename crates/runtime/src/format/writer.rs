@@ -19,7 +19,7 @@ use super::records::{
 };
 use super::spec::{
     align_up, crc32, required_features, AxisKind, Codec, Dtype, FresnelMoments, ModelKind,
-    RawEntry, RawHeader, SectionKind, BYTE_ORDER_MARK, DEFAULT_ALIGNMENT, ENTRY_SIZE,
+    RawEntry, RawHeader, SectionKind, WalkSource, BYTE_ORDER_MARK, DEFAULT_ALIGNMENT, ENTRY_SIZE,
     HEADER_CRC_OFFSET, HEADER_SIZE, MAGIC, MATERIAL_RECORD_SIZE, MAX_ALIGNMENT, MAX_MATERIALS,
     MAX_PROVENANCE_BYTES, MAX_SECTIONS, MAX_SECTION_BYTES, MAX_TABLES, MIN_ALIGNMENT, NO_TABLE,
     SECTION_REQUIRED, TABLE_RECORD_SIZE, VERSION_MAJOR, VERSION_MINOR,
@@ -47,6 +47,8 @@ impl Compression {
 pub struct TableData {
     /// The model the table was baked for.
     pub model: ModelKind,
+    /// The walk of a [`ModelKind::WalkAngular`] table (`Some` exactly for that model).
+    pub walk: Option<WalkSource>,
     /// Relative index of refraction η, > 0.
     pub eta: f64,
     /// How the Fresnel moments were computed.
@@ -162,6 +164,7 @@ impl LibraryBuilder {
         let len32 = |v: &[f32]| u32::try_from(v.len()).unwrap_or(u32::MAX);
         let header = TableHeader {
             model: table.model,
+            walk: table.walk,
             eta: table.eta,
             fresnel: table.fresnel,
             n_rho: len32(&table.rho),

@@ -29,7 +29,11 @@ impl AngularTable {
     pub fn to_table_data(&self) -> TableData {
         let axis = |n: &crate::catmull_rom::Nodes| n.as_slice().iter().map(|&x| x as f32).collect();
         TableData {
-            model: ModelKind::PbdAngular,
+            model: match self.walk {
+                Some(_) => ModelKind::WalkAngular,
+                None => ModelKind::PbdAngular,
+            },
+            walk: self.walk,
             eta: self.eta,
             fresnel: self.moments.into(),
             rho: axis(self.axes.rho()),

@@ -161,6 +161,8 @@ pub struct AngularTable {
     rebuild: Rebuild,
     /// [`harmonic_shares_of`] the params and harmonics, with them (derived, not stored in files).
     shares: Option<Vec<f32>>,
+    /// The walk a table measured from the Monte Carlo walk was baked with (`None`: PBD).
+    walk: Option<crate::format::WalkSource>,
 }
 
 /// A borrowed view of a table's arrays, as owned by [`AngularTable`] or mapped from a file.
@@ -483,7 +485,20 @@ impl AngularTable {
             harmonics: None,
             rebuild: Rebuild::default(),
             shares: None,
+            walk: None,
         })
+    }
+
+    /// This table marked as measured from the Monte Carlo walk with `walk` (a walk-angular
+    /// table in a file; format-spec.md §9.1). Lookups are unchanged.
+    pub fn with_walk(mut self, walk: crate::format::WalkSource) -> Self {
+        self.walk = Some(walk);
+        self
+    }
+
+    /// The walk the table was measured with, if it was (`None`: photon beam diffusion).
+    pub fn walk(&self) -> Option<crate::format::WalkSource> {
+        self.walk
     }
 
     /// This table with a second lobe (validated as in [`TableRef::with_harmonics`]), rebuilt as

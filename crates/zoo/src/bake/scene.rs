@@ -91,6 +91,7 @@ impl Baker {
             let (n_rho, n_theta, n_r) = (grid.rho.len(), grid.theta.len(), grid.r.len());
             builder.add_table(TableData {
                 model: ModelKind::PbdAngular,
+                walk: None,
                 eta,
                 fresnel: self.moments.into(),
                 rho: axis(&grid.rho),

@@ -28,6 +28,7 @@ fn table(eta: f64, rho: &[f32]) -> TableData {
     }
     TableData {
         model: ModelKind::PbdAngular,
+        walk: None,
         eta,
         fresnel: FresnelMoments::Exact,
         rho: rho.to_vec(),
