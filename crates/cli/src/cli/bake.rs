@@ -30,7 +30,7 @@ pub enum GridArg {
 
 /// `--lobes`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum LobesArg {
+pub(super) enum LobesArg {
     /// Two lobes below η = 1.33, one from it up.
     Auto,
     /// One lobe (the report's model).
@@ -41,8 +41,30 @@ enum LobesArg {
     Two,
 }
 
+/// `--source`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(super) enum SourceArg {
+    /// Photon beam diffusion (PBD), the report's model.
+    Pbd,
+    /// The Monte Carlo walk's multiple scattering, for one --eta and --g.
+    Walk,
+}
+
 #[derive(Debug, Args)]
 pub struct BakeArgs {
+    /// Where the table's numbers come from: photon beam diffusion, or the Monte Carlo random
+    /// walk's multiple scattering for one --eta and --g (a walk-angular table: about 1.5
+    /// minutes per 100,000 --photons at η = 1.33 on two cores; docs/walk-table.md).
+    #[arg(long, value_enum, default_value = "pbd")]
+    pub(super) source: SourceArg,
+    /// Photons per θ node of a --source walk bake, for each group of albedo rows (the rows
+    /// above ρ′ = 0.999 take an eighth of them); the table's noise falls like 1/√photons.
+    #[arg(long, value_parser = super::values::whole::<u64>)]
+    pub(super) photons: Option<u64>,
+    /// Seed of a --source walk bake's walks (the table is bit-identical for a seed on any
+    /// thread count).
+    #[arg(long, value_parser = super::values::whole::<u64>)]
+    pub(super) seed: Option<u64>,
     /// Named materials to bake (see `bssrdf materials`); their tables are shared by η.
     #[arg(value_name = "MATERIAL")]
     pub(super) materials_named: Vec<String>,
@@ -52,60 +74,61 @@ pub struct BakeArgs {
         "reflectance", "mfp", "name",
     ])]
     pub(super) scene: Option<PathBuf>,
-    /// η in [0.75, 2.5] of a bare table (no material), or of the material given by --sigma-s/--sigma-a or
-    /// --reflectance/--mfp (default 1.33 there).
+    /// η in [0.75, 2.5] of a bare table (no material) or of a --source walk table, or of the
+    /// material given by --sigma-s/--sigma-a or --reflectance/--mfp (default 1.33 there).
     #[arg(long)]
-    eta: Option<f64>,
+    pub(super) eta: Option<f64>,
     /// σs per channel, mm⁻¹: a material from coefficients (with --sigma-a, --g, --eta, --name).
     #[arg(long, value_name = "R,G,B", value_parser = parse_rgb, allow_hyphen_values = true,
           requires = "sigma_a", conflicts_with_all = ["reflectance", "mfp"])]
-    sigma_s: Option<[f64; 3]>,
+    pub(super) sigma_s: Option<[f64; 3]>,
     /// σa per channel, mm⁻¹.
     #[arg(long, value_name = "R,G,B", value_parser = parse_rgb, allow_hyphen_values = true,
           requires = "sigma_s")]
     sigma_a: Option<[f64; 3]>,
-    /// Henyey–Greenstein g of that material: one value or R,G,B (default 0).
+    /// Henyey–Greenstein g of that material: one value or R,G,B (default 0); with --source
+    /// walk, the walk's g (one value, default 0).
     #[arg(long, value_name = "G", value_parser = parse_g, allow_hyphen_values = true)]
-    g: Option<[f64; 3]>,
+    pub(super) g: Option<[f64; 3]>,
     /// Diffuse reflectance per channel in [0, 1]: a material from the artist's parameters,
     /// inverted through the table's diffuse reflectance (1 − F_r) ρ_eff at θ = 0 (with --mfp;
     /// above the largest, clamped to ρ′ = 1 with a warning).
     #[arg(long, value_name = "R,G,B", value_parser = parse_rgb, allow_hyphen_values = true,
           requires = "mfp")]
-    reflectance: Option<[f64; 3]>,
+    pub(super) reflectance: Option<[f64; 3]>,
     /// Unreduced mean free path 1/σt per channel, mm (pbrt's convention).
     #[arg(long, value_name = "R,G,B", value_parser = parse_rgb, allow_hyphen_values = true,
           requires = "reflectance")]
     mfp: Option<[f64; 3]>,
     /// Id of the material made from coefficients or reflectance (kebab-case; default "custom").
     #[arg(long, value_name = "ID")]
-    name: Option<String>,
+    pub(super) name: Option<String>,
     /// Output file (default: MATERIAL.bssrdf for one material or --name, SCENE.bssrdf for
-    /// SCENE.toml, table-etaE.bssrdf for --eta E).
+    /// SCENE.toml, table-etaE.bssrdf for --eta E, walk-etaE-gG.bssrdf for --source walk).
     #[arg(short, long, value_name = "FILE")]
     pub(super) output: Option<PathBuf>,
     /// Grid preset.
     #[arg(long, value_enum, default_value = "default")]
-    grid: GridArg,
+    pub(super) grid: GridArg,
     /// Fresnel moments of the boundary.
     #[arg(long, value_enum, default_value = "exact")]
-    fresnel_moments: MomentsArg,
+    pub(super) fresnel_moments: MomentsArg,
     /// Wrapped Cauchy lobes of the angular profile: 2 below η = 1.33, where one misses the
     /// report's accuracy at grazing incidence (or refraction), else 1 (auto). At η = 1.05–1.3 two
     /// are 28–47 times more accurate at 89°; on the default grid they keep the size (42 radii
     /// instead of 64), on the others they take 1.5 times it; lookups take 2–3 times as long
     /// (docs/accuracy.md).
     #[arg(long, value_enum, default_value = "auto")]
-    lobes: LobesArg,
+    pub(super) lobes: LobesArg,
     /// Leave out the θ-sampling table (only path tracers need it).
     #[arg(long)]
-    no_theta_sampling: bool,
+    pub(super) no_theta_sampling: bool,
     /// Compress sections with zstd (for distribution; such files are decoded, not mapped).
     #[arg(long)]
-    compress: bool,
+    pub(super) compress: bool,
     /// Record the bake's wall-clock time in the provenance (the file then differs run to run).
     #[arg(long)]
-    record_bake_time: bool,
+    pub(super) record_bake_time: bool,
     /// Write the library even where the bake's own check finds a table above its error bound
     /// (docs/accuracy.md); the regions above it are still named on stderr.
     #[arg(long)]
@@ -115,7 +138,7 @@ pub struct BakeArgs {
     pub(super) materials: Option<PathBuf>,
     /// Threads, in [1, 1024] (default: all cores); the result is identical on any count.
     #[arg(long, value_parser = super::values::whole::<usize>)]
-    threads: Option<usize>,
+    pub(super) threads: Option<usize>,
     /// No progress bar or messages on stderr (the bar only ever shows on a terminal).
     #[arg(long, short)]
     pub(super) quiet: bool,
@@ -407,6 +430,19 @@ fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<MaterialS
 
 pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
     super::check_threads(args.threads)?;
+    if args.source == SourceArg::Walk {
+        return super::bake_walk::run(&args);
+    }
+    for (flag, given) in [
+        ("--photons", args.photons.is_some()),
+        ("--seed", args.seed.is_some()),
+    ] {
+        if given {
+            return Err(CliError::input(format!(
+                "{flag} sets the walk of --source walk; a PBD bake has no walk"
+            )));
+        }
+    }
     let baker = baker(&args);
     let session = Session::new(&args);
     if let Some(scene) = &args.scene {
@@ -539,6 +575,11 @@ pub(super) struct Summary<'a> {
 
 impl Summary<'_> {
     pub fn print(&self, args: &BakeArgs, session: &Session) -> Result<(), CliError> {
+        self.print_with(args, session.compressed())
+    }
+
+    /// [`Summary::print`], saying whether the file was written compressed.
+    pub fn print_with(&self, args: &BakeArgs, compressed: bool) -> Result<(), CliError> {
         let saved = self.full_bytes.map(|full| {
             let saved = full as i64 - self.bytes as i64;
             (full, saved, 100.0 * saved as f64 / full.max(1) as f64)
@@ -559,11 +600,7 @@ impl Summary<'_> {
                 self.seconds
             )?;
             if let Some((full, saved, percent)) = saved {
-                let compressed = if session.compressed() {
-                    ", uncompressed"
-                } else {
-                    ""
-                };
+                let compressed = if compressed { ", uncompressed" } else { "" };
                 writeln!(
                     err,
                     "the full library of these materials (every albedo row, theta-sampling{compressed}) would be {full} bytes: saved {saved} bytes ({percent:.1} %)"

@@ -2,6 +2,7 @@
 
 mod bake;
 mod bake_scene;
+mod bake_walk;
 mod completions;
 mod diff;
 mod eval;

@@ -2,6 +2,7 @@
 
 mod bake_check;
 mod bake_library;
+mod bake_walk;
 mod basics;
 mod common;
 mod completions;

@@ -34,8 +34,10 @@
 
 mod materials;
 mod scene;
+mod walk;
 
 pub use materials::MaterialSpec;
+pub use walk::{bake_walk_library, WalkLibrary, WalkSettings};
 
 use std::ops::Range;
 
@@ -115,6 +117,16 @@ pub enum BakeError {
     Check {
         /// η of the table.
         eta: f64,
+        /// Why.
+        source: crate::Error,
+    },
+    /// A walk table could not be baked (`bssrdf bake --source walk`).
+    #[error("cannot bake the walk table for eta = {eta}, g = {g}: {source}")]
+    Walk {
+        /// η of the table.
+        eta: f64,
+        /// g of the walk.
+        g: f64,
         /// Why.
         source: crate::Error,
     },
