@@ -131,7 +131,7 @@ fn provenance(
         "row_groups_rho_above": WALK_GROUP_EDGES,
         "last_group_photons_divided_by": WALK_LAST_GROUP_SHARE,
         "seed": settings.seed,
-        "method": "per theta node, one walk per group of albedo rows (every row from the walk at the group's largest albedo), harmonics mu_0..mu_4 of multiple scattering on hat kernels in ln r; at each node measured within 10 % (mu_0), the tilt k P (1 + a1 cos phi + a2 cos 2 phi) of PBD's profile P whose kernel averages match mu_0..mu_2; ln k, a1, a2 smoothed along ln r (local linear over 3 measured nodes each side); other nodes take the nearest measured tilt; stored as two lobes fitted to the tilted PBD at the two-lobe azimuths, scaled to its energy",
+        "method": "per theta node, one walk per group of albedo rows (every row from the walk at the group's largest albedo), harmonics mu_0..mu_4 of multiple scattering on hat kernels in ln r; at each node measured within 30 % (mu_0), the tilt k P (1 + a1 cos phi + a2 cos 2 phi) of PBD's profile P whose kernel averages match mu_0..mu_2; ln k, a1, a2 smoothed along ln r (local linear over 3 measured nodes each side); other nodes take the nearest measured tilt, ln k beyond the last one along the line in r through the last 5; stored as two lobes fitted to the tilted PBD at the two-lobe azimuths, scaled to its energy",
         "two_lobe_fit": {
             "azimuths_deg": table::two_lobe_azimuths().map(f64::to_degrees),
             "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
