@@ -3,6 +3,7 @@
 use super::CliError;
 use bssrdf_zoo::models::compare::{self, CompareConfig};
 use bssrdf_zoo::models::ModelKind;
+use bssrdf_zoo::table::{AngularTable, FileTable};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
@@ -22,9 +23,13 @@ pub struct ZooArgs {
     /// Seed of the reference walks.
     #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1)]
     seed: u64,
-    /// Models to compare (default: all), comma-separated names.
+    /// Models to compare (default: all; walk-table with --walk-table), comma-separated names.
     #[arg(long, value_enum, value_delimiter = ',')]
     models: Vec<ModelKind>,
+    /// A library holding a walk-angular table (`bssrdf bake --source walk`) at this --eta and
+    /// --g: the walk-table model compares it (a row per case, a point on the plots).
+    #[arg(long, value_name = "FILE")]
+    walk_table: Option<PathBuf>,
     /// Cases as RHO:THETA_DEG pairs, comma-separated (default: ρ′ 0.5, 0.9, 0.99 × θ 0, 60, 89).
     #[arg(
         long,
@@ -48,6 +53,38 @@ pub struct ZooArgs {
     quiet: bool,
 }
 
+/// The walk-angular table of `path` at --eta and --g.
+fn walk_table(path: &std::path::Path, args: &ZooArgs) -> Result<AngularTable, CliError> {
+    let library = super::library::open(path, false)?;
+    let mut found = Vec::new();
+    for (i, record) in library.tables().enumerate() {
+        let bad = |e: &dyn std::fmt::Display| {
+            CliError::input(format!("--walk-table {}: table {i}: {e}", path.display()))
+        };
+        let table = FileTable::new(record)
+            .and_then(|t| t.to_owned_table())
+            .map_err(|e| bad(&e))?;
+        match table.walk() {
+            Some(walk) if table.eta() == args.eta && walk.g == args.g => return Ok(table),
+            Some(walk) => found.push(format!(
+                "eta {}, g {}",
+                super::show(table.eta()),
+                super::show(walk.g)
+            )),
+            None => found.push(format!("a PBD table at eta {}", super::show(table.eta()))),
+        }
+    }
+    Err(CliError::input(format!(
+        "--walk-table {} holds no walk table at eta {} and g {} (it holds: {}); bake one with `bssrdf bake --source walk --eta {} --g {}`",
+        path.display(),
+        super::show(args.eta),
+        super::show(args.g),
+        if found.is_empty() { "no table".to_string() } else { found.join("; ") },
+        super::show(args.eta),
+        super::show(args.g)
+    )))
+}
+
 pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     super::check_photons(args.photons)?;
     let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
@@ -61,6 +98,27 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
             )));
         }
         config.models = args.models.clone();
+    }
+    match (&args.walk_table, config.models.contains(&ModelKind::WalkTable)) {
+        (Some(path), listed) => {
+            if !listed && !args.models.is_empty() {
+                return Err(CliError::input(
+                    "--walk-table gives the walk-table model its table; add walk-table to --models, or drop --walk-table",
+                ));
+            }
+            if !listed {
+                // Before the walk's own row, the reference's noise level, which ends the list
+                let at = config.models.len().saturating_sub(1);
+                config.models.insert(at, ModelKind::WalkTable);
+            }
+            config.options.walk_table = Some(std::sync::Arc::new(walk_table(path, &args)?));
+        }
+        (None, true) => {
+            return Err(CliError::input(
+                "the walk-table model needs its table: --walk-table FILE (bake one with `bssrdf bake --source walk --eta ETA --g G`)",
+            ))
+        }
+        (None, false) => {}
     }
     if !args.cases.is_empty() {
         config.cases = args

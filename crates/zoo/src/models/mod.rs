@@ -120,6 +120,8 @@ pub enum ModelKind {
     Table,
     /// The table's θ = 0 slice at every θ, uniform in φ (pbrt's assumption).
     Perpendicular,
+    /// The angular table baked from the walk (`bake --source walk`; zoo: --walk-table FILE).
+    WalkTable,
     /// The Monte Carlo random walk, the reference (eval bins 10⁵ photons per (ρ′, θ)).
     #[cfg_attr(feature = "clap", value(name = "mc"))]
     MonteCarlo,
@@ -127,7 +129,7 @@ pub enum ModelKind {
 
 impl ModelKind {
     /// All models, in display order.
-    pub const ALL: [ModelKind; 8] = [
+    pub const ALL: [ModelKind; 9] = [
         ModelKind::Dipole,
         ModelKind::Dirpole,
         ModelKind::Burley,
@@ -135,8 +137,19 @@ impl ModelKind {
         ModelKind::PbdFast,
         ModelKind::Table,
         ModelKind::Perpendicular,
+        ModelKind::WalkTable,
         ModelKind::MonteCarlo,
     ];
+
+    /// The models that need nothing but their parameters: all but [`ModelKind::WalkTable`],
+    /// whose table is baked for one (η, g) beforehand (minutes of walking) and given to it
+    /// ([`Options::walk_table`]).
+    pub fn self_contained() -> Vec<ModelKind> {
+        Self::ALL
+            .into_iter()
+            .filter(|&k| k != ModelKind::WalkTable)
+            .collect()
+    }
 
     /// Every name [`ModelKind::from_str`] accepts, comma-separated, for messages.
     pub fn names(models: &[ModelKind]) -> String {
@@ -154,6 +167,7 @@ impl ModelKind {
             ModelKind::PbdFast => "pbd-fast",
             ModelKind::Table => "table",
             ModelKind::Perpendicular => "perpendicular",
+            ModelKind::WalkTable => "walk-table",
             ModelKind::MonteCarlo => "mc",
         }
     }
@@ -288,6 +302,9 @@ pub struct Options {
     pub burley: burley::BurleyOptions,
     /// Where the table models get their table.
     pub table: table::TableSource,
+    /// The walk table of [`ModelKind::WalkTable`] (a walk-angular table, [`AngularTable::walk`]),
+    /// for the model's η and g.
+    pub walk_table: Option<std::sync::Arc<crate::table::AngularTable>>,
     /// The Monte Carlo model.
     pub mc: mc::McOptions,
 }
@@ -309,6 +326,10 @@ pub fn build(kind: ModelKind, params: &Params, options: &Options) -> Result<Box<
             params,
             &options.table,
             table::Mode::Perpendicular,
+        )?),
+        ModelKind::WalkTable => Box::new(table::TableModel::walk(
+            params,
+            options.walk_table.as_ref(),
         )?),
         ModelKind::MonteCarlo => Box::new(mc::McModel::run(params, &options.mc)?),
     })

@@ -24,6 +24,7 @@
 use super::{entering, Model, ModelKind, Params, Sample};
 use crate::bake::{BakeGrid, Baker};
 use crate::error::{Error, Result};
+use crate::format::WalkComponent;
 use crate::table::{bake, AngularTable, GridPreset};
 use crate::walk::Component;
 use std::sync::Arc;
@@ -77,6 +78,8 @@ pub enum Mode {
     Angular,
     /// The θ = 0 slice at every θ, uniform in φ.
     Perpendicular,
+    /// The full angular table of a walk-angular table (`bake --source walk`).
+    Walk,
 }
 
 /// A table model for one reduced albedo.
@@ -111,6 +114,35 @@ impl TableModel {
         })
     }
 
+    /// The walk-table model: `table`, a walk-angular table for the parameters' η and g (both
+    /// within 10⁻⁶; a walk table holds one g), at their ρ′.
+    pub fn walk(params: &Params, table: Option<&Arc<AngularTable>>) -> Result<Self> {
+        let Some(table) = table else {
+            return Err(Error::Mismatch {
+                name: "walk-table model",
+                found: "no walk table".to_string(),
+                expected: "a table baked by `bssrdf bake --source walk` (zoo: --walk-table FILE)"
+                    .to_string(),
+            });
+        };
+        let Some(walk) = table.walk() else {
+            return Err(Error::Mismatch {
+                name: "walk-table model's table",
+                found: "a PBD table".to_string(),
+                expected: "a walk-angular table (`bssrdf bake --source walk`)".to_string(),
+            });
+        };
+        if (walk.g - params.g()).abs() > 1e-6 {
+            return Err(Error::Mismatch {
+                name: "walk table g",
+                found: walk.g.to_string(),
+                expected: params.g().to_string(),
+            });
+        }
+        let source = TableSource::Shared(Arc::clone(table));
+        Self::new(params, &source, Mode::Walk)
+    }
+
     /// The table.
     pub fn table(&self) -> &Arc<AngularTable> {
         &self.table
@@ -122,11 +154,15 @@ impl Model for TableModel {
         match self.mode {
             Mode::Angular => ModelKind::Table,
             Mode::Perpendicular => ModelKind::Perpendicular,
+            Mode::Walk => ModelKind::WalkTable,
         }
     }
 
     fn component(&self) -> Component {
-        Component::Multiple
+        match self.table.walk().map(|w| w.component) {
+            Some(WalkComponent::Total) => Component::Total,
+            _ => Component::Multiple,
+        }
     }
 
     fn eval(&self, theta: f64, r: f64, phi: f64) -> f64 {
@@ -135,7 +171,7 @@ impl Model for TableModel {
         }
         let view = self.table.view();
         let value = match self.mode {
-            Mode::Angular => view.eval(self.rho, theta, r, phi),
+            Mode::Angular | Mode::Walk => view.eval(self.rho, theta, r, phi),
             Mode::Perpendicular => view.eval_perpendicular(self.rho, r),
         };
         value.filter(|v| v.is_finite()).unwrap_or(0.0)
@@ -146,7 +182,7 @@ impl Model for TableModel {
             return Some(0.0);
         }
         let theta = match self.mode {
-            Mode::Angular => theta,
+            Mode::Angular | Mode::Walk => theta,
             Mode::Perpendicular => 0.0,
         };
         self.table.view().effective_albedo(self.rho, theta)
@@ -156,7 +192,7 @@ impl Model for TableModel {
         entering(theta, self.eta)?;
         let view = self.table.view();
         let s = match self.mode {
-            Mode::Angular => view.sample(self.rho, theta, u[0], u[1])?,
+            Mode::Angular | Mode::Walk => view.sample(self.rho, theta, u[0], u[1])?,
             Mode::Perpendicular => view.sample_perpendicular(self.rho, u[0], u[1])?,
         };
         Some(Sample {
@@ -172,7 +208,7 @@ impl Model for TableModel {
         }
         let view = self.table.view();
         match self.mode {
-            Mode::Angular => view.pdf(self.rho, theta, r, phi),
+            Mode::Angular | Mode::Walk => view.pdf(self.rho, theta, r, phi),
             // The θ = 0 slice is isotropic (c = 0): its φ density is 1/(2π) for every φ.
             Mode::Perpendicular => view.pdf(self.rho, 0.0, r, 0.0),
         }

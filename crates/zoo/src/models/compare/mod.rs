@@ -109,7 +109,8 @@ pub fn default_cases() -> Vec<(f64, f64)> {
 }
 
 impl CompareConfig {
-    /// The default comparison for η, g, photons and seed: every model, the default cases, exact
+    /// The default comparison for η, g, photons and seed: every model but the walk table
+    /// ([`ModelKind::self_contained`]; give it with `options.walk_table`), the default cases, exact
     /// moments, the walk's default bins, the default table grid.
     pub fn new(eta: f64, g: f64, photons: u64, seed: u64) -> Self {
         Self {
@@ -118,7 +119,7 @@ impl CompareConfig {
             photons,
             seed,
             cases: default_cases(),
-            models: ModelKind::ALL.to_vec(),
+            models: ModelKind::self_contained(),
             moments: Moments::Exact,
             bins: Bins::default(),
             grid: BakeGrid::Preset(GridPreset::Default),
