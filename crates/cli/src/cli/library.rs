@@ -4,7 +4,7 @@ use super::{show, CliError};
 use bssrdf_zoo::format::{FormatError, Library, Verify};
 use bssrdf_zoo::materials::{Material, Origin, Rgb};
 use bssrdf_zoo::medium::{ETA_MAX, ETA_MIN};
-use bssrdf_zoo::table::FileTable;
+use bssrdf_zoo::table::{AngularTable, FileTable};
 use clap::{Args, ValueEnum};
 use std::path::{Path, PathBuf};
 
@@ -307,4 +307,39 @@ impl TableChoice {
             siblings: siblings(library, index),
         })
     }
+}
+
+/// The walk-angular table (`bssrdf bake --source walk`) at `eta` and `g` of the library at
+/// `path`, given by the command's `flag`: the first such table of the file, or an error saying
+/// what the file holds.
+pub fn walk_table(flag: &str, path: &Path, eta: f64, g: f64) -> Result<AngularTable, CliError> {
+    let library = open(path, false)?;
+    let mut found = Vec::new();
+    for (i, record) in library.tables().enumerate() {
+        let table = FileTable::new(record)
+            .and_then(|t| t.to_owned_table())
+            .map_err(|e| CliError::input(format!("{flag} {}: table {i}: {e}", path.display())))?;
+        match table.walk() {
+            Some(walk) if table.eta() == eta && walk.g == g => return Ok(table),
+            Some(walk) => found.push(format!(
+                "a walk table at eta {}, g {}",
+                super::show(table.eta()),
+                super::show(walk.g)
+            )),
+            None => found.push(format!("a PBD table at eta {}", super::show(table.eta()))),
+        }
+    }
+    let held = if found.is_empty() {
+        "no table".to_string()
+    } else {
+        found.join("; ")
+    };
+    Err(CliError::input(format!(
+        "{flag} {} holds no walk table at eta {} and g {} (it holds {held}); bake one with `bssrdf bake --source walk --eta {} --g {}`",
+        path.display(),
+        super::show(eta),
+        super::show(g),
+        super::show(eta),
+        super::show(g)
+    )))
 }

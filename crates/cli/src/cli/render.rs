@@ -3,7 +3,7 @@
 //! differences (figure 1c). All the work is in `bssrdf_zoo::render`.
 
 use super::CliError;
-use bssrdf_zoo::materials::Material;
+use bssrdf_zoo::materials::{Material, Rgb};
 use bssrdf_zoo::models::ModelKind;
 use bssrdf_zoo::render::{
     self, difference, Band, Config, Difference, Orders, Part, Render, Renderer,
@@ -98,8 +98,12 @@ pub struct RenderArgs {
     /// Seed of the per-photon streams (the picture does not depend on the thread count).
     #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 0)]
     seed: u64,
-    /// Grid of the table baked for the material's η (not with --model mc alone) [default:
-    /// default].
+    /// A library holding a walk-angular table (`bssrdf bake --source walk`) at the material's η
+    /// and g (the same in every channel), for the walk-table model.
+    #[arg(long, value_name = "FILE")]
+    walk_table: Option<PathBuf>,
+    /// Grid of the table baked for the material's η (not with --model mc or walk-table alone)
+    /// [default: default].
     #[arg(long, value_enum)]
     grid: Option<GridArg>,
     /// What the mc model puts in the picture (its statistics keep both; only with mc as
@@ -113,7 +117,7 @@ pub struct RenderArgs {
         value_names = ["A.exr", "B.exr"],
         conflicts_with_all = [
             "medium", "compare", "theta", "model", "photons", "size", "extent", "cone", "seed",
-            "grid", "orders", "threads", "decades", "materials",
+            "grid", "orders", "threads", "decades", "materials", "walk_table",
         ]
     )]
     diff: Option<Vec<PathBuf>>,
@@ -176,7 +180,8 @@ pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
     super::check_photons(args.photons)?;
     check_used(&args)?;
     let material = material(&args)?;
-    let config = config(&args, args.model)?;
+    let mut config = config(&args, args.model)?;
+    config.walk_table = walk_table(&args, &material)?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let (main, main_files) = render_one(&args, &config, &material, &args.output)?;
@@ -269,6 +274,7 @@ fn config(args: &RenderArgs, model: ModelKind) -> Result<Config, CliError> {
             OrdersArg::All => Orders::All,
             OrdersArg::Multiple => Orders::Multiple,
         },
+        walk_table: None,
     };
     config.validate().map_err(input)?;
     Ok(config)
@@ -302,12 +308,41 @@ fn check_used(args: &RenderArgs) -> Result<(), CliError> {
             "--orders applies to the mc model only (--model mc or --compare mc); the other models picture multiple scattering",
         ));
     }
-    if args.grid.is_some() && models.iter().all(|&m| m == ModelKind::MonteCarlo) {
+    let bakes = |m: &&ModelKind| !matches!(m, ModelKind::MonteCarlo | ModelKind::WalkTable);
+    if args.grid.is_some() && !models.iter().any(|m| bakes(&m)) {
         return Err(CliError::input(
-            "--grid applies to the table models; the mc model bakes no table",
+            "--grid applies to the tables a render bakes; the mc model bakes none, and the walk-table model's table has its own grid",
         ));
     }
-    Ok(())
+    match (args.walk_table.is_some(), models.contains(&ModelKind::WalkTable)) {
+        (true, false) => Err(CliError::input(
+            "--walk-table gives the walk-table model its table: add --model walk-table or --compare walk-table, or drop --walk-table",
+        )),
+        (false, true) => Err(CliError::input(
+            "the walk-table model needs its table: --walk-table FILE (bake one with `bssrdf bake --source walk --eta ETA --g G` at the material's eta and g)",
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The walk table of --walk-table at the material's η and g (every channel's, which must be
+/// one), if given.
+fn walk_table(
+    args: &RenderArgs,
+    material: &Material,
+) -> Result<Option<std::sync::Arc<bssrdf_zoo::table::AngularTable>>, CliError> {
+    let Some(path) = &args.walk_table else {
+        return Ok(None);
+    };
+    let g = material.channel(Rgb::ALL[0]).g();
+    if Rgb::ALL.iter().any(|&c| material.channel(c).g() != g) {
+        return Err(CliError::input(format!(
+            "the material's g differs between channels ({:?}): a walk table holds one g, so the walk-table model draws media of one g only",
+            Rgb::ALL.map(|c| material.channel(c).g())
+        )));
+    }
+    let table = super::library::walk_table("--walk-table", path, material.eta(), g)?;
+    Ok(Some(std::sync::Arc::new(table)))
 }
 
 /// Refuses a run whose outputs (the EXRs and their PNG previews) would overwrite one another

@@ -3,7 +3,6 @@
 use super::CliError;
 use bssrdf_zoo::models::compare::{self, CompareConfig};
 use bssrdf_zoo::models::ModelKind;
-use bssrdf_zoo::table::{AngularTable, FileTable};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
@@ -53,38 +52,6 @@ pub struct ZooArgs {
     quiet: bool,
 }
 
-/// The walk-angular table of `path` at --eta and --g.
-fn walk_table(path: &std::path::Path, args: &ZooArgs) -> Result<AngularTable, CliError> {
-    let library = super::library::open(path, false)?;
-    let mut found = Vec::new();
-    for (i, record) in library.tables().enumerate() {
-        let bad = |e: &dyn std::fmt::Display| {
-            CliError::input(format!("--walk-table {}: table {i}: {e}", path.display()))
-        };
-        let table = FileTable::new(record)
-            .and_then(|t| t.to_owned_table())
-            .map_err(|e| bad(&e))?;
-        match table.walk() {
-            Some(walk) if table.eta() == args.eta && walk.g == args.g => return Ok(table),
-            Some(walk) => found.push(format!(
-                "eta {}, g {}",
-                super::show(table.eta()),
-                super::show(walk.g)
-            )),
-            None => found.push(format!("a PBD table at eta {}", super::show(table.eta()))),
-        }
-    }
-    Err(CliError::input(format!(
-        "--walk-table {} holds no walk table at eta {} and g {} (it holds: {}); bake one with `bssrdf bake --source walk --eta {} --g {}`",
-        path.display(),
-        super::show(args.eta),
-        super::show(args.g),
-        if found.is_empty() { "no table".to_string() } else { found.join("; ") },
-        super::show(args.eta),
-        super::show(args.g)
-    )))
-}
-
 pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     super::check_photons(args.photons)?;
     let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
@@ -111,7 +78,12 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
                 let at = config.models.len().saturating_sub(1);
                 config.models.insert(at, ModelKind::WalkTable);
             }
-            config.options.walk_table = Some(std::sync::Arc::new(walk_table(path, &args)?));
+            config.options.walk_table = Some(std::sync::Arc::new(super::library::walk_table(
+                "--walk-table",
+                path,
+                args.eta,
+                args.g,
+            )?));
         }
         (None, true) => {
             return Err(CliError::input(

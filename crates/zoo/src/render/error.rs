@@ -15,6 +15,9 @@ pub enum RenderError {
         name: &'static str,
         expected: String,
     },
+    /// The walk-table model has no walk table for the material.
+    #[error("the walk-table model cannot draw: {why}")]
+    WalkTable { why: String },
     /// The image size is outside 1 ..= [`super::MAX_SIDE`] pixels per side.
     #[error("image size {width}x{height} is outside 1..={max} pixels per side")]
     Size {

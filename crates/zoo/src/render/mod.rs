@@ -103,10 +103,11 @@ pub const MAX_PHOTONS: u64 = 1_000_000_000_000;
 /// The models a render can place exit points with (of the registry, [`ModelKind`]): Ferrier's
 /// angular table (algorithm 2), its θ = 0 slice uniform in φ, photon beam diffusion (table
 /// samples weighted by PBD over the table's density), and the Monte Carlo walk, the reference.
-pub const MODELS: [ModelKind; 4] = [
+pub const MODELS: [ModelKind; 5] = [
     ModelKind::Table,
     ModelKind::Perpendicular,
     ModelKind::Pbd,
+    ModelKind::WalkTable,
     ModelKind::MonteCarlo,
 ];
 
@@ -152,6 +153,9 @@ pub struct Config {
     pub grid: GridPreset,
     /// What the walk images.
     pub orders: Orders,
+    /// The table of the walk-table model: a walk-angular table at the material's η and g
+    /// (every channel's), drawn as the table model draws its own.
+    pub walk_table: Option<std::sync::Arc<AngularTable>>,
 }
 
 impl Config {
@@ -168,6 +172,7 @@ impl Config {
             extent: 10.0,
             grid: GridPreset::Default,
             orders: Orders::All,
+            walk_table: None,
         }
     }
 
@@ -303,6 +308,39 @@ pub struct Render {
     pub stats: Stats,
 }
 
+/// The walk table of `config` for `material`: its η and every channel's g the table's.
+fn walk_table_for(config: &Config, material: &Material) -> Result<AngularTable, RenderError> {
+    let table = config.walk_table.as_deref().ok_or(RenderError::WalkTable {
+        why: "no walk table: give one (`bssrdf render --walk-table FILE`, baked by `bssrdf bake --source walk`)".into(),
+    })?;
+    let Some(walk) = table.walk() else {
+        return Err(RenderError::WalkTable {
+            why: "the table is a PBD table, not a walk-angular one".into(),
+        });
+    };
+    if (table.eta() - material.eta()).abs() > 1e-9 {
+        return Err(RenderError::WalkTable {
+            why: format!(
+                "the table's eta {} is not the material's {}",
+                table.eta(),
+                material.eta()
+            ),
+        });
+    }
+    for c in Rgb::ALL {
+        let g = material.channel(c).g();
+        if (g - walk.g).abs() > 1e-6 {
+            return Err(RenderError::WalkTable {
+                why: format!(
+                    "the table's g {} is not the material's {} in channel {c:?} (a walk table holds one g)",
+                    walk.g, g
+                ),
+            });
+        }
+    }
+    Ok(table.clone())
+}
+
 /// A material and configuration made ready to trace: the table baked, the channels derived.
 #[derive(Debug)]
 pub struct Renderer {
@@ -340,6 +378,7 @@ impl Renderer {
         let moments = Moments::Exact;
         let table = match config.model {
             ModelKind::MonteCarlo => None,
+            ModelKind::WalkTable => Some(walk_table_for(config, material)?),
             _ => {
                 let grid = config.grid.grid(eta, crate::table::Lobes::for_eta(eta));
                 Some(bake(eta, moments, &grid, false)?.0)
@@ -452,7 +491,7 @@ impl Renderer {
         }
         let expected = matches!(
             self.config.model,
-            ModelKind::Table | ModelKind::Perpendicular
+            ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable
         );
         let mut stats = Stats::new(sums, expected, in_picture);
         if let Some(e) = self.pbd_expected {

@@ -45,7 +45,9 @@ impl Renderer {
             .rho_eff_fixed
             .unwrap_or_else(|| ch.map(|c| table.effective_albedo(c.rho, theta).unwrap_or(0.0)));
         let expected = match self.config.model {
-            ModelKind::Table | ModelKind::Perpendicular => rho_eff.map(|e| t * e),
+            ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable => {
+                rho_eff.map(|e| t * e)
+            }
             _ => [0.0; 3],
         };
         rec.expect(expected);
