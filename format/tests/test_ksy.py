@@ -257,6 +257,8 @@ def kaitai_view(lib):
         {
             "index": t,
             "model": walk_of(rec)[0],
+            "walk_component": walk_of(rec)[1],
+            "walk_g": walk_of(rec)[2],
             "fresnel_moments": rec.fresnel.name,
             "eta": rec.eta,
             "dims": [rec.n_rho, rec.n_theta, rec.n_r],
