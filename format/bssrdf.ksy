@@ -10,7 +10,7 @@ doc: |
   A library file of bssrdf-zoo: baked BSSRDF tables (one per model and relative index of
   refraction η), the materials rendered with them and how they were made. This description
   follows format-spec.md, which is normative; where the two differ, the spec wins and this
-  file has a bug. It describes major version 1, minors 0 to 3, and reads files of newer
+  file has a bug. It describes major version 1, minors 0 to 5, and reads files of newer
   minors as far as the spec lets an older reader (unknown section kinds as bytes, the first
   64 or 512 bytes of longer records).
 
@@ -70,7 +70,7 @@ types:
       - id: minor
         type: u2
         doc: |
-          Format minor version: 4 for format 1.4 (0 to 3 in files of formats 1.0 to 1.3).
+          Format minor version: 5 for format 1.5 (0 to 4 in files of formats 1.0 to 1.4).
           Minors only add; a newer minor is read as far as this description goes.
       - id: byte_order
         type: u4
@@ -94,11 +94,12 @@ types:
           has E_β > E), bit 2 `harmonics` (since 1.2: some table has a gwc-harmonics
           section), bit 3 `signed-lobes` (since 1.3: some gwc-harmonics node is a sharp lobe
           less a broader one), bit 4 `merged-roots` (since 1.4: the two-lobe tables rebuild a
-          merged pair where Prony's roots give no lobes). Bits 5 to 63 are reserved for later
-          minors. Not checked here.
+          merged pair where Prony's roots give no lobes), bit 5 `walk-tables` (since 1.5: some
+          table is walk-angular, model 3). Bits 6 to 63 are reserved for later minors. Not
+          checked here.
       - id: optional_features
         type: u8
-        doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.4.
+        doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.5.
       - id: alignment
         type: u4
         valid:
@@ -130,6 +131,9 @@ types:
       merged_roots:
         value: (required_features & 16) != 0
         doc: Required feature bit 4, `merged-roots` (since 1.4).
+      walk_tables:
+        value: (required_features & 32) != 0
+        doc: Required feature bit 5, `walk-tables` (since 1.5).
       dir_end:
         value: 128 + 64 * section_count
         doc: End of the directory, where the padding before the first section starts.
@@ -268,7 +272,9 @@ types:
         repeat-expr: n_records
 
   table_record:
-    doc: One table (format-spec.md section 9.1), in reduced units and independent of g.
+    doc: |
+      One table (format-spec.md section 9.1), in reduced units: independent of g, except a
+      walk-angular table (model 3), which holds the g of its walk.
     seq:
       - id: model
         type: u4
@@ -305,9 +311,24 @@ types:
           min: 1
           max: 65536
         doc: nr, number of radii.
+      - id: component
+        type: u4
+        enum: walk_component
+        if: model == model::walk_angular
+        valid:
+          in-enum: true
+        doc: What a walk-angular table holds (bytes 28 to 31; reserved in other models).
+      - id: g
+        type: f8
+        if: model == model::walk_angular
+        valid:
+          expr: _ > -1 and _ < 1
+        doc: |
+          Henyey–Greenstein asymmetry g of a walk-angular table's walk, finite and in (−1, 1)
+          (bytes 32 to 39; reserved in other models).
       - id: reserved
-        size: 36
-        doc: Zero (not checked here).
+        size: 'model == model::walk_angular ? 24 : 36'
+        doc: Zero (not checked here); from byte 40 in a walk-angular record, else from byte 28.
 
   material_record:
     doc: |
@@ -564,6 +585,19 @@ enums:
       doc: |
         Photon beam diffusion at any incidence, tabulated as Ferrier's General Wrapped Cauchy
         fit over φ. (2 is reserved for pbd-perpendicular.)
+    3:
+      id: walk_angular
+      doc: |
+        The Monte Carlo random walk at any incidence for one g (since 1.5, required feature
+        bit 5), tabulated as a two-lobe pbd-angular table: the same sections, with
+        gwc-harmonics required.
+  walk_component:
+    0:
+      id: multiple
+      doc: Multiple scattering (exits after two or more scattering events).
+    1:
+      id: total
+      doc: Everything that leaves, single scattering included.
   fresnel:
     0:
       id: exact

@@ -13,7 +13,7 @@ class Bssrdf(KaitaiStruct):
     """A library file of bssrdf-zoo: baked BSSRDF tables (one per model and relative index of
     refraction η), the materials rendered with them and how they were made. This description
     follows format-spec.md, which is normative; where the two differ, the spec wins and this
-    file has a bug. It describes major version 1, minors 0 to 3, and reads files of newer
+    file has a bug. It describes major version 1, minors 0 to 5, and reads files of newer
     minors as far as the spec lets an older reader (unknown section kinds as bytes, the first
     64 or 512 bytes of longer records).
     
@@ -63,6 +63,7 @@ class Bssrdf(KaitaiStruct):
 
     class Model(IntEnum):
         pbd_angular = 1
+        walk_angular = 3
 
     class SectionKind(IntEnum):
         tables = 1
@@ -75,6 +76,10 @@ class Bssrdf(KaitaiStruct):
         radial_cdf = 33
         theta_cdf = 34
         gwc_harmonics = 35
+
+    class WalkComponent(IntEnum):
+        multiple = 0
+        total = 1
     def __init__(self, _io, _parent=None, _root=None):
         super(Bssrdf, self).__init__(_io)
         self._parent = _parent
@@ -339,6 +344,15 @@ class Bssrdf(KaitaiStruct):
 
             self._m_signed_lobes = self.required_features & 8 != 0
             return getattr(self, '_m_signed_lobes', None)
+
+        @property
+        def walk_tables(self):
+            """Required feature bit 5, `walk-tables` (since 1.5)."""
+            if hasattr(self, '_m_walk_tables'):
+                return self._m_walk_tables
+
+            self._m_walk_tables = self.required_features & 32 != 0
+            return getattr(self, '_m_walk_tables', None)
 
         @property
         def zstd_sections(self):
@@ -699,7 +713,9 @@ class Bssrdf(KaitaiStruct):
 
 
     class TableRecord(KaitaiStruct):
-        """One table (format-spec.md section 9.1), in reduced units and independent of g."""
+        """One table (format-spec.md section 9.1), in reduced units: independent of g, except a
+        walk-angular table (model 3), which holds the g of its walk.
+        """
         def __init__(self, _io, _parent=None, _root=None):
             super(Bssrdf.TableRecord, self).__init__(_io)
             self._parent = _parent
@@ -732,11 +748,30 @@ class Bssrdf(KaitaiStruct):
                 raise kaitaistruct.ValidationLessThanError(1, self.n_r, self._io, u"/types/table_record/seq/5")
             if not self.n_r <= 65536:
                 raise kaitaistruct.ValidationGreaterThanError(65536, self.n_r, self._io, u"/types/table_record/seq/5")
-            self.reserved = self._io.read_bytes(36)
+            if self.model == Bssrdf.Model.walk_angular:
+                pass
+                self.component = KaitaiStream.resolve_enum(Bssrdf.WalkComponent, self._io.read_u4le())
+                if not isinstance(self.component, Bssrdf.WalkComponent):
+                    raise kaitaistruct.ValidationNotInEnumError(self.component, self._io, u"/types/table_record/seq/6")
+
+            if self.model == Bssrdf.Model.walk_angular:
+                pass
+                self.g = self._io.read_f8le()
+                _ = self.g
+                if not  ((_ > -1) and (_ < 1)) :
+                    raise kaitaistruct.ValidationExprError(self.g, self._io, u"/types/table_record/seq/7")
+
+            self.reserved = self._io.read_bytes((24 if self.model == Bssrdf.Model.walk_angular else 36))
 
 
         def _fetch_instances(self):
             pass
+            if self.model == Bssrdf.Model.walk_angular:
+                pass
+
+            if self.model == Bssrdf.Model.walk_angular:
+                pass
+
 
 
     class ThetaCdf(KaitaiStruct):

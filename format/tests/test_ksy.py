@@ -37,7 +37,7 @@ TINY_KINDS = [
 ]
 TABLE_KINDS = ["axis-rho", "axis-theta", "axis-r", "gwc-params", "radial-cdf"]
 TINY = {
-    "version": (1, 4),
+    "version": (1, 5),
     "required_features": 0,
     "optional_features": 0,
     "alignment": 256,
@@ -47,13 +47,14 @@ TINY = {
     "materials": 2,
     "albedo_ranges": 1,
     "table_record_size": 64,
+    "table_walks": [("pbd-angular", None, None)],
 }
 
 # tests/data/README.md, table "valid/", one line per vector; section 16 of format-spec.md for
 # spec-example. Keys a line does not state are left out.
 MANIFEST = {
     "spec-example": {
-        "version": (1, 4),
+        "version": (1, 5),
         "required_features": 1 << 1,
         "optional_features": 0,
         "alignment": 256,
@@ -66,7 +67,7 @@ MANIFEST = {
     "tiny-packed": {**TINY, "required_features": 1 << 0, "codecs": {"zstd"}},
     "newer-minor": {
         **{k: v for k, v in TINY.items() if k != "optional_features"},
-        "version": (1, 5),
+        "version": (1, 6),
         "optional_features_set": 1,
         "header_reserved_zero": False,
         "unknown_entry_flags": True,
@@ -89,8 +90,15 @@ MANIFEST = {
     },
     "merged-roots": {
         **TINY,
+        "version": (1, 4),
         "required_features": (1 << 2) | (1 << 3) | (1 << 4),
         "section_kinds": TINY_KINDS + ["gwc-harmonics"],
+    },
+    "walk-table": {
+        **TINY,
+        "required_features": (1 << 2) | (1 << 4) | (1 << 5),
+        "section_kinds": TINY_KINDS + ["gwc-harmonics"],
+        "table_walks": [("walk-angular", "total", 0.75)],
     },
     "aligned-4096": {
         "alignment": 4096,
@@ -134,6 +142,14 @@ def records(lib, kind):
     return section.records if section is not None else []
 
 
+def walk_of(record):
+    """A table record's model, and its walk's component and g (None but for walk-angular)."""
+    model = record.model.name.replace("_", "-")
+    if record.model != Bssrdf.Model.walk_angular:
+        return (model, None, None)
+    return (model, record.component.name, record.g)
+
+
 def facts(lib):
     """The manifest's keys, read with the generated parser."""
     h, entries = lib.header, lib.directory
@@ -154,6 +170,7 @@ def facts(lib):
             not e.required for e in entries if not isinstance(e.kind, Bssrdf.SectionKind)
         ),
         "table_dims": [(t.n_rho, t.n_theta, t.n_r) for t in tables],
+        "table_walks": [walk_of(t) for t in tables],
         "n_rho": [t.n_rho for t in tables],
         "table_record_size": tables_entry.dims[1],
         "materials": len(mats),
@@ -176,7 +193,7 @@ def test_every_valid_vector_is_in_the_manifest():
 def test_spec_example_as_section_16_states():
     lib = parse_fully(REPO / "tests" / "data" / "valid" / "spec-example.bssrdf")
     h = lib.header
-    assert (h.section_count, h.file_size, h.header_crc) == (7, 2568, 0xD76DAD8A)
+    assert (h.section_count, h.file_size, h.header_crc) == (7, 2568, 0x70678054)
     placed = [(e.offset, e.stored_len) for e in lib.directory]
     assert placed == [
         (0x300, 64), (0x400, 512), (0x600, 4), (0x700, 4), (0x800, 8), (0x900, 24), (0xA00, 8)
@@ -239,7 +256,9 @@ def kaitai_view(lib):
     tables = [
         {
             "index": t,
-            "model": rec.model.name.replace("_", "-"),
+            "model": walk_of(rec)[0],
+            "walk_component": walk_of(rec)[1],
+            "walk_g": walk_of(rec)[2],
             "fresnel_moments": rec.fresnel.name,
             "eta": rec.eta,
             "dims": [rec.n_rho, rec.n_theta, rec.n_r],
@@ -318,6 +337,8 @@ REJECTED_BY_VALIDATION = {
     "unknown-codec": "/types/dir_entry/seq/3",  # codec
     "bad-shape": "/types/dir_entry/seq/5",  # ndim
     "unknown-model": "/types/table_record/seq/0",  # model
+    "unknown-component": "/types/table_record/seq/6",  # component (walk-angular)
+    "table-g": "/types/table_record/seq/7",  # g (walk-angular)
     "unknown-fresnel": "/types/table_record/seq/1",  # fresnel
     "table-eta": "/types/table_record/seq/2",  # eta
     "table-dims": "/types/table_record/seq/3",  # n_rho
@@ -347,6 +368,7 @@ NOT_REJECTED = {
     "unsupported-features": "feature bits are not checked",
     "feature-not-declared": "feature bits are not checked",
     "harmonics-not-declared": "feature bits are not checked",
+    "walk-tables-not-declared": "feature bits are not checked",
     "signed-lobes-not-declared": "feature bits and node values are not checked",
     "signed-floor-not-declared": "feature bits and node values are not checked",
     "reserved-not-zero": "reserved bytes depend on the minor",

@@ -3,7 +3,7 @@
 
 use bssrdf_zoo::format::{
     AlbedoRange, Compression, FresnelMoments, LibraryBuilder, Material, ModelKind, Provenance,
-    TableData,
+    TableData, WalkComponent, WalkSource,
 };
 
 /// A table of `n_rho × n_theta × n_r` entries with smooth, deterministic made-up values (not
@@ -69,6 +69,22 @@ pub fn with_signed_floor(mut table: TableData) -> TableData {
     table
 }
 
+/// `table` (a [`synthetic_table`]) as a walk-angular table (format 1.5) of the walk at `g`
+/// for `component`: the same values, with the harmonics of each node's one lobe,
+/// rμ₃ = E_β c³ and rμ₄ = E_β c⁴, as its second lobe (a walk-angular table has two). Files
+/// with it need the `walk-tables` feature bit, and `harmonics`.
+pub fn as_walk_table(mut table: TableData, g: f64, component: WalkComponent) -> TableData {
+    let harmonics = table
+        .gwc
+        .chunks_exact(3)
+        .flat_map(|n| [n[1] * n[2].powi(3), n[1] * n[2].powi(4)])
+        .collect();
+    table.harmonics = Some(harmonics);
+    table.model = ModelKind::WalkAngular;
+    table.walk = Some(WalkSource { g, component });
+    table
+}
+
 pub fn material(name: &str, table: u32) -> Material {
     Material {
         name: name.to_owned(),
@@ -86,8 +102,13 @@ pub fn material(name: &str, table: u32) -> Material {
 /// 2×2×4 table with a θ CDF, two materials (one with an albedo range), provenance
 /// with both `settings` and `accuracy` (keys of equal length, used by a vector).
 pub fn tiny_builder() -> LibraryBuilder {
+    tiny_builder_of(synthetic_table(1.3, 2, 2, 4, true))
+}
+
+/// The tiny library (see [`tiny_builder`]) with `table` in place of its table.
+pub fn tiny_builder_of(table: TableData) -> LibraryBuilder {
     let mut b = LibraryBuilder::new();
-    let t = b.add_table(synthetic_table(1.3, 2, 2, 4, true)).unwrap() as u32;
+    let t = b.add_table(table).unwrap() as u32;
     b.add_material(material("skin1", t)).unwrap();
     let mut milk = material("skimmilk", t);
     milk.source = "Jensen et al. 2001, table 2".into();

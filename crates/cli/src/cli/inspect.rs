@@ -1,6 +1,6 @@
 //! `bssrdf inspect FILE`: version, sizes, required features by name (`zstd-sections`,
 //! `signed-floor`), sections with their checksums (verified), materials, tables with their
-//! axes, provenance. Names from the file are printed with control characters
+//! model (and a walk-angular table's g and component) and axes, provenance. Names from the file are printed with control characters
 //! escaped.
 
 use super::CliError;
@@ -82,7 +82,10 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
         let tables: Vec<_> = library
             .tables()
             .map(|t| serde_json::json!({
-                "index": t.index(), "model": t.model().name(), "eta": t.eta(),
+                "index": t.index(), "model": t.model().name(),
+                "walk_g": t.walk().map(|w| w.g),
+                "walk_component": t.walk().map(|w| w.component.name()),
+                "eta": t.eta(),
                 "fresnel_moments": fresnel_name(t.fresnel()), "dims": t.dims(),
                 "rho": t.axis(AxisKind::Rho), "theta": t.axis(AxisKind::Theta), "r": t.axis(AxisKind::R),
                 "theta_sampling": t.theta_cdf().is_some(),
@@ -156,9 +159,12 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     }
     writeln!(out, "tables ({}):", library.table_count())?;
     for t in library.tables() {
+        let walk = t.walk().map_or(String::new(), |w| {
+            format!(" g {} component {}", w.g, w.component.name())
+        });
         writeln!(
             out,
-            "  [{}] {} eta {} moments {} dims {:?} lobes {} theta-sampling {}",
+            "  [{}] {}{walk} eta {} moments {} dims {:?} lobes {} theta-sampling {}",
             t.index(),
             t.model().name(),
             t.eta(),

@@ -64,7 +64,8 @@ fn inspect_reports_tables_materials_and_provenance() {
         &["inspect", "white-grapefruit-juice.bssrdf", "--json"],
     )))
     .unwrap();
-    assert_eq!(json["version"], serde_json::json!([1, 4]));
+    let minor = bssrdf_zoo::format::spec::VERSION_MINOR;
+    assert_eq!(json["version"], serde_json::json!([1, minor]));
     // The writer sets `signed-floor` exactly when some node has a negative floor (E_β > E).
     let library = bssrdf_zoo::format::Library::read(
         dir.path().join("white-grapefruit-juice.bssrdf"),
@@ -114,7 +115,7 @@ fn inspect_reports_tables_materials_and_provenance() {
         &["inspect", "white-grapefruit-juice.bssrdf"],
     ));
     assert!(human.contains("every CRC-32 verified"));
-    assert!(human.contains("format 1.4,"), "{human}");
+    assert!(human.contains(&format!("format 1.{minor},")), "{human}");
 }
 
 /// A library read from a stream (a pipe, a device) is read only as far as its header allows:
@@ -183,6 +184,64 @@ fn inspect_names_the_required_features() {
         human.contains("features required 0x3 (zstd-sections, signed-floor)"),
         "{human}"
     );
+}
+
+/// A walk-angular table (format 1.5) shows its model, g and component, in the report and in
+/// `--json`; a pbd-angular one its model, without a walk.
+#[test]
+fn inspect_shows_the_model_and_the_walk() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/valid");
+    for name in ["walk-table.bssrdf", "tiny.bssrdf"] {
+        std::fs::copy(data.join(name), dir.path().join(name)).unwrap();
+    }
+    let human = ok(&bssrdf(dir.path(), &["inspect", "walk-table.bssrdf"]));
+    assert!(
+        human.contains("[0] walk-angular g 0.75 component total eta 1.3 moments exact"),
+        "{human}"
+    );
+    assert!(
+        human.contains("features required 0x34 (harmonics, merged-roots, walk-tables)"),
+        "{human}"
+    );
+    let json: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        dir.path(),
+        &["inspect", "walk-table.bssrdf", "--json"],
+    )))
+    .unwrap();
+    let table = &json["tables"][0];
+    assert_eq!(table["model"], "walk-angular");
+    assert_eq!(table["walk_g"], 0.75);
+    assert_eq!(table["walk_component"], "total");
+    assert_eq!(table["lobes"], 2);
+    let human = ok(&bssrdf(dir.path(), &["inspect", "tiny.bssrdf"]));
+    assert!(
+        human.contains("[0] pbd-angular eta 1.3 moments exact"),
+        "{human}"
+    );
+    let json: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        dir.path(),
+        &["inspect", "tiny.bssrdf", "--json"],
+    )))
+    .unwrap();
+    let table = &json["tables"][0];
+    assert_eq!(table["model"], "pbd-angular");
+    assert!(table["walk_g"].is_null() && table["walk_component"].is_null());
+    // The lookups are a two-lobe table's: the walk's table answers like any other
+    let value = ok(&bssrdf(
+        dir.path(),
+        &[
+            "eval",
+            "walk-table.bssrdf",
+            "--rho",
+            "0.6",
+            "--theta",
+            "0.5",
+            "--r",
+            "0.05",
+        ],
+    ));
+    assert!(value.trim().parse::<f64>().unwrap() > 0.0, "{value}");
 }
 
 #[test]

@@ -248,9 +248,18 @@ pub enum FormatError {
     /// A table's model code is unknown.
     #[error("table {table}: unknown model code {model}")]
     UnknownModel { table: usize, model: u32 },
+    /// A walk-angular table (model 3) in a file that does not set required feature bit 5.
+    #[error("table {table}: walk-angular (model 3) in a file without required feature bit 5 (walk-tables)")]
+    WalkTablesNotDeclared { table: usize },
+    /// A walk-angular table's component code is unknown.
+    #[error("table {table}: unknown walk component code {component} (0 multiple, 1 total)")]
+    UnknownComponent { table: usize, component: u32 },
     /// A table's Fresnel-moments code is unknown.
     #[error("table {table}: unknown fresnel-moments code {fresnel}")]
     UnknownFresnel { table: usize, fresnel: u32 },
+    /// A walk-angular table's Henyey–Greenstein g is not a finite number in (−1, 1).
+    #[error("table {table}: the walk's g = {} must be finite and in (-1, 1)", Number(*g))]
+    TableG { table: usize, g: f64 },
     /// A table's relative index of refraction is not a finite positive number.
     #[error("table {table}: eta = {} must be finite and > 0", Number(*eta))]
     TableEta { table: usize, eta: f64 },
@@ -450,7 +459,10 @@ impl FormatError {
             FormatError::RecordSize { .. } => "record-size",
             FormatError::TooManyRecords { .. } => "too-many-records",
             FormatError::UnknownModel { .. } => "unknown-model",
+            FormatError::WalkTablesNotDeclared { .. } => "walk-tables-not-declared",
+            FormatError::UnknownComponent { .. } => "unknown-component",
             FormatError::UnknownFresnel { .. } => "unknown-fresnel",
+            FormatError::TableG { .. } => "table-g",
             FormatError::TableEta { .. } => "table-eta",
             FormatError::TableDims { .. } => "table-dims",
             FormatError::SectionDims { .. } => "section-dims",

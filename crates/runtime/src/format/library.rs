@@ -10,7 +10,9 @@ use super::map::{AlignedBuf, Backing};
 use super::provenance::Provenance;
 use super::reader::{parse, Parsed, SectionInfo, Verify};
 use super::records::{Material, TableHeader};
-use super::spec::{AxisKind, Codec, FresnelMoments, ModelKind, SectionKind, VERSION_MAJOR};
+use super::spec::{
+    AxisKind, Codec, FresnelMoments, ModelKind, SectionKind, WalkSource, VERSION_MAJOR,
+};
 use crate::gwc::Rebuild;
 
 /// A validated library file, mapped or in memory. Cheap to share between threads.
@@ -180,6 +182,12 @@ impl<'a> Table<'a> {
     /// The model the table was baked for.
     pub fn model(&self) -> ModelKind {
         self.header().model
+    }
+
+    /// The walk a walk-angular table was measured with (its g and component), `None` for a
+    /// table of another model.
+    pub fn walk(&self) -> Option<WalkSource> {
+        self.header().walk
     }
 
     /// Relative index of refraction η the table was baked for.

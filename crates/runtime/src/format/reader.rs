@@ -356,7 +356,7 @@ pub(crate) fn parse(bytes: &[u8], verify: Verify) -> FormatResult<Parsed> {
             expected: TABLE_RECORD_SIZE,
         })?;
         tables.push(TableSlot {
-            header: TableHeader::decode(t, &raw, strict)?,
+            header: TableHeader::decode(t, &raw, strict, header.required_features.get())?,
             sections: BTreeMap::new(),
         });
     }

@@ -7,9 +7,10 @@ use zerocopy::IntoBytes;
 
 use super::error::{FormatError, FormatResult};
 use super::spec::{
-    AxisKind, FresnelMoments, ModelKind, RawMaterial, RawTable, SectionKind, WalkSource,
-    MATERIAL_HAS_ALBEDO_RANGE, MATERIAL_RESERVED_OFFSET, MAX_AXIS_LEN, MAX_NAME_BYTES,
-    MAX_SOURCE_BYTES, PROFILE_ABS_SLACK, PROFILE_REL_SLACK, TABLE_RESERVED_OFFSET,
+    required_features, AxisKind, FresnelMoments, ModelKind, RawMaterial, RawTable, SectionKind,
+    WalkComponent, WalkSource, MATERIAL_HAS_ALBEDO_RANGE, MATERIAL_RESERVED_OFFSET, MAX_AXIS_LEN,
+    MAX_NAME_BYTES, MAX_SOURCE_BYTES, PROFILE_ABS_SLACK, PROFILE_REL_SLACK, TABLE_RESERVED_OFFSET,
+    TABLE_WALK_OFFSET,
 };
 
 /// Names of the three colour channels, in storage order.
@@ -298,8 +299,29 @@ pub struct TableHeader {
 }
 
 impl TableHeader {
-    /// Checks η and the dimensions.
+    /// Checks the walk (present exactly for a walk-angular table, its g finite and in
+    /// (−1, 1)), η and the dimensions.
     pub fn validate(&self, index: usize) -> FormatResult<()> {
+        match (self.model, self.walk) {
+            (ModelKind::WalkAngular, Some(walk)) => {
+                if !(walk.g > -1.0 && walk.g < 1.0) {
+                    return Err(FormatError::TableG {
+                        table: index,
+                        g: walk.g,
+                    });
+                }
+            }
+            (ModelKind::WalkAngular, None) | (ModelKind::PbdAngular, Some(_)) => {
+                return Err(FormatError::InvalidInput {
+                    message: format!(
+                        "table {index}: a {} table {} a walk (g and component): walk-angular tables have one, other models none",
+                        self.model.name(),
+                        if self.walk.is_some() { "has" } else { "lacks" }
+                    ),
+                });
+            }
+            (ModelKind::PbdAngular, None) => {}
+        }
         if !(self.eta.is_finite() && self.eta > 0.0) {
             return Err(FormatError::TableEta {
                 table: index,
@@ -355,6 +377,8 @@ impl TableHeader {
     }
 
     pub(crate) fn encode(&self) -> RawTable {
+        // Reserved (zero) in a table without a walk
+        let (component, g) = self.walk.map_or((0, 0.0), |w| (w.component.code(), w.g));
         RawTable {
             model: U32::new(self.model.code()),
             fresnel: U32::new(self.fresnel.code()),
@@ -362,22 +386,54 @@ impl TableHeader {
             n_rho: U32::new(self.n_rho),
             n_theta: U32::new(self.n_theta),
             n_r: U32::new(self.n_r),
-            reserved: [0; 36],
+            component: U32::new(component),
+            g: F64::new(g),
+            reserved: [0; 24],
         }
     }
 
-    pub(crate) fn decode(index: usize, raw: &RawTable, strict: bool) -> FormatResult<TableHeader> {
+    /// Decodes and validates record `index` of a file whose required feature bits are
+    /// `required`, in the order of format-spec.md §14. `strict` (file minor ≤ ours) also
+    /// requires the reserved bytes to be zero: from byte 40 in a walk-angular record, from
+    /// byte 28 in any other.
+    pub(crate) fn decode(
+        index: usize,
+        raw: &RawTable,
+        strict: bool,
+        required: u64,
+    ) -> FormatResult<TableHeader> {
+        let walk_record = raw.model.get() == ModelKind::WalkAngular.code();
         if strict {
-            check_reserved(
-                &format!("table record {index}"),
-                TABLE_RESERVED_OFFSET,
-                &raw.reserved,
-            )?;
+            let from = if walk_record {
+                TABLE_RESERVED_OFFSET
+            } else {
+                TABLE_WALK_OFFSET
+            };
+            let reserved = raw.as_bytes().get(from..).unwrap_or_default();
+            check_reserved(&format!("table record {index}"), from, reserved)?;
         }
         let model = ModelKind::from_code(raw.model.get()).ok_or(FormatError::UnknownModel {
             table: index,
             model: raw.model.get(),
         })?;
+        let walk = match model {
+            ModelKind::WalkAngular => {
+                if required & required_features::WALK_TABLES == 0 {
+                    return Err(FormatError::WalkTablesNotDeclared { table: index });
+                }
+                let code = raw.component.get();
+                let component =
+                    WalkComponent::from_code(code).ok_or(FormatError::UnknownComponent {
+                        table: index,
+                        component: code,
+                    })?;
+                Some(WalkSource {
+                    g: raw.g.get(),
+                    component,
+                })
+            }
+            ModelKind::PbdAngular => None,
+        };
         let fresnel =
             FresnelMoments::from_code(raw.fresnel.get()).ok_or(FormatError::UnknownFresnel {
                 table: index,
@@ -385,7 +441,7 @@ impl TableHeader {
             })?;
         let header = TableHeader {
             model,
-            walk: None,
+            walk,
             eta: raw.eta.get(),
             fresnel,
             n_rho: raw.n_rho.get(),

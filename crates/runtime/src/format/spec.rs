@@ -16,8 +16,9 @@ pub const VERSION_MAJOR: u16 = 1;
 /// required feature bit 1, [`required_features::SIGNED_FLOOR`]; minor 2 the section
 /// [`SectionKind::Harmonics`] with required feature bit 2, [`required_features::HARMONICS`];
 /// minor 3 the required feature bit 3, [`required_features::SIGNED_LOBES`]; minor 4 the required
-/// feature bit 4, [`required_features::MERGED_ROOTS`].
-pub const VERSION_MINOR: u16 = 4;
+/// feature bit 4, [`required_features::MERGED_ROOTS`]; minor 5 the model
+/// [`ModelKind::WalkAngular`] with required feature bit 5, [`required_features::WALK_TABLES`].
+pub const VERSION_MINOR: u16 = 5;
 /// Written as a little-endian u32 at byte 16; a byte-swapped file shows `0x0D0C0B0A`.
 pub const BYTE_ORDER_MARK: u32 = 0x0A0B_0C0D;
 
@@ -93,8 +94,12 @@ pub mod required_features {
     /// none (format 1.4, `gwc::Rebuild::MergedRoots`). A 1.3 reader would read one lobe there,
     /// at nodes too.
     pub const MERGED_ROOTS: u64 = 1 << 4;
+    /// At least one table is walk-angular (model 3): its record holds the walk's g and
+    /// component (format 1.5). A 1.4 reader would reject the model anyway; the bit names why.
+    pub const WALK_TABLES: u64 = 1 << 5;
     /// Every required feature this reader understands.
-    pub const KNOWN: u64 = ZSTD | SIGNED_FLOOR | HARMONICS | SIGNED_LOBES | MERGED_ROOTS;
+    pub const KNOWN: u64 =
+        ZSTD | SIGNED_FLOOR | HARMONICS | SIGNED_LOBES | MERGED_ROOTS | WALK_TABLES;
     /// Name of a required feature bit, for messages.
     pub fn name(bit: u32) -> &'static str {
         match bit {
@@ -103,6 +108,7 @@ pub mod required_features {
             2 => "harmonics",
             3 => "signed-lobes",
             4 => "merged-roots",
+            5 => "walk-tables",
             _ => "unknown",
         }
     }
@@ -464,7 +470,8 @@ pub(crate) struct RawEntry {
 /// Offset of the reserved bytes within an entry.
 pub(crate) const ENTRY_RESERVED_OFFSET: usize = 60;
 
-/// One table record (64 bytes) in the `tables` section.
+/// One table record (64 bytes) in the `tables` section. `component` and `g` are those of a
+/// walk-angular table; in a table of another model they are reserved bytes like `reserved`.
 #[derive(Debug, Clone, Copy, FromBytes, IntoBytes, KnownLayout, Immutable)]
 #[repr(C)]
 pub(crate) struct RawTable {
@@ -474,11 +481,16 @@ pub(crate) struct RawTable {
     pub n_rho: U32,
     pub n_theta: U32,
     pub n_r: U32,
-    pub reserved: [u8; 36],
+    pub component: U32,
+    pub g: F64,
+    pub reserved: [u8; 24],
 }
 
-/// Offset of the reserved bytes within a table record.
-pub(crate) const TABLE_RESERVED_OFFSET: usize = 28;
+/// Offset of the walk's fields (`component`, `g`) within a table record: reserved bytes from
+/// here on in a table of a model other than walk-angular.
+pub(crate) const TABLE_WALK_OFFSET: usize = 28;
+/// Offset of the reserved bytes within a walk-angular table record.
+pub(crate) const TABLE_RESERVED_OFFSET: usize = 40;
 
 /// One material record (512 bytes) in the `materials` section.
 #[derive(Debug, Clone, Copy, FromBytes, IntoBytes, KnownLayout, Immutable)]
@@ -508,7 +520,10 @@ const _: () = assert!(std::mem::size_of::<RawTable>() == TABLE_RECORD_SIZE);
 const _: () = assert!(std::mem::size_of::<RawMaterial>() == MATERIAL_RECORD_SIZE);
 const _: () = assert!(HEADER_RESERVED_OFFSET + 72 == HEADER_CRC_OFFSET);
 const _: () = assert!(MATERIAL_RESERVED_OFFSET + 40 == 192);
-const _: () = assert!(TABLE_RESERVED_OFFSET + 36 == TABLE_RECORD_SIZE);
+const _: () = assert!(std::mem::offset_of!(RawTable, component) == TABLE_WALK_OFFSET);
+const _: () = assert!(std::mem::offset_of!(RawTable, g) == 32);
+const _: () = assert!(std::mem::offset_of!(RawTable, reserved) == TABLE_RESERVED_OFFSET);
+const _: () = assert!(TABLE_RESERVED_OFFSET + 24 == TABLE_RECORD_SIZE);
 
 /// CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320, as in zlib) of several byte runs.
 pub(crate) fn crc32(parts: &[&[u8]]) -> u32 {

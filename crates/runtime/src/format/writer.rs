@@ -47,7 +47,9 @@ impl Compression {
 pub struct TableData {
     /// The model the table was baked for.
     pub model: ModelKind,
-    /// The walk of a [`ModelKind::WalkAngular`] table (`Some` exactly for that model).
+    /// The walk of a [`ModelKind::WalkAngular`] table (`Some` exactly for that model, with g in
+    /// (−1, 1)); such a table has `harmonics`, and the file needs format 1.5's `walk-tables`
+    /// bit.
     pub walk: Option<WalkSource>,
     /// Relative index of refraction η, > 0.
     pub eta: f64,
@@ -225,6 +227,15 @@ impl LibraryBuilder {
                 _ => self.rebuild = Some(table.rebuild),
             }
             put(SectionKind::Harmonics, harmonics)?;
+        }
+        // A walk-angular table has two lobes: what the reader requires of the model
+        for &kind in header.required_sections() {
+            if !sections.contains_key(&kind.code()) {
+                return Err(FormatError::MissingSection {
+                    kind,
+                    table: Some(index),
+                });
+            }
         }
         self.tables.push((header, sections));
         Ok(index)
@@ -432,6 +443,10 @@ impl LibraryBuilder {
                 _ => false,
             }
         });
+        let walk_tables = self
+            .tables
+            .iter()
+            .any(|(header, _)| header.model == ModelKind::WalkAngular);
         let required = if signed_floor {
             required_features::SIGNED_FLOOR
         } else {
@@ -446,6 +461,10 @@ impl LibraryBuilder {
             0
         } | if merged_roots {
             required_features::MERGED_ROOTS
+        } else {
+            0
+        } | if walk_tables {
+            required_features::WALK_TABLES
         } else {
             0
         };

@@ -118,7 +118,7 @@ impl<'a> FileTable<'a> {
         self.moments
     }
 
-    /// Copies the table into memory.
+    /// Copies the table into memory, with its walk if it is walk-angular.
     pub fn to_owned_table(&self) -> Result<AngularTable, TableError> {
         let view = self.view()?;
         let table = AngularTable::from_parts(
@@ -129,9 +129,13 @@ impl<'a> FileTable<'a> {
             self.table.radial_cdf().to_vec(),
             self.table.theta_cdf().map(<[f32]>::to_vec),
         )?;
-        match self.table.harmonics() {
-            Some(harmonics) => table.with_harmonics_by(harmonics.to_vec(), self.table.rebuild()),
-            None => Ok(table),
-        }
+        let table = match self.table.harmonics() {
+            Some(harmonics) => table.with_harmonics_by(harmonics.to_vec(), self.table.rebuild())?,
+            None => table,
+        };
+        Ok(match self.table.walk() {
+            Some(walk) => table.with_walk(walk),
+            None => table,
+        })
     }
 }

@@ -203,12 +203,13 @@ impl AngularTable {
             slice(self.radial_cdf(), node),
             self.theta_cdf().map(|t| slice(t, n_theta)),
         )?;
-        Ok(match self.harmonics() {
+        let table = match self.harmonics() {
             Some(h) => {
                 table.with_harmonics_by(slice(h, node * HARMONICS_PER_NODE), self.rebuild())?
             }
             None => table,
-        })
+        };
+        Ok(with_walk_of(table, self.walk()))
     }
 
     /// The same table without the θ-sampling CDF (for renderers that only particle-trace).
@@ -221,14 +222,15 @@ impl AngularTable {
             self.radial_cdf().to_vec(),
             None,
         )?;
-        Ok(match self.harmonics() {
+        let table = match self.harmonics() {
             Some(h) => table.with_harmonics_by(h.to_vec(), self.rebuild())?,
             None => table,
-        })
+        };
+        Ok(with_walk_of(table, self.walk()))
     }
 
     /// Joins tables holding consecutive albedo rows of the same bake (same η, moments, θ and r
-    /// axes, increasing ρ′, all with or all without the θ CDF) into one.
+    /// axes, walk, increasing ρ′, all with or all without the θ CDF) into one.
     pub fn concat_rows(parts: &[AngularTable]) -> Result<AngularTable, SubsetError> {
         let first = parts.first().ok_or(SubsetError::Mismatch("no tables"))?;
         let mut rho: Vec<f64> = Vec::new();
@@ -249,6 +251,9 @@ impl AngularTable {
             }
             if p.rebuild() != first.rebuild() {
                 return Err(SubsetError::Mismatch("rebuild of the lobes (merged roots)"));
+            }
+            if p.walk() != first.walk() {
+                return Err(SubsetError::Mismatch("model or walk (g, component)"));
             }
             rho.extend_from_slice(p.axes().rho().as_slice());
             params.extend_from_slice(p.params());
@@ -271,10 +276,19 @@ impl AngularTable {
             radial,
             first.theta_cdf().map(|_| theta),
         )?;
-        Ok(match first.harmonics() {
+        let table = match first.harmonics() {
             Some(_) => table.with_harmonics_by(harmonics, first.rebuild())?,
             None => table,
-        })
+        };
+        Ok(with_walk_of(table, first.walk()))
+    }
+}
+
+/// `table` marked with the walk of the table it was cut from, if that one had one.
+fn with_walk_of(table: AngularTable, walk: Option<crate::format::WalkSource>) -> AngularTable {
+    match walk {
+        Some(walk) => table.with_walk(walk),
+        None => table,
     }
 }
 

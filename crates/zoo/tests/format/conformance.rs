@@ -17,6 +17,8 @@ use bssrdf_zoo::format::{
     pack, AxisKind, Compression, Library, LibraryBuilder, SectionKind, Verify,
 };
 
+use super::walk::{tiny_walk, walk_vectors};
+
 fn data_dir(sub: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../tests/data")
@@ -428,7 +430,7 @@ fn signed_lobes(declared: bool) -> Raw {
 /// at c = 0.7 (format-spec.md §10 step 4b): r·μₙ = cⁿ + γncⁿ⁻¹ with γ = 0.1 (a lobe of mass 1
 /// plus γ times its derivative in c), with r·μ₄ lowered by 10⁻³ so that Prony's roots are
 /// complex, stored as (E, E_β, c) = (1.2, μ₁²/μ₂, μ₂/μ₁) and (r·μ₃, r·μ₄). Read with merged roots,
-/// a signed pair; without, one lobe. Required feature bits `required`.
+/// a signed pair; without, one lobe. Format 1.4, required feature bits `required`.
 fn merged_roots(required: u64) -> Raw {
     let mut secs = tiny_two_lobes_sections();
     let mu = |n: i32| 0.7f64.powi(n) + 0.1 * f64::from(n) * 0.7f64.powi(n - 1);
@@ -445,7 +447,7 @@ fn merged_roots(required: u64) -> Raw {
     );
     let harmonics = secs.iter().position(|s| s.kind == kind::HARMONICS).unwrap();
     put(&mut secs[harmonics].data, 2, &[mu(3), mu(4) * 0.999]);
-    Raw::build(VERSION_MINOR, required, 0, 256, &secs)
+    Raw::build(4, required, 0, 256, &secs)
 }
 
 /// Vectors that need compressed sections.
@@ -476,6 +478,8 @@ fn packed_vectors() -> Vec<(&'static str, Raw)> {
     out.push(("harmonics-not-declared", two_lobes(false)));
     // signed-lobes-not-declared: a node that is a signed pair without required feature bit 3.
     out.push(("signed-lobes-not-declared", signed_lobes(false)));
+    // The walk-angular record's: bit 5 not set, an unknown component, g outside (-1, 1).
+    out.extend(walk_vectors());
     out
 }
 
@@ -518,6 +522,8 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
         "merged-roots",
         merged_roots((1 << 2) | (1 << 3) | (1 << 4)).bytes,
     ));
+    // A walk-angular table (g = 0.75, total), required feature bits 2, 4 and 5.
+    out.push(("walk-table", tiny_walk().bytes));
     // Page alignment, one albedo row, no materials, no provenance, no θ CDF.
     let mut b = LibraryBuilder::new();
     b.set_alignment(4096).unwrap();

@@ -8,3 +8,4 @@ mod mapping;
 mod proptest;
 mod roundtrip;
 mod spec_example;
+mod walk;

@@ -292,3 +292,41 @@ fn subsets_keep_the_rule_of_the_rebuild() {
     .unwrap_err();
     assert!(err.to_string().contains("rebuild"), "{err}");
 }
+
+/// A table of the walk (a walk-angular table in a file, format 1.5) keeps its walk through
+/// every subset, and tables of different walks, or of the walk and of PBD, are not joined.
+#[test]
+fn subsets_keep_the_walk() {
+    use bssrdf_zoo::format::{ModelKind, WalkComponent, WalkSource};
+    let walk = WalkSource {
+        g: 0.5,
+        component: WalkComponent::Multiple,
+    };
+    let n = full().axes().rho().as_slice().len();
+    let marked = full().clone().with_walk(walk);
+    for part in [
+        marked.subset_rows(0..n / 2).unwrap(),
+        marked.without_theta_sampling().unwrap(),
+        AngularTable::concat_rows(&[
+            marked.subset_rows(0..n / 2).unwrap(),
+            marked.subset_rows(n / 2..n).unwrap(),
+        ])
+        .unwrap(),
+    ] {
+        assert_eq!(part.walk(), Some(walk));
+        let data = part.to_table_data();
+        assert_eq!(
+            (data.model, data.walk),
+            (ModelKind::WalkAngular, Some(walk))
+        );
+    }
+    let other = full().clone().with_walk(WalkSource { g: 0.25, ..walk });
+    for high in [other, full().clone()] {
+        let err = AngularTable::concat_rows(&[
+            marked.subset_rows(0..n / 2).unwrap(),
+            high.subset_rows(n / 2..n).unwrap(),
+        ])
+        .unwrap_err();
+        assert!(err.to_string().contains("walk"), "{err}");
+    }
+}

@@ -1,12 +1,13 @@
 //! Comparing two library files: what `bssrdf diff` reports, as a typed report a front end can
 //! print or test.
 //!
-//! [`compare`] pairs each table of A with a table of B of the same model, η and Fresnel
-//! moments (the same index if possible, else the one sharing the most albedo nodes, so several
-//! tables of a scene bake may pair with one full table), and reports
+//! [`compare`] pairs each table of A with a table of B of the same η and Fresnel moments (one
+//! of the same model and walk if there is one, then the same index if possible, else the one
+//! sharing the most albedo nodes, so several tables of a scene bake may pair with one full
+//! table), and reports
 //! - the metadata differences ([`Difference`]): tables without a counterpart, the table count,
-//!   per pair its Fresnel moments, dims, each axis, the θ-sampling section and the number of
-//!   lobes; per material its presence and every field;
+//!   per pair its model, the walk's g and component, Fresnel moments, dims, each axis, the
+//!   θ-sampling section and the number of lobes; per material its presence and every field;
 //! - per pair of tables ([`TableDiff`]), for each compared quantity ([`Quantity`]: E, E_β and c
 //!   of `gwc-params`, `radial-cdf`, `theta-cdf`, rμ₃ and rμ₄ of `gwc-harmonics`) over the axis
 //!   nodes both tables hold (equal f32 values), the count, the max and mean absolute and
@@ -112,24 +113,27 @@ fn common(a: &[f32], b: &[f32]) -> Vec<(usize, usize)> {
     out
 }
 
-/// Pairs each table of A with a table of B of the same model, η and Fresnel moments: the
-/// same index if they share an albedo node, else the one sharing the most albedo nodes (the
-/// lowest index among equals). Returns the pairs, the tables of A without a counterpart and
-/// the tables of B no table of A paired with.
+/// Pairs each table of A with a table of B of the same η and Fresnel moments, among those of
+/// the same model and walk (g, component) if there are any: the same index if they share an
+/// albedo node, else the one sharing the most albedo nodes (the lowest index among equals).
+/// Returns the pairs, the tables of A without a counterpart and the tables of B no table of A
+/// paired with.
 fn pair_tables(a: &Library, b: &Library) -> (Vec<(usize, usize)>, Vec<usize>, Vec<usize>) {
-    let key = |t: &Table<'_>| (t.model(), t.eta().to_bits(), t.fresnel());
+    let key = |t: &Table<'_>| (t.eta().to_bits(), t.fresnel());
+    let source = |t: &Table<'_>| (t.model(), t.walk().map(|w| (w.g.to_bits(), w.component)));
     let mut used = vec![false; b.table_count()];
     let (mut pairs, mut only_a) = (Vec::new(), Vec::new());
     for ta in a.tables() {
         let candidates: Vec<Table<'_>> = b.tables().filter(|tb| key(tb) == key(&ta)).collect();
         let shared = |tb: &Table<'_>| common(ta.axis(AxisKind::Rho), tb.axis(AxisKind::Rho)).len();
+        let same = |tb: &Table<'_>| source(tb) == source(&ta);
         let best = candidates
             .iter()
-            .find(|tb| tb.index() == ta.index() && shared(tb) > 0)
+            .find(|tb| same(tb) && tb.index() == ta.index() && shared(tb) > 0)
             .or_else(|| {
                 candidates
                     .iter()
-                    .max_by_key(|tb| (shared(tb), usize::MAX - tb.index()))
+                    .max_by_key(|tb| (same(tb), shared(tb), usize::MAX - tb.index()))
             });
         match best {
             Some(tb) => {
@@ -143,8 +147,9 @@ fn pair_tables(a: &Library, b: &Library) -> (Vec<(usize, usize)>, Vec<usize>, Ve
     (pairs, only_a, only_b)
 }
 
-/// Appends the metadata differences of a pair of tables: Fresnel moments, dims, each axis
-/// (when its node count, first or last node differ), θ-sampling and lobes.
+/// Appends the metadata differences of a pair of tables: model, the walk's g and component,
+/// Fresnel moments, dims, each axis (when its node count, first or last node differ),
+/// θ-sampling and lobes.
 fn compare_table_fields(ta: &Table<'_>, tb: &Table<'_>, differences: &mut Vec<Difference>) {
     let item = Item::Tables {
         a: ta.index(),
@@ -160,6 +165,19 @@ fn compare_table_fields(ta: &Table<'_>, tb: &Table<'_>, differences: &mut Vec<Di
             });
         }
     };
+    let model = |t: &Table<'_>| MetaValue::Text(t.model().name().to_owned());
+    differ(Field::Model, model(ta), model(tb));
+    let walk_g = |t: &Table<'_>| {
+        t.walk()
+            .map_or(MetaValue::Absent, |w| MetaValue::Number(w.g))
+    };
+    differ(Field::WalkG, walk_g(ta), walk_g(tb));
+    let component = |t: &Table<'_>| {
+        t.walk().map_or(MetaValue::Absent, |w| {
+            MetaValue::Text(w.component.name().to_owned())
+        })
+    };
+    differ(Field::WalkComponent, component(ta), component(tb));
     differ(
         Field::FresnelMoments,
         MetaValue::Fresnel(ta.fresnel()),

@@ -112,6 +112,12 @@ pub enum Field {
     Tables,
     /// Whether a file is zstd-compressed (never compared).
     Compressed,
+    /// A table's model (`ModelKind::name`).
+    Model,
+    /// The Henyey–Greenstein g of a walk-angular table's walk (absent for other models).
+    WalkG,
+    /// What a walk-angular table tabulates (`WalkComponent::name`; absent for other models).
+    WalkComponent,
     /// A table's Fresnel moments.
     FresnelMoments,
     /// A table's dims (nρ, nθ, nr).
@@ -144,14 +150,18 @@ pub enum Field {
 }
 
 impl Field {
-    /// The field's name in reports: `counterpart`, `tables`, `compressed`, `fresnel_moments`,
-    /// `dims`, `axis-rho`, `axis-theta`, `axis-r`, `theta-cdf`, `lobes`, `rebuild`, `present`,
-    /// `source`, `sigma_s`, `sigma_a`, `g`, `eta`, `albedo_range`, `value`.
+    /// The field's name in reports: `counterpart`, `tables`, `compressed`, `model`, `walk_g`,
+    /// `walk_component`, `fresnel_moments`, `dims`, `axis-rho`, `axis-theta`, `axis-r`,
+    /// `theta-cdf`, `lobes`, `rebuild`, `present`, `source`, `sigma_s`, `sigma_a`, `g`, `eta`,
+    /// `albedo_range`, `value`.
     pub fn name(self) -> &'static str {
         match self {
             Field::Counterpart => "counterpart",
             Field::Tables => "tables",
             Field::Compressed => "compressed",
+            Field::Model => "model",
+            Field::WalkG => "walk_g",
+            Field::WalkComponent => "walk_component",
             Field::FresnelMoments => "fresnel_moments",
             Field::Dims => "dims",
             Field::Axis(AxisKind::Rho) => "axis-rho",
@@ -202,7 +212,7 @@ pub enum MetaValue {
     Bool(bool),
     /// A count: tables of a file, lobes of a table.
     Count(usize),
-    /// A number: the η of a table or material.
+    /// A number: the η of a table or material, the g of a table's walk.
     Number(f64),
     /// A table's dims (nρ, nθ, nr).
     Dims([usize; 3]),
@@ -210,7 +220,7 @@ pub enum MetaValue {
     Fresnel(FresnelMoments),
     /// A table's axis.
     Axis(AxisSummary),
-    /// A text: a material's source, a table's rebuild.
+    /// A text: a material's source, a table's model, walk component or rebuild.
     Text(String),
     /// One value per RGB channel (σs, σa in mm⁻¹; g).
     PerChannel([f64; 3]),

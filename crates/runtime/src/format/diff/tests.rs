@@ -3,7 +3,7 @@
 use super::*;
 use crate::format::{
     AlbedoRange, Compression, FresnelMoments, LibraryBuilder, Material, ModelKind, Provenance,
-    TableData, Verify,
+    TableData, Verify, WalkComponent, WalkSource,
 };
 
 const RHO: [f32; 4] = [0.0, 0.25, 0.5, 1.0];
@@ -474,6 +474,72 @@ fn two_lobe_tables_read_by_different_rules_differ() {
     assert_eq!(report.outside_tolerance(), 0);
 }
 
+/// `t` with two lobes, as a table of the walk at `g` for `component` (format 1.5).
+fn walk(t: TableData, g: f64, component: WalkComponent) -> TableData {
+    TableData {
+        model: ModelKind::WalkAngular,
+        walk: Some(WalkSource { g, component }),
+        ..two_lobes(t)
+    }
+}
+
+/// Tables of PBD and of the walk, or of two walks, at the same η pair and differ in their
+/// model, the walk's g and its component; a table of the same model and walk pairs first.
+#[test]
+fn the_model_and_the_walk_are_differences() {
+    let pbd = two_lobes(table(1.3, &RHO));
+    let multiple = walk(table(1.3, &RHO), 0.5, WalkComponent::Multiple);
+    let total = walk(table(1.3, &RHO), 0.75, WalkComponent::Total);
+    let text = |s: &str| MetaValue::Text(s.into());
+    let report = compare(
+        &plain(vec![pbd.clone()]),
+        &plain(vec![multiple.clone()]),
+        Tolerance::default(),
+    );
+    assert_eq!(
+        fields(&report),
+        [
+            (Field::Model, &text("pbd-angular"), &text("walk-angular")),
+            (Field::WalkG, &MetaValue::Absent, &MetaValue::Number(0.5)),
+            (Field::WalkComponent, &MetaValue::Absent, &text("multiple")),
+        ]
+    );
+    // Every value is compared, and equal
+    assert_eq!(report.outside_tolerance(), 0);
+    assert!(report.tables()[0].values_compared() > 0);
+    let report = compare(
+        &plain(vec![multiple.clone()]),
+        &plain(vec![total]),
+        Tolerance::default(),
+    );
+    assert_eq!(
+        fields(&report),
+        [
+            (
+                Field::WalkG,
+                &MetaValue::Number(0.5),
+                &MetaValue::Number(0.75)
+            ),
+            (Field::WalkComponent, &text("multiple"), &text("total")),
+        ]
+    );
+    // B's table 1 is of the same walk as A's table 0: they pair, and B's table 0 of PBD has
+    // no counterpart.
+    let report = compare(
+        &plain(vec![multiple.clone()]),
+        &plain(vec![pbd, multiple]),
+        Tolerance::default(),
+    );
+    let pairs: Vec<(usize, usize)> = report.tables().iter().map(|t| (t.a(), t.b())).collect();
+    assert_eq!(pairs, [(0, 1)]);
+    let differences: Vec<String> = report
+        .differences()
+        .iter()
+        .map(|d| format!("{} {}", d.item, d.field.name()))
+        .collect();
+    assert_eq!(differences, ["table 0 of B counterpart", "file tables"]);
+}
+
 #[test]
 fn materials_are_compared_and_provenance_and_compression_only_listed() {
     let tables = || vec![table(1.3, &RHO)];
@@ -558,6 +624,9 @@ fn names_are_the_reports_spellings() {
         (Field::Counterpart, "counterpart"),
         (Field::Tables, "tables"),
         (Field::Compressed, "compressed"),
+        (Field::Model, "model"),
+        (Field::WalkG, "walk_g"),
+        (Field::WalkComponent, "walk_component"),
         (Field::FresnelMoments, "fresnel_moments"),
         (Field::Dims, "dims"),
         (Field::Axis(AxisKind::Rho), "axis-rho"),
