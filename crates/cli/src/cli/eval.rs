@@ -119,7 +119,9 @@ impl Evaluator<'_> {
         check_r(names[2], p.r)?;
         check_range(names[3], p.phi_deg, ..)?;
         match (self.model, &self.table) {
-            (ModelKind::Table, Some(t)) => check_theta_kept(names[1], p.theta_deg, t)?,
+            (ModelKind::Table | ModelKind::WalkTable, Some(t)) => {
+                check_theta_kept(names[1], p.theta_deg, t)?
+            }
             // The perpendicular model reads the table's θ = 0 rows, whatever θ is
             (ModelKind::Perpendicular, Some(t)) => {
                 check_theta_kept("the perpendicular model's theta", 0.0, t)?
@@ -127,7 +129,7 @@ impl Evaluator<'_> {
             _ => {}
         }
         match (self.model, &self.table) {
-            (ModelKind::Table | ModelKind::Perpendicular, Some(t)) => match self.material {
+            (ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable, Some(t)) => match self.material {
                 Some((rho, _)) => self.check_kept("the material's rho'", rho, t),
                 None => self.check_kept(names[0], p.rho, t),
             },
@@ -171,7 +173,7 @@ impl Evaluator<'_> {
         // quadrature chosen and the table of FILE.
         let own = matches!(
             self.model,
-            ModelKind::Pbd | ModelKind::Table | ModelKind::Perpendicular
+            ModelKind::Pbd | ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable
         );
         if !own {
             let kind = self.model;
@@ -188,7 +190,7 @@ impl Evaluator<'_> {
         }
         let reduced = match (self.model, &self.table) {
             (ModelKind::Pbd, _) => Pbd::new(rho, self.boundary)?.eval(theta, r_opt, phi, self.rule),
-            (ModelKind::Table, Some(t)) => t
+            (ModelKind::Table | ModelKind::WalkTable, Some(t)) => t
                 .eval(rho, theta, r_opt, phi)
                 .ok_or_else(|| self.kept_error(rho, t))?,
             (ModelKind::Perpendicular, Some(t)) => t
@@ -218,7 +220,7 @@ fn check_r(name: &str, r: f64) -> Result<(), CliError> {
 }
 
 pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
-    let model = args.model.unwrap_or(if args.file.is_some() {
+    let mut model = args.model.unwrap_or(if args.file.is_some() {
         ModelKind::Table
     } else {
         ModelKind::Pbd
@@ -259,6 +261,26 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         None => args.choice.named_material()?,
         Some(_) => None,
     };
+    // A walk-angular table is the walk-table model's, a PBD table the table models'
+    if let Some(c) = &chosen {
+        let walk = c.table.record().walk().is_some();
+        match (args.model, walk) {
+            (None, true) => model = ModelKind::WalkTable,
+            (Some(ModelKind::Table | ModelKind::Perpendicular), true) => {
+                return Err(CliError::input(format!(
+                    "table {} of the file is walk-angular (`bake --source walk`): --model walk-table (the default for it) evaluates it",
+                    c.index
+                )))
+            }
+            (Some(ModelKind::WalkTable), false) => {
+                return Err(CliError::input(format!(
+                    "--model walk-table evaluates a walk-angular table; table {} of the file is a PBD table (--model table)",
+                    c.index
+                )))
+            }
+            _ => {}
+        }
+    }
     let table = match &chosen {
         Some(c) => Some(c.table.view().map_err(|e| CliError::input(e.to_string()))?),
         None => None,
@@ -321,7 +343,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
             "model": model.name(),
             "eta": eta,
             "fresnel_moments": match (model, authors) {
-                (ModelKind::MonteCarlo, _) => None,
+                (ModelKind::MonteCarlo | ModelKind::WalkTable, _) => None,
                 (_, true) => Some("authors"),
                 _ => Some(moments.name()),
             },

@@ -94,6 +94,28 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             let chosen = choice.resolve(&library, &args.file)?;
             vec![(chosen.index, chosen.table)]
         };
+    // The protocol measures a table against PBD, the model it tabulates; a walk table is
+    // measured against the walk (`bssrdf zoo --walk-table`)
+    let (walks, tables): (Vec<_>, Vec<_>) = tables
+        .into_iter()
+        .partition(|(_, t)| t.record().walk().is_some());
+    let pointer = "the report's protocol measures a PBD table against PBD; measure a walk table against the walk with `bssrdf zoo --walk-table FILE --eta ETA --g G`";
+    if tables.is_empty() {
+        return Err(CliError::input(format!(
+            "{}: nothing to validate: {} walk-angular table(s) and no PBD table chosen; {pointer}",
+            args.file.display(),
+            walks.len()
+        )));
+    }
+    if !walks.is_empty() && !args.quiet {
+        let list: Vec<String> = walks.iter().map(|(i, _)| i.to_string()).collect();
+        let mut err = std::io::stderr().lock();
+        writeln!(
+            err,
+            "note: table(s) {} are walk-angular and not checked: {pointer}",
+            list.join(", ")
+        )?;
+    }
     let cases = REPORT_TABLE_2.len();
     let bar = super::progress::bar((cases * tables.len()) as u64, "cases", args.quiet);
     bar.set_message("validating");
