@@ -25,8 +25,9 @@ class Bssrdf(KaitaiStruct):
     What this description checks (`valid`, `contents`): the magic, the major version, the
     byte-order mark, `file_size` against the real size, and the values a single field of the
     header, of a directory entry or of a record may take on its own (alignment, dtype, codec,
-    ndim, model, fresnel, η, table dimensions, string lengths, material coefficients). A
-    section whose `dims` ask for more bytes than it stores fails to parse.
+    ndim, model, a walk's component and g, fresnel, η, table dimensions, string lengths,
+    material coefficients). A section whose `dims` ask for more bytes than it stores fails to
+    parse.
     
     What it does not check, and a conforming reader must (format-spec.md sections 4 to 14):
     the CRC-32 values (`header_crc`, each entry's `crc32`) are described, not verified; nor the

@@ -352,6 +352,24 @@ impl Table {
     fn two_lobes(&self) -> PyResult<bool> {
         Ok(self.record()?.harmonics().is_some())
     }
+    /// The model the table tabulates: "pbd-angular" (photon beam diffusion) or "walk-angular"
+    /// (the Monte Carlo random walk for one g, format 1.5).
+    #[getter]
+    fn model(&self) -> PyResult<&'static str> {
+        Ok(self.record()?.model().name())
+    }
+    /// The Henyey–Greenstein g of a walk-angular table's walk, in (−1, 1); None for a table of
+    /// another model.
+    #[getter]
+    fn walk_g(&self) -> PyResult<Option<f64>> {
+        Ok(self.record()?.walk().map(|w| w.g))
+    }
+    /// What a walk-angular table holds: "multiple" (multiple scattering) or "total" (single
+    /// scattering included); None for a table of another model.
+    #[getter]
+    fn walk_component(&self) -> PyResult<Option<&'static str>> {
+        Ok(self.record()?.walk().map(|w| w.component.name()))
+    }
 
     /// ρ′ nodes as stored (f32, read-only, zero-copy).
     #[getter]
@@ -531,8 +549,11 @@ impl Table {
     fn __repr__(&self) -> PyResult<String> {
         let record = self.record()?;
         let [n_rho, n_theta, n_r] = record.dims();
+        let walk = record.walk().map_or(String::new(), |w| {
+            format!(", walk g {} {}", w.g, w.component.name())
+        });
         Ok(format!(
-            "<bssrdf_zoo.Table {}: eta {}, {n_rho} x {n_theta} x {n_r}{}{}>",
+            "<bssrdf_zoo.Table {}: eta {}{walk}, {n_rho} x {n_theta} x {n_r}{}{}>",
             self.index,
             record.eta(),
             if record.harmonics().is_some() {

@@ -79,3 +79,13 @@ def test_every_valid_vector_opens_and_a_table_without_lookups_says_why(data_dir)
         table.medium(0.5, 1.0)
     with pytest.raises(bz.FormatError, match=re.escape(reason)):
         library.channel("wax", "r")
+
+
+def test_a_walk_angular_table_names_its_model_and_walk(data_dir, table):
+    # Format 1.5: the walk's g and component from the table's record; None for PBD tables
+    (walk,) = bz.Library.open(data_dir / "valid" / "walk-table.bssrdf").tables
+    assert (walk.model, walk.walk_g, walk.walk_component) == ("walk-angular", 0.75, "total")
+    assert walk.two_lobes and "walk g 0.75 total" in repr(walk)
+    assert walk.eval(0.6, 0.5, 0.05, 0.0) > 0
+    assert (table.model, table.walk_g, table.walk_component) == ("pbd-angular", None, None)
+    assert "walk" not in repr(table)
