@@ -129,10 +129,12 @@ impl Evaluator<'_> {
             _ => {}
         }
         match (self.model, &self.table) {
-            (ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable, Some(t)) => match self.material {
-                Some((rho, _)) => self.check_kept("the material's rho'", rho, t),
-                None => self.check_kept(names[0], p.rho, t),
-            },
+            (ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable, Some(t)) => {
+                match self.material {
+                    Some((rho, _)) => self.check_kept("the material's rho'", rho, t),
+                    None => self.check_kept(names[0], p.rho, t),
+                }
+            }
             _ => Ok(()),
         }
     }
