@@ -136,6 +136,23 @@ typedef struct bssrdf_channel_info {
     size_t table;         /* index of the table in the file */
 } bssrdf_channel_info;
 
+/* What a table of a library tabulates. */
+typedef struct bssrdf_table_info {
+    double eta;              /* relative index of refraction the table was baked for */
+    uint32_t model;          /* BSSRDF_MODEL_PBD_ANGULAR or BSSRDF_MODEL_WALK_ANGULAR */
+    uint32_t walk_component; /* walk tables: BSSRDF_WALK_MULTIPLE or BSSRDF_WALK_TOTAL; else 0 */
+    double walk_g;           /* walk tables: the Henyey-Greenstein g of the walk; else NaN */
+} bssrdf_table_info;
+
+/* bssrdf_table_info.model: photon beam diffusion tabulated (format model 1), or the Monte
+ * Carlo walk tabulated for one g (format model 3, `bssrdf bake --source walk`). Both are
+ * looked up alike. */
+#define BSSRDF_MODEL_PBD_ANGULAR 1u
+#define BSSRDF_MODEL_WALK_ANGULAR 3u
+/* bssrdf_table_info.walk_component: multiple scattering, or everything that leaves. */
+#define BSSRDF_WALK_MULTIPLE 0u
+#define BSSRDF_WALK_TOTAL 1u
+
 /* Opens the library file at `path` (NUL-terminated; any bytes on Unix, UTF-8 elsewhere) and
  * validates all of it (structure, checksums, every value finite). `flags` is BSSRDF_OPEN_MAP
  * or BSSRDF_OPEN_READ. Stores a new handle in *out_library (NULL on failure); free it with
@@ -149,6 +166,11 @@ void bssrdf_library_close(bssrdf_library *library);
 
 /* Number of tables (one per eta baked). */
 int bssrdf_library_table_count(const bssrdf_library *library, size_t *out_count);
+
+/* What table `index` tabulates: eta, model, and for a walk-angular table its g and component.
+ * BSSRDF_ERROR_NOT_FOUND for an index past the end. */
+int bssrdf_library_table_info(const bssrdf_library *library, size_t index,
+                              bssrdf_table_info *out_info);
 
 /* Number of materials. */
 int bssrdf_library_material_count(const bssrdf_library *library, size_t *out_count);

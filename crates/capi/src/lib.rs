@@ -184,6 +184,29 @@ pub struct bssrdf_channel_info {
     pub table: usize,
 }
 
+/// What a table of a library tabulates ([`bssrdf_library_table_info`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct bssrdf_table_info {
+    /// Relative index of refraction the table was baked for.
+    pub eta: f64,
+    /// [`BSSRDF_MODEL_PBD_ANGULAR`] or [`BSSRDF_MODEL_WALK_ANGULAR`].
+    pub model: u32,
+    /// For a walk-angular table, [`BSSRDF_WALK_MULTIPLE`] or [`BSSRDF_WALK_TOTAL`]; 0 otherwise.
+    pub walk_component: u32,
+    /// For a walk-angular table, the Henyey–Greenstein g of its walk; NaN otherwise.
+    pub walk_g: f64,
+}
+
+/// [`bssrdf_table_info::model`]: photon beam diffusion tabulated (format model 1).
+pub const BSSRDF_MODEL_PBD_ANGULAR: u32 = 1;
+/// [`bssrdf_table_info::model`]: the Monte Carlo walk tabulated for one g (format model 3).
+pub const BSSRDF_MODEL_WALK_ANGULAR: u32 = 3;
+/// [`bssrdf_table_info::walk_component`]: multiple scattering.
+pub const BSSRDF_WALK_MULTIPLE: u32 = 0;
+/// [`bssrdf_table_info::walk_component`]: everything that leaves, single scattering included.
+pub const BSSRDF_WALK_TOTAL: u32 = 1;
+
 /// The value behind a handle or input pointer, or a NULL-pointer failure naming it.
 ///
 /// # Safety
@@ -313,6 +336,40 @@ pub unsafe extern "C" fn bssrdf_library_table_count(
         let library = unsafe { input(library, c"library is NULL") }?;
         // SAFETY: the function's contract.
         *unsafe { output(out_count, c"out_count is NULL") }? = library.library.table_count();
+        Ok(())
+    })
+}
+
+/// Stores in `*out_info` what table `index` tabulates: its η, model, and for a walk-angular
+/// table the walk's g and component. [`BSSRDF_ERROR_NOT_FOUND`] for an index past the end.
+///
+/// # Safety
+/// `library` is NULL or an open handle; `out_info` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn bssrdf_library_table_info(
+    library: *const bssrdf_library,
+    index: usize,
+    out_info: *mut bssrdf_table_info,
+) -> c_int {
+    guard(|| {
+        // SAFETY: the function's contract.
+        let library = unsafe { input(library, c"library is NULL") }?;
+        // SAFETY: the function's contract.
+        let out = unsafe { output(out_info, c"out_info is NULL") }?;
+        let count = library.library.table_count();
+        let table = library.library.format().table(index).ok_or_else(|| {
+            Failure::text(
+                BSSRDF_ERROR_NOT_FOUND,
+                format!("no table {index}: the library holds {count}"),
+            )
+        })?;
+        let walk = table.walk();
+        *out = bssrdf_table_info {
+            eta: table.eta(),
+            model: table.model().code(),
+            walk_component: walk.map_or(0, |w| w.component.code()),
+            walk_g: walk.map_or(f64::NAN, |w| w.g),
+        };
         Ok(())
     })
 }

@@ -517,6 +517,19 @@ static void boundary_checks(const char *library_path) {
     same_status(0, "NULL out_count", bssrdf_library_table_count(library, NULL),
                 BSSRDF_ERROR_NULL_POINTER);
     same_status(0, "tables", bssrdf_library_table_count(library, &count), BSSRDF_OK);
+    {
+        /* The fixture's tables are PBD's: no walk, so no g (NaN) and component 0 */
+        bssrdf_table_info info;
+        same_status(0, "table info", bssrdf_library_table_info(library, 0, &info), BSSRDF_OK);
+        if (info.model != BSSRDF_MODEL_PBD_ANGULAR || info.walk_component != 0 ||
+            info.walk_g == info.walk_g || !(info.eta > 0.0)) {
+            fail(0, "table 0's info is not a PBD table's");
+        }
+        same_status(0, "table info past the end",
+                    bssrdf_library_table_info(library, count, &info), BSSRDF_ERROR_NOT_FOUND);
+        same_status(0, "NULL out_info", bssrdf_library_table_info(library, 0, NULL),
+                    BSSRDF_ERROR_NULL_POINTER);
+    }
     same_status(0, "materials", bssrdf_library_material_count(library, &count), BSSRDF_OK);
     same_status(0, "name", bssrdf_library_material_name(library, 0, &name), BSSRDF_OK);
     same_status(0, "name past the end", bssrdf_library_material_name(library, count, &name),
@@ -567,7 +580,8 @@ static void boundary_checks(const char *library_path) {
 typedef void (*any_function)(void);
 static const any_function every_function[] = {
     (any_function)bssrdf_library_open,           (any_function)bssrdf_library_close,
-    (any_function)bssrdf_library_table_count,    (any_function)bssrdf_library_material_count,
+    (any_function)bssrdf_library_table_count,    (any_function)bssrdf_library_table_info,
+    (any_function)bssrdf_library_material_count,
     (any_function)bssrdf_library_material_name,  (any_function)bssrdf_library_channel,
     (any_function)bssrdf_library_medium,         (any_function)bssrdf_channel_release,
     (any_function)bssrdf_channel_get_info,       (any_function)bssrdf_channel_eval,

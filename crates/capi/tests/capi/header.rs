@@ -214,8 +214,8 @@ fn the_header_structs_match_the_repr_c_structs_field_by_field() {
         checked += 1;
     }
     assert_eq!(
-        checked, 4,
-        "bssrdf_sample, bssrdf_radial_sample, bssrdf_path_sample, bssrdf_channel_info"
+        checked, 5,
+        "bssrdf_sample, bssrdf_radial_sample, bssrdf_path_sample, bssrdf_channel_info, bssrdf_table_info"
     );
 }
 

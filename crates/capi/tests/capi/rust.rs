@@ -433,6 +433,66 @@ fn a_valid_file_with_a_table_no_lookup_can_interpolate_opens_and_refuses_its_loo
 }
 
 #[test]
+fn table_info_names_the_model_and_a_walk_tables_g_and_component() {
+    // The conformance vector of a walk-angular table, and the spec's example (PBD)
+    let vector = |name: &str| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../tests/data/valid")
+            .join(name);
+        CString::new(path.to_str().unwrap()).unwrap()
+    };
+    let file = bssrdf_zoo::format::Library::read(
+        std::path::Path::new(vector("walk-table.bssrdf").to_str().unwrap()),
+        bssrdf_zoo::format::Verify::Full,
+    )
+    .unwrap();
+    let walk = file.table(0).unwrap().walk().unwrap();
+    let mut info = bssrdf_table_info {
+        eta: -1.0,
+        model: 99,
+        walk_component: 99,
+        walk_g: -9.0,
+    };
+    // SAFETY: live libraries and valid outputs; each library is closed once.
+    unsafe {
+        let library = open(&vector("walk-table.bssrdf"), BSSRDF_OPEN_READ);
+        expect(
+            bssrdf_library_table_info(library, 0, &mut info),
+            BSSRDF_OK,
+            "",
+        );
+        assert_eq!(info.model, BSSRDF_MODEL_WALK_ANGULAR);
+        assert_eq!(info.walk_g, walk.g);
+        assert_eq!(info.walk_component, walk.component.code());
+        assert_eq!(info.eta, file.table(0).unwrap().eta());
+        let status = bssrdf_library_table_info(library, 1, &mut info);
+        expect(
+            status,
+            BSSRDF_ERROR_NOT_FOUND,
+            "no table 1: the library holds 1",
+        );
+        let status = bssrdf_library_table_info(library, 0, null_mut());
+        expect(status, BSSRDF_ERROR_NULL_POINTER, "out_info is NULL");
+        let status = bssrdf_library_table_info(null(), 0, &mut info);
+        expect(status, BSSRDF_ERROR_NULL_POINTER, "library is NULL");
+        bssrdf_library_close(library);
+
+        let library = open(&vector("spec-example.bssrdf"), BSSRDF_OPEN_READ);
+        expect(
+            bssrdf_library_table_info(library, 0, &mut info),
+            BSSRDF_OK,
+            "",
+        );
+        assert_eq!(
+            (info.model, info.walk_component),
+            (BSSRDF_MODEL_PBD_ANGULAR, 0)
+        );
+        assert!(info.walk_g.is_nan());
+        bssrdf_library_close(library);
+    }
+}
+
+#[test]
 fn path_sampling_without_the_theta_table_is_no_sample() {
     let dir = tempfile::tempdir().unwrap();
     let path = crate::fixture::without_theta_sampling(dir.path(), &grid());
