@@ -17,8 +17,11 @@
  * stored values. So is required feature bit 2 (harmonics, format 1.2: a gwc-harmonics
  * section, kind 0x23, makes a table's profile two lobes); a file with such a section that
  * does not set the bit is rejected. So are required feature bits 3 (signed-lobes, format 1.3:
- * nodes of gwc-harmonics that are a sharp lobe less a broader one) and 4 (merged-roots,
- * format 1.4: how lookups rebuild two lobes from the harmonics). It does not check the
+ * nodes of gwc-harmonics that are a sharp lobe less a broader one), 4 (merged-roots,
+ * format 1.4: how lookups rebuild two lobes from the harmonics) and 5 (walk-tables, format
+ * 1.5: a table record of model 3, walk-angular, whose arrays are stored as a two-lobe
+ * table's); a file with a walk-angular record that does not set bit 5 is rejected. It does
+ * not check the
  * values themselves (finite, node rules and signed nodes of section 10). Files of any minor of major 1 are read, as section 4 requires of a
  * reader that implements every required bit the file sets.
  *
@@ -44,11 +47,15 @@
 #define CODEC_NONE 0u
 #define NO_TABLE 0xFFFFFFFFu
 /* Required feature bits this reader implements (section 4): bit 1, signed-floor, bit 2,
- * harmonics, bit 3, signed-lobes, and bit 4, merged-roots (it prints stored values, whose
- * storage no bit changes). */
-#define KNOWN_REQUIRED 0x1Eu
+ * harmonics, bit 3, signed-lobes, bit 4, merged-roots, and bit 5, walk-tables (it prints
+ * stored values, whose storage no bit changes). */
+#define KNOWN_REQUIRED 0x3Eu
 #define REQUIRED_HARMONICS 0x4u
+#define REQUIRED_WALK_TABLES 0x20u
+#define KIND_TABLES 0x1u
 #define KIND_HARMONICS 0x23u
+#define TABLE_RECORD_SIZE 64u
+#define MODEL_WALK_ANGULAR 3u
 
 static const unsigned char MAGIC[12] = {0x89, 'B', 'S', 'S', 'R', 'D',
                                         'F',  '\r', '\n', 0x1A, '\n', 0x00};
@@ -146,6 +153,20 @@ int main(int argc, char **argv) {
       return fail("gwc-harmonics section without required feature bit 2 (harmonics)");
     if (le16(e + 10) != CODEC_NONE)
       return fail("compressed section without required feature bit 0 (zstd)");
+    /* The tables section (kind 1, u8 records of dims[1] bytes, section 9): a walk-angular
+     * record (model 3 at byte 0) needs bit 5 */
+    if (le32(e) == KIND_TABLES && le32(e + 4) == NO_TABLE && le16(e + 14) == 2) {
+      uint64_t records = le32(e + 16), record_size = le32(e + 20);
+      uint64_t offset = le64(e + 32), stored = le64(e + 40);
+      if (record_size < TABLE_RECORD_SIZE || offset > size || stored > size - offset ||
+          records > stored / record_size)
+        return fail("tables section out of bounds or with records shorter than 64 bytes");
+      for (uint64_t t = 0; t < records; t++) {
+        if (le32(f + offset + t * record_size) == MODEL_WALK_ANGULAR &&
+            (required & REQUIRED_WALK_TABLES) == 0)
+          return fail("walk-angular table without required feature bit 5 (walk-tables)");
+      }
+    }
   }
 
   /* Directory (section 5): find the entry. */

@@ -135,6 +135,8 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
     assert_eq!((code, stdout.as_str()), (0, "3ee624dd 0.449499995\n"));
     // Format 1.4 with required feature bit 4: a merged pair's stored r·μ₃ at node (0, 0, 1).
     same_harmonic("merged-roots", 2);
+    // Format 1.5 with required feature bit 5: a walk-angular table's arrays, stored alike.
+    same_harmonic("walk-table", 1);
     for (file, why) in [
         ("invalid/bad-magic", "magic"),
         ("invalid/unsupported-major", "version"),
@@ -151,6 +153,10 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
         (
             "invalid/feature-not-declared",
             "a compressed section without bit 0",
+        ),
+        (
+            "invalid/walk-tables-not-declared",
+            "a walk-angular table without bit 5",
         ),
     ] {
         let (code, _) = run(&exe, &data.join(format!("{file}.bssrdf")), 0, gwc, 0);
