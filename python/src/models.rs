@@ -37,7 +37,8 @@ struct Built {
 /// `eta` defaults to the table's η for the table models given `table`, else 1.33; `moments` is
 /// "exact" (default; the table's with `table`), "pbrt", or for `dirpole` "authors". The table
 /// models (`table`, `perpendicular`) look up `table` or a table baked once at η on `grid`
-/// (counts (nρ, nθ, nr); default: the default grid). `mc` runs a walk of `photons` photons from
+/// (counts (nρ, nθ, nr); default: the default grid); `walk-table` looks up `table`, which must
+/// be a walk-angular table (`bssrdf bake --source walk`) of g `g`. `mc` runs a walk of `photons` photons from
 /// `seed` for each (ρ′, θ), as `bssrdf eval --model mc` does. A model is built once for each
 /// run of points sharing its parameters. Where no light enters (η < 1 beyond the critical
 /// angle) every model gives 0.
@@ -61,7 +62,10 @@ pub fn model_eval<'py>(
     #[pyo3(from_py_with = crate::args::seed)] seed: u64,
 ) -> PyResult<Bound<'py, PyAny>> {
     let kind: ModelKind = name.parse().map_err(errors::value)?;
-    let uses_table = matches!(kind, ModelKind::Table | ModelKind::Perpendicular);
+    let uses_table = matches!(
+        kind,
+        ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable
+    );
     let mut options = Options::default();
     options.mc.photons = photons;
     options.mc.seed = seed;
@@ -82,7 +86,15 @@ pub fn model_eval<'py>(
         (None, Some(t)) => t.moments(),
         (None, None) => Moments::Exact,
     };
-    if uses_table {
+    if kind == ModelKind::WalkTable {
+        // The walk table is the one given: baked beforehand for one (η, g), never here
+        let table = file_table.ok_or_else(|| {
+            errors::value(
+                "the walk-table model needs table=, a walk-angular table (`bssrdf bake --source walk`)",
+            )
+        })?;
+        options.walk_table = Some(Arc::new(table));
+    } else if uses_table {
         let shared = match file_table {
             Some(t) => Arc::new(t),
             None => {

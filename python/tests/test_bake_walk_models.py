@@ -1,5 +1,6 @@
 """Bakes in memory and to files, the model zoo at numpy points, the walk's arrays."""
 
+import pathlib
 import threading
 import time
 import warnings
@@ -52,7 +53,7 @@ def test_a_bake_above_the_checks_bound_warns():
         bz.bake(1.33, grid=(6, 4, 10))
 
 
-@pytest.mark.parametrize("name", bz.models.names())
+@pytest.mark.parametrize("name", [n for n in bz.models.names() if n != "walk-table"])
 def test_every_model_evaluates_at_numpy_points(table, name):
     theta = np.array([0.0, 0.5, 1.0])
     kwargs = {"table": table} if name in ("table", "perpendicular") else {"eta": 1.33}
@@ -63,6 +64,23 @@ def test_every_model_evaluates_at_numpy_points(table, name):
     assert np.all(np.isfinite(values)) and np.all(values >= 0)
     world = bz.models.eval(name, 0.8, theta[:, None], np.array([0.5, 1.0, 2.0]) / 2.0, 0.0, sigma_t=2.0, **kwargs)
     assert world.tobytes() == (2.0 * 2.0 * values).tobytes()
+
+
+def test_the_walk_table_model_looks_up_the_walk_table_it_is_given(table):
+    """The conformance vector of a walk-angular table (g 0.75): the walk-table model is its
+    lookups; it needs that table, of its g, and refuses a PBD table."""
+    path = pathlib.Path(__file__).parents[2] / "tests" / "data" / "valid" / "walk-table.bssrdf"
+    walk = bz.Library.read(str(path)).table(0)
+    assert walk.model == "walk-angular" and walk.walk_g == 0.75
+    theta, r = np.array([0.0, 0.3, 0.6]), np.array([0.02, 0.03, 0.04])
+    values = bz.models.eval("walk-table", 0.5, theta[:, None], r, 0.0, table=walk, g=0.75)
+    assert values.tobytes() == walk.eval(0.5, theta[:, None], r, 0.0).tobytes()
+    with pytest.raises(ValueError, match="needs table="):
+        bz.models.eval("walk-table", 0.5, 0.3, 0.03, 0.0, g=0.75)
+    with pytest.raises(ValueError, match="PBD table"):
+        bz.models.eval("walk-table", 0.5, 0.3, 0.03, 0.0, table=table)
+    with pytest.raises(ValueError, match="walk table g"):
+        bz.models.eval("walk-table", 0.5, 0.3, 0.03, 0.0, table=walk, g=0.5)
 
 
 def test_a_table_model_bakes_its_own_table_when_given_none():
