@@ -302,7 +302,7 @@ pub struct Options {
     pub burley: burley::BurleyOptions,
     /// Where the table models get their table.
     pub table: table::TableSource,
-    /// The walk table of [`ModelKind::WalkTable`] (a walk-angular table, [`AngularTable::walk`]),
+    /// The walk table of [`ModelKind::WalkTable`] (a walk-angular table, [`crate::table::AngularTable::walk`]),
     /// for the model's η and g.
     pub walk_table: Option<std::sync::Arc<crate::table::AngularTable>>,
     /// The Monte Carlo model.
