@@ -326,25 +326,8 @@ pub fn bake_lobes(
 ) -> Result<(AngularTable, BakeReport)> {
     let start = Instant::now();
     let boundary = Boundary::new(eta, moments)?;
-    for &rho in &grid.rho {
-        crate::error::in_range("rho node", rho, 0.0, 1.0)?;
-    }
-    for &theta in &grid.theta {
-        // π/2 rounded to f32 is 1.5707964, a hair above the f64 π/2: allowed and clamped.
-        crate::error::in_range("theta node", theta, 0.0, f64::from((0.5 * PI) as f32))?;
-    }
-    for &r in &grid.r {
-        crate::error::in_range("r node", r, 0.0, f64::MAX)?;
-    }
-    // Nodes are stored as f32: bake at the f32 values so a table read back from a file has
-    // exactly the axes it was baked on.
-    let round = |v: &[f64]| -> Vec<f64> { v.iter().map(|&x| f64::from(x as f32)).collect() };
-    let grid = &Grid {
-        rho: round(&grid.rho),
-        theta: round(&grid.theta),
-        r: round(&grid.r),
-    };
-    let axes = Axes::new(grid.rho.clone(), grid.theta.clone(), grid.r.clone())?;
+    let (grid, axes) = checked_grid(grid)?;
+    let grid = &grid;
     let (n_rho, n_theta, n_r) = axes.dims();
     let anchors = ANCHOR_COS.map(f64::acos);
 
@@ -428,6 +411,30 @@ pub fn bake_lobes(
         refined,
     };
     Ok((table, report))
+}
+
+/// The grid a bake bakes on, checked (ρ′ nodes in [0, 1], θ in [0, π/2], r ≥ 0), with its node
+/// values rounded to f32: a table read back from a file then has exactly the axes it was baked
+/// on. With the table's axes.
+pub(super) fn checked_grid(grid: &Grid) -> Result<(Grid, Axes)> {
+    for &rho in &grid.rho {
+        crate::error::in_range("rho node", rho, 0.0, 1.0)?;
+    }
+    for &theta in &grid.theta {
+        // π/2 rounded to f32 is 1.5707964, a hair above the f64 π/2: allowed and clamped.
+        crate::error::in_range("theta node", theta, 0.0, f64::from((0.5 * PI) as f32))?;
+    }
+    for &r in &grid.r {
+        crate::error::in_range("r node", r, 0.0, f64::MAX)?;
+    }
+    let round = |v: &[f64]| -> Vec<f64> { v.iter().map(|&x| f64::from(x as f32)).collect() };
+    let grid = Grid {
+        rho: round(&grid.rho),
+        theta: round(&grid.theta),
+        r: round(&grid.r),
+    };
+    let axes = Axes::new(grid.rho.clone(), grid.theta.clone(), grid.r.clone())?;
+    Ok((grid, axes))
 }
 
 /// The table of a bake's node values (`params`, and `harmonics`, empty with one lobe, in the

@@ -48,11 +48,11 @@
 //! ≤ 0.999 and above, the last with an eighth of the photons.
 
 use super::bake::{
-    assemble, beam_in_surface, node_cell, r0_concentration, to_f32, two_lobe_azimuths,
-    two_lobe_node_of, within_floor,
+    assemble, beam_in_surface, checked_grid, node_cell, r0_concentration, to_f32,
+    two_lobe_azimuths, two_lobe_node_of, within_floor,
 };
-use super::{AngularTable, Axes, Grid, PARAMS_PER_NODE};
-use crate::error::{in_range, Error, Result};
+use super::{AngularTable, Grid, PARAMS_PER_NODE};
+use crate::error::{Error, Result};
 use crate::fresnel::Moments;
 use crate::gwc::one_lobe_of;
 use crate::medium::Boundary;
@@ -134,19 +134,8 @@ pub fn bake_walk(
     let start = Instant::now();
     let (eta, grid) = (config.eta, &config.grid);
     let boundary = Boundary::new(eta, Moments::Exact)?;
-    for &rho in &grid.rho {
-        in_range("rho node", rho, 0.0, 1.0)?;
-    }
-    for &theta in &grid.theta {
-        in_range("theta node", theta, 0.0, f64::from((0.5 * PI) as f32))?;
-    }
-    let round = |v: &[f64]| -> Vec<f64> { v.iter().map(|&x| f64::from(x as f32)).collect() };
-    let grid = &Grid {
-        rho: round(&grid.rho),
-        theta: round(&grid.theta),
-        r: round(&grid.r),
-    };
-    let axes = Axes::new(grid.rho.clone(), grid.theta.clone(), grid.r.clone())?;
+    let (grid, axes) = checked_grid(grid)?;
+    let grid = &grid;
     let (n_rho, n_theta, n_r) = axes.dims();
     let groups = row_groups(&grid.rho);
     for (_, share) in groups.iter().filter(|(rows, _)| !rows.is_empty()) {

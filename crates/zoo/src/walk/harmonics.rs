@@ -47,7 +47,6 @@ use super::transport::Medium;
 use super::{Component, BLOCK};
 use crate::error::{finite, in_range, Error, Result};
 use rayon::prelude::*;
-use std::f64::consts::FRAC_PI_2;
 
 /// Harmonics per node: μ₀ … μ₄.
 pub const HARMONICS: usize = 5;
@@ -286,20 +285,7 @@ impl HarmonicsConfig {
         for &rho in &self.rho {
             in_range("rho", rho, 0.0, 1.0)?;
         }
-        finite("g", self.g)?;
-        if self.g.abs() >= 1.0 {
-            return Err(Error::AsymmetryOutOfRange(self.g));
-        }
-        crate::medium::validate_eta(self.eta)?;
-        in_range("theta", self.theta, 0.0, FRAC_PI_2)?;
-        if self.eta < 1.0 && self.theta.sin() > self.eta {
-            return Err(Error::OutOfRange {
-                name: "theta",
-                value: self.theta,
-                min: 0.0,
-                max: self.eta.asin(),
-            });
-        }
+        super::validate_beam(self.g, self.eta, self.theta)?;
         if self.r.len() < 2 {
             return Err(Error::CountOutOfRange {
                 name: "r nodes",

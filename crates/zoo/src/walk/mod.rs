@@ -178,21 +178,7 @@ impl Config {
     /// Checks every parameter, naming the first bad one.
     pub fn validate(&self) -> Result<()> {
         in_range("albedo", self.albedo, 0.0, 1.0)?;
-        finite("g", self.g)?;
-        if self.g.abs() >= 1.0 {
-            return Err(Error::AsymmetryOutOfRange(self.g));
-        }
-        crate::medium::validate_eta(self.eta)?;
-        in_range("theta", self.theta, 0.0, FRAC_PI_2)?;
-        if self.eta < 1.0 && self.theta.sin() > self.eta {
-            // Total reflection at entry: no power enters to normalise by.
-            return Err(Error::OutOfRange {
-                name: "theta",
-                value: self.theta,
-                min: 0.0,
-                max: self.eta.asin(),
-            });
-        }
+        validate_beam(self.g, self.eta, self.theta)?;
         // A standard error needs two photons; every estimate of the walk carries one
         if self.photons < MIN_PHOTONS {
             return Err(Error::CountOutOfRange {
@@ -221,6 +207,27 @@ impl Config {
         };
         Medium::new(self.albedo, self.g, self.eta, self.theta, thickness)
     }
+}
+
+/// Checks the phase function and the beam of a walk: g in (−1, 1), η in the models' domain, θ
+/// in [0, π/2] and, below η = 1, at most the critical angle (beyond it no power enters to
+/// normalise by).
+pub(crate) fn validate_beam(g: f64, eta: f64, theta: f64) -> Result<()> {
+    finite("g", g)?;
+    if g.abs() >= 1.0 {
+        return Err(Error::AsymmetryOutOfRange(g));
+    }
+    crate::medium::validate_eta(eta)?;
+    in_range("theta", theta, 0.0, FRAC_PI_2)?;
+    if eta < 1.0 && theta.sin() > eta {
+        return Err(Error::OutOfRange {
+            name: "theta",
+            value: theta,
+            min: 0.0,
+            max: eta.asin(),
+        });
+    }
+    Ok(())
 }
 
 /// Traces `config.photons` photons and returns the tallies.

@@ -760,9 +760,9 @@ fn walk_harmonics(rho: &[f64], g: f64, theta_deg: f64, photons: u64, seed: u64) 
 }
 
 /// The hat kernel of node i of `r` (r[i − 1] > 0 or i = 1 with r[0] = 0) over ln r, as
-/// harmonics.rs documents it, written out here: its weight at radius x per unit ln r, and the
-/// kernel average of f over ln r by Gauss–Legendre on each side.
-fn kernel_average(r: &[f64], i: usize, f: impl Fn(f64) -> f64) -> f64 {
+/// harmonics.rs documents it, written out here: its weight at ln-radius u per unit ln r,
+/// normalised to integrate to 1.
+fn hat(r: &[f64], i: usize, u: f64) -> f64 {
     let c = r[i].ln();
     let right = if i + 1 < r.len() {
         r[i + 1].ln() - c
@@ -774,10 +774,27 @@ fn kernel_average(r: &[f64], i: usize, f: impl Fn(f64) -> f64) -> f64 {
     } else {
         right
     };
+    let h = if u < c {
+        1.0 - (c - u) / left
+    } else {
+        1.0 - (u - c) / right
+    };
+    h.max(0.0) / (0.5 * (left + right))
+}
+
+/// The average of f over the hat kernel of node i ([`hat`]), by Gauss–Legendre over ln r on
+/// each side of the node (the hat's kink).
+fn kernel_average(r: &[f64], i: usize, f: impl Fn(f64) -> f64) -> f64 {
+    // Below a node whose neighbour is 0 the hat is as wide as above it
+    let below = if r[i - 1] > 0.0 {
+        r[i - 1]
+    } else {
+        r[i] * r[i] / r[i + 1]
+    };
+    let (lo, c, hi) = (below.ln(), r[i].ln(), r[i + 1].ln());
     let rule = crate::quadrature::GaussLegendre::new(24);
-    let lower = rule.integrate(c - left, c, |u| (1.0 - (c - u) / left) * f(u.exp()));
-    let upper = rule.integrate(c, c + right, |u| (1.0 - (u - c) / right) * f(u.exp()));
-    (lower + upper) / (0.5 * (left + right))
+    let g = |u: f64| hat(r, i, u) * f(u.exp());
+    rule.integrate(lo, c, g) + rule.integrate(c, hi, g)
 }
 
 #[test]
@@ -841,25 +858,8 @@ fn harmonics_one_row_is_the_sum_over_its_walks_exits() {
             let x = e.x.hypot(e.y) * s;
             let phi = e.y.atan2(e.x);
             for i in 1..r.len() {
-                let c = r[i].ln();
-                let right = if i + 1 < r.len() {
-                    r[i + 1].ln() - c
-                } else {
-                    c - r[i - 1].ln()
-                };
-                let left = if r[i - 1] > 0.0 {
-                    c - r[i - 1].ln()
-                } else {
-                    right
-                };
-                let u = x.ln() - c;
-                let hat = if u < 0.0 {
-                    1.0 + u / left
-                } else {
-                    1.0 - u / right
-                };
-                if hat > 0.0 {
-                    let k = e.weight * hat / (0.5 * (left + right)) / (x * x);
+                let k = e.weight * hat(&r, i, x.ln()) / (x * x);
+                if k > 0.0 {
                     for (n, v) in sums[i].iter_mut().enumerate() {
                         *v += k * (n as f64 * phi).cos();
                     }
