@@ -223,7 +223,7 @@ def model_eval(
     phi: ArrayLike,
     *,
     eta: Optional[float] = None,
-    g: float = 0.0,
+    g: Optional[float] = None,
     sigma_t: Optional[ArrayLike] = None,
     moments: Optional[str] = None,
     table: Optional[Table] = None,

@@ -38,12 +38,12 @@ struct Built {
 /// "exact" (default; the table's with `table`), "pbrt", or for `dirpole` "authors". The table
 /// models (`table`, `perpendicular`) look up `table` or a table baked once at η on `grid`
 /// (counts (nρ, nθ, nr); default: the default grid); `walk-table` looks up `table`, which must
-/// be a walk-angular table (`bssrdf bake --source walk`) of g `g`. `mc` runs a walk of `photons` photons from
+/// be a walk-angular table (`bssrdf bake --source walk`); `g` defaults to its g (else 0). `mc` runs a walk of `photons` photons from
 /// `seed` for each (ρ′, θ), as `bssrdf eval --model mc` does. A model is built once for each
 /// run of points sharing its parameters. Where no light enters (η < 1 beyond the critical
 /// angle) every model gives 0.
 #[pyfunction]
-#[pyo3(signature = (name, rho, theta, r, phi, *, eta = None, g = 0.0, sigma_t = None, moments = None, table = None, grid = None, photons = 100_000, seed = 1))]
+#[pyo3(signature = (name, rho, theta, r, phi, *, eta = None, g = None, sigma_t = None, moments = None, table = None, grid = None, photons = 100_000, seed = 1))]
 #[allow(clippy::too_many_arguments)]
 pub fn model_eval<'py>(
     py: Python<'py>,
@@ -53,7 +53,7 @@ pub fn model_eval<'py>(
     r: Arg<'py>,
     phi: Arg<'py>,
     eta: Option<f64>,
-    g: f64,
+    g: Option<f64>,
     sigma_t: Option<Arg<'py>>,
     moments: Option<&str>,
     table: Option<PyRef<'py, Table>>,
@@ -72,6 +72,27 @@ pub fn model_eval<'py>(
     let file_table = match (&table, uses_table) {
         (Some(t), true) => Some(t.owned_table()?),
         _ => None,
+    };
+    // A walk table is the walk-table model's, a PBD table the table models' (as `bssrdf eval`)
+    if let Some(t) = &file_table {
+        match (kind, t.walk()) {
+            (ModelKind::Table | ModelKind::Perpendicular, Some(_)) => {
+                return Err(errors::value(
+                    "table= is a walk-angular table (`bssrdf bake --source walk`): the walk-table model evaluates it",
+                ))
+            }
+            (ModelKind::WalkTable, None) => {
+                return Err(errors::value(
+                    "the walk-table model's table is a PBD table, not a walk-angular one",
+                ))
+            }
+            _ => {}
+        }
+    }
+    // The walk table's g unless given
+    let g = match (&file_table, g) {
+        (Some(t), None) if kind == ModelKind::WalkTable => t.walk().map_or(0.0, |w| w.g),
+        (_, g) => g.unwrap_or(0.0),
     };
     let eta = match (&file_table, eta) {
         (Some(t), None) => t.eta(),

@@ -73,11 +73,13 @@ def test_the_walk_table_model_looks_up_the_walk_table_it_is_given(table):
     walk = bz.Library.read(str(path)).table(0)
     assert walk.model == "walk-angular" and walk.walk_g == 0.75
     theta, r = np.array([0.0, 0.3, 0.6]), np.array([0.02, 0.03, 0.04])
-    values = bz.models.eval("walk-table", 0.5, theta[:, None], r, 0.0, table=walk, g=0.75)
+    values = bz.models.eval("walk-table", 0.5, theta[:, None], r, 0.0, table=walk)
     assert values.tobytes() == walk.eval(0.5, theta[:, None], r, 0.0).tobytes()
+    with pytest.raises(ValueError, match="walk-table model evaluates it"):
+        bz.models.eval("table", 0.5, 0.3, 0.03, 0.0, table=walk)
     with pytest.raises(ValueError, match="needs table="):
         bz.models.eval("walk-table", 0.5, 0.3, 0.03, 0.0, g=0.75)
-    with pytest.raises(ValueError, match="PBD table"):
+    with pytest.raises(ValueError, match="is a PBD table"):
         bz.models.eval("walk-table", 0.5, 0.3, 0.03, 0.0, table=table)
     with pytest.raises(ValueError, match="walk table g"):
         bz.models.eval("walk-table", 0.5, 0.3, 0.03, 0.0, table=walk, g=0.5)

@@ -28,6 +28,16 @@ pub enum GridArg {
     Fine,
 }
 
+impl From<GridArg> for GridPreset {
+    fn from(grid: GridArg) -> Self {
+        match grid {
+            GridArg::Coarse => GridPreset::Coarse,
+            GridArg::Default => GridPreset::Default,
+            GridArg::Fine => GridPreset::Fine,
+        }
+    }
+}
+
 /// `--lobes`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(super) enum LobesArg {
@@ -166,12 +176,7 @@ fn parse_g(text: &str) -> Result<[f64; 3], String> {
 
 /// The library's bake of these arguments ([`bssrdf_zoo::bake`]).
 pub(super) fn baker(args: &BakeArgs) -> Baker {
-    let preset = match args.grid {
-        GridArg::Coarse => GridPreset::Coarse,
-        GridArg::Default => GridPreset::Default,
-        GridArg::Fine => GridPreset::Fine,
-    };
-    Baker::new(preset)
+    Baker::new(GridPreset::from(args.grid))
         .with_moments(args.fresnel_moments.into())
         .with_lobes(match args.lobes {
             LobesArg::Auto => None,

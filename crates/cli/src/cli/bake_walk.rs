@@ -1,7 +1,7 @@
 //! `bssrdf bake --source walk`: one walk-angular table for one (η, g), measured from the Monte
 //! Carlo walk (`bssrdf_zoo::bake::bake_walk_library`), written atomically with its provenance.
 
-use super::bake::{table_summary, BakeArgs, GridArg, LobesArg, Summary};
+use super::bake::{table_summary, BakeArgs, LobesArg, Summary};
 use super::eval::MomentsArg;
 use super::CliError;
 use bssrdf_zoo::bake::{bake_walk_library, BakeError, BakeGrid, WalkSettings};
@@ -21,8 +21,11 @@ pub const DEFAULT_WALK_PHOTONS: u64 = 250_000;
 /// Seed of a walk bake without --seed.
 pub const DEFAULT_WALK_SEED: u64 = 1;
 
-/// The fewest --photons: the last group of rows takes 1/8 of them and needs two blocks.
+/// The fewest --photons: the last group of rows takes 1/8 of them and needs 16 blocks.
 const MIN_WALK_PHOTONS: u64 = MIN_HARMONICS_PHOTONS * WALK_LAST_GROUP_SHARE;
+
+/// The most --photons (per θ node and group: days of walking already).
+const MAX_WALK_PHOTONS: u64 = 1_000_000_000_000;
 
 /// Refuses what a walk bake cannot take: materials and scenes (a walk table is one (η, g)),
 /// and the flags of PBD bakes that would change nothing here.
@@ -70,25 +73,29 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
     )?;
     let g = match args.g {
         None => 0.0,
-        Some([r, g, b]) if r == g && g == b => r,
+        Some([r, g, b]) if r.to_bits() == g.to_bits() && g.to_bits() == b.to_bits() => r,
         Some(rgb) => {
             return Err(CliError::input(format!(
                 "--g {rgb:?}: a walk table holds one g; bake one table per g"
             )))
         }
     };
+    super::check_range(
+        "--g",
+        g,
+        (
+            std::ops::Bound::Excluded(-1.0),
+            std::ops::Bound::Excluded(1.0),
+        ),
+    )?;
     let photons = args.photons.unwrap_or(DEFAULT_WALK_PHOTONS);
-    if photons < MIN_WALK_PHOTONS {
+    if !(MIN_WALK_PHOTONS..=MAX_WALK_PHOTONS).contains(&photons) {
         return Err(CliError::input(format!(
-            "--photons {photons} is outside the valid range: at least {MIN_WALK_PHOTONS} (the rows above rho' = 0.999 walk 1/{WALK_LAST_GROUP_SHARE} of them, and a standard error needs two blocks of {} photons)",
+            "--photons {photons} is outside the valid range: [{MIN_WALK_PHOTONS}, {MAX_WALK_PHOTONS}] (the rows above rho' = 0.999 walk 1/{WALK_LAST_GROUP_SHARE} of them, and their standard errors need 16 blocks of {} photons)",
             bssrdf_zoo::walk::BLOCK
         )));
     }
-    let preset = match args.grid {
-        GridArg::Coarse => GridPreset::Coarse,
-        GridArg::Default => GridPreset::Default,
-        GridArg::Fine => GridPreset::Fine,
-    };
+    let preset = GridPreset::from(args.grid);
     let settings = WalkSettings {
         grid: BakeGrid::Preset(preset),
         eta,
@@ -153,6 +160,14 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
     summary["photons"] = json!(report.photons);
     summary["median_rel_stderr"] = json!(report.median_rel_stderr);
     summary["p90_rel_stderr"] = json!(report.p90_rel_stderr);
+    summary["rows_from_pbd"] = json!(report.rows_from_pbd);
+    let mut warnings = Vec::new();
+    if report.rows_from_pbd > 0 {
+        warnings.push(format!(
+            "{} (albedo, incidence) row(s) had no radius the walk measured within 30 %: they hold PBD's profile; more --photons measure them",
+            report.rows_from_pbd
+        ));
+    }
     Summary {
         output: &output,
         bytes,
@@ -161,7 +176,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
         seconds: report.seconds,
         tables: vec![summary],
         materials: Vec::new(),
-        warnings: Vec::new(),
+        warnings,
     }
     .print_with(args, compression != Compression::None)?;
     Ok(ExitCode::SUCCESS)

@@ -58,7 +58,8 @@ impl From<MomentsArg> for Moments {
 pub struct EvalArgs {
     /// Library file (needed by the table models).
     file: Option<PathBuf>,
-    /// Model to evaluate (default: table with FILE, pbd without).
+    /// Model to evaluate (default: table with FILE, walk-table for a table of FILE baked from
+    /// the walk, pbd without FILE).
     #[arg(long, value_enum)]
     model: Option<ModelKind>,
     /// Reduced albedo ρ′ = σ′s/σ′t, in [0, 1] (not with --material, which gives it).

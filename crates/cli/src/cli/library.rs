@@ -319,8 +319,10 @@ pub fn walk_table(flag: &str, path: &Path, eta: f64, g: f64) -> Result<AngularTa
         let table = FileTable::new(record)
             .and_then(|t| t.to_owned_table())
             .map_err(|e| CliError::input(format!("{flag} {}: table {i}: {e}", path.display())))?;
+        if table.is_walk_at(eta, g) {
+            return Ok(table);
+        }
         match table.walk() {
-            Some(walk) if table.eta() == eta && walk.g == g => return Ok(table),
             Some(walk) => found.push(format!(
                 "a walk table at eta {}, g {}",
                 super::show(table.eta()),

@@ -311,7 +311,7 @@ fn check_used(args: &RenderArgs) -> Result<(), CliError> {
     let bakes = |m: &&ModelKind| !matches!(m, ModelKind::MonteCarlo | ModelKind::WalkTable);
     if args.grid.is_some() && !models.iter().any(|m| bakes(&m)) {
         return Err(CliError::input(
-            "--grid applies to the tables a render bakes; the mc model bakes none, and the walk-table model's table has its own grid",
+            "--grid applies to the table models a render bakes tables for; the mc model bakes none, and the walk-table model's table has its own grid",
         ));
     }
     match (args.walk_table.is_some(), models.contains(&ModelKind::WalkTable)) {

@@ -256,6 +256,10 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             "skipped": skipped,
             "pass": pass,
             "tables": per_table,
+            "skipped_tables": walks
+                .iter()
+                .map(|(i, _)| json!({ "table": i, "reason": pointer }))
+                .collect::<Vec<_>>(),
             "rows": rows,
         });
         writeln!(out, "{json}")?;
@@ -328,9 +332,13 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             0 => String::new(),
             n => format!(", {n} inconclusive"),
         };
+        let walk_tables = match walks.len() {
+            0 => String::new(),
+            n => format!(" ({n} walk-angular table(s) not checked)"),
+        };
         writeln!(
             out,
-            "{} table(s), {checked} case(s) checked, {failed} failed{inconclusive}, {skipped} skipped: {verdict}",
+            "{} table(s){walk_tables}, {checked} case(s) checked, {failed} failed{inconclusive}, {skipped} skipped: {verdict}",
             checked_tables.len()
         )?;
     }

@@ -29,10 +29,18 @@ fn a_walk_bake_refuses_what_it_would_not_use() {
         "--eta 3 is outside the valid range: [0.75, 2.5]",
     );
     refused(&["--eta", "1.33", "--g", "0.1,0.2,0.3"], "one g");
-    refused(&["--eta", "1.33", "--g", "1"], "g = 1");
+    refused(
+        &["--eta", "1.33", "--g", "1"],
+        "--g 1 is outside the valid range: (-1, 1)",
+    );
+    refused(&["--eta", "1.33", "--g", "nan"], "--g NaN is outside");
+    refused(
+        &["--eta", "1.33", "--photons", "1e13"],
+        "--photons 10000000000000 is outside",
+    );
     refused(
         &["--eta", "1.33", "--photons", "100"],
-        "--photons 100 is outside the valid range: at least 16384",
+        "--photons 100 is outside the valid range: [131072, 1000000000000]",
     );
     assert!(!d.join("w.bssrdf").exists());
     // And a PBD bake refuses the walk's flags
@@ -60,7 +68,7 @@ fn walk_table(d: &std::path::Path) {
             "--grid",
             "coarse",
             "--photons",
-            "16384",
+            "131072",
             "-q",
             "-o",
             "w.bssrdf",

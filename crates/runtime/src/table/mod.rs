@@ -501,6 +501,12 @@ impl AngularTable {
         self.walk
     }
 
+    /// Whether this is a table of the walk at exactly `eta` and `g`: the values a file stores
+    /// are the ones the bake was given, so a medium of that (η, g) compares equal.
+    pub fn is_walk_at(&self, eta: f64, g: f64) -> bool {
+        self.walk.is_some_and(|w| w.g == g) && self.eta == eta
+    }
+
     /// This table with a second lobe (validated as in [`TableRef::with_harmonics`]), rebuilt as
     /// this crate bakes ([`Rebuild::MergedRoots`]).
     pub fn with_harmonics(self, harmonics: Vec<f32>) -> Result<Self, TableError> {

@@ -151,6 +151,7 @@ fn provenance(
                 "scattering_events": report.scattering_events,
                 "median_rel_stderr": report.median_rel_stderr,
                 "p90_rel_stderr": report.p90_rel_stderr,
+                "rows_from_pbd": report.rows_from_pbd,
                 "of": "the measured mu_0 of the nodes with rho' >= 0.1 and r in [0.01, 20] reduced mfp, before smoothing",
             }
         }))?;

@@ -114,8 +114,8 @@ impl TableModel {
         })
     }
 
-    /// The walk-table model: `table`, a walk-angular table for the parameters' η and g (both
-    /// within 10⁻⁶; a walk table holds one g), at their ρ′.
+    /// The walk-table model: `table`, a walk-angular table for the parameters' η and g (a walk
+    /// table holds one g: [`AngularTable::is_walk_at`]), at their ρ′.
     pub fn walk(params: &Params, table: Option<&Arc<AngularTable>>) -> Result<Self> {
         let Some(table) = table else {
             return Err(Error::Mismatch {
@@ -132,7 +132,7 @@ impl TableModel {
                 expected: "a walk-angular table (`bssrdf bake --source walk`)".to_string(),
             });
         };
-        if (walk.g - params.g()).abs() > 1e-6 {
+        if !table.is_walk_at(table.eta(), params.g()) {
             return Err(Error::Mismatch {
                 name: "walk table g",
                 found: walk.g.to_string(),

@@ -318,22 +318,16 @@ fn walk_table_for(config: &Config, material: &Material) -> Result<AngularTable, 
             why: "the table is a PBD table, not a walk-angular one".into(),
         });
     };
-    if (table.eta() - material.eta()).abs() > 1e-9 {
-        return Err(RenderError::WalkTable {
-            why: format!(
-                "the table's eta {} is not the material's {}",
-                table.eta(),
-                material.eta()
-            ),
-        });
-    }
     for c in Rgb::ALL {
         let g = material.channel(c).g();
-        if (g - walk.g).abs() > 1e-6 {
+        if !table.is_walk_at(material.eta(), g) {
             return Err(RenderError::WalkTable {
                 why: format!(
-                    "the table's g {} is not the material's {} in channel {c:?} (a walk table holds one g)",
-                    walk.g, g
+                    "the table is the walk at eta {}, g {}; the material's channel {c:?} has eta {}, g {} (a walk table holds one g)",
+                    table.eta(),
+                    walk.g,
+                    material.eta(),
+                    g
                 ),
             });
         }

@@ -363,7 +363,7 @@ pub fn bake_lobes(
                     let [e, e_beta, c, m3, m4] = match crate::fresnel::refracted_cos(theta, eta) {
                         Some(cos_t) if cos_t < RESCALE_BELOW_COS && e > 0.0 => {
                             // The fit's shape with the profile's own energy
-                            let k = r * surface_harmonics(&pbd, r, Some(theta))[0] / e;
+                            let k = r * surface_harmonics::<5>(&pbd, r, Some(theta))[0] / e;
                             [e * k, e_beta * k, c, m3 * k, m4 * k]
                         }
                         _ => [e, e_beta, c, m3, m4],
@@ -743,7 +743,7 @@ pub(super) fn within_floor(beta: f64, c: f64, e: f64) -> f64 {
     }
 }
 
-/// The harmonics μₙ = ∫ S cos nφ dφ over [−π, π], n = 0 … 4, at radius r > 0 of PBD at
+/// The harmonics μₙ = ∫ S cos nφ dφ over [−π, π], n = 0 … N − 1 (0 … 4 for the bake), at radius r > 0 of PBD at
 /// incidence `theta`, or (`None`) of the limit θ′ → 90°: PBD with the beam in the surface
 /// ([`Pbd::eval_surface_beam`]) plus its ridge. Integrated by 8-point
 /// Gauss-Legendre panels [0, π·10⁻⁵], then a decade wide up to π (it grows like ln(1/φ)
@@ -751,14 +751,14 @@ pub(super) fn within_floor(beta: f64, c: f64, e: f64) -> f64 {
 /// beam just under the surface), within 10⁻⁴ of μ₀ (2·10⁻⁴ under the surface; tested); the
 /// limit's ridge on φ = 0 ([`Pbd::surface_ridge`]) is a lobe of concentration 1 whose every
 /// harmonic is its mass. 48 evaluations of PBD.
-fn surface_harmonics(pbd: &Pbd, r: f64, theta: Option<f64>) -> [f64; 5] {
+pub(super) fn surface_harmonics<const N: usize>(pbd: &Pbd, r: f64, theta: Option<f64>) -> [f64; N] {
     let rule = crate::quadrature::GaussLegendre::new(8);
     let ridge = if theta.is_some() {
         0.0
     } else {
         pbd.surface_ridge(r)
     };
-    let mut m = [ridge; 5];
+    let mut m = [ridge; N];
     let mut a = 0.0;
     for k in (0..6).rev() {
         let b = PI * 10f64.powi(-k);
@@ -976,7 +976,7 @@ mod tests {
         for (eta, rho) in [(1.0, 0.05), (1.0, 0.9), (0.9, 0.5), (0.75, 0.999)] {
             let pbd = Pbd::new(rho, Boundary::new(eta, Moments::Exact).unwrap()).unwrap();
             for r in [0.003, 0.05, 0.5, 3.0, 30.0, 200.0] {
-                let got = surface_harmonics(&pbd, r, None);
+                let got: [f64; 5] = surface_harmonics(&pbd, r, None);
                 for (n, &m) in got.iter().enumerate() {
                     let f = |phi: f64| {
                         (n as f64 * phi).cos() * pbd.eval_surface_beam(r, phi, Rule::Fast)
@@ -994,7 +994,7 @@ mod tests {
             let pbd = Pbd::new(rho, Boundary::new(1.0, Moments::Exact).unwrap()).unwrap();
             let theta = f64::acos(cos_t);
             for r in [0.003, 0.5, 3.0, 30.0, 200.0] {
-                let got = surface_harmonics(&pbd, r, Some(theta));
+                let got: [f64; 5] = surface_harmonics(&pbd, r, Some(theta));
                 let f = |phi: f64| pbd.eval(theta, r, phi, Rule::Fast);
                 let want = 2.0 * crate::quadrature::adaptive(f, &breaks, 1e-12, 0.0, 20_000).value;
                 let error = (got[0] - want).abs() / want;

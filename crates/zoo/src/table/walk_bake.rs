@@ -25,14 +25,14 @@
 //!    curvature (the table's ρ_eff was 2–2.8 % high without it, measured). |a₁| + |a₂| is kept
 //!    ≤ [`MAX_TILT`], so the profile stays ≥ 0.
 //! 3. **Smooth.** ln k, a₁ and a₂ are smoothed along ln r by a local linear fit over
-//!    [`SMOOTH_NODES`] measured nodes on each side, weighted by 1/σ² and a tricube; a node not
-//!    measured well (the first radii, where the walk's multiple scattering rarely exits, and
-//!    the far tail) takes the nearest measured node's smoothed tilt, and beyond the last
-//!    measured node ln k goes on along the line in r through the last [`TAIL_NODES`] (far out
-//!    both profiles fall exponentially, at rates that differ by a constant). The tail is
-//!    where the table is noisiest: at 10⁵ photons and (ρ′, θ) = (0.9, 60°) its nodes are
-//!    measured to r ≈ 16 and the walk is 7–10 % above PBD from r = 12 to 20, which the table
-//!    follows only in part (docs/walk-table.md).
+//!    [`SMOOTH_NODES`] measured nodes on each side, weighted by 1/σ² and a tricube. Between
+//!    measured nodes the tilt goes linearly in ln r; before the first it is the first's;
+//!    beyond the last ln k goes on along the line in r through the last [`TAIL_NODES`] (far out
+//!    both profiles fall exponentially, at rates that differ by a constant), by at most
+//!    [`TAIL_MAX_FACTOR`]. A row with no measured node is PBD's ([`WalkBakeReport::rows_from_pbd`]).
+//!    The tail is where the table is noisiest: at 10⁵ photons and (ρ′, θ) = (0.9, 60°) its
+//!    nodes are measured to r ≈ 16 and the walk is 7–10 % above PBD from r = 12 to 20, which
+//!    the table follows only in part (docs/walk-table.md).
 //! 4. **Store.** Two lobes fitted to the tilted PBD at the azimuths of the PBD bake
 //!    (`two_lobe_node`), scaled to the tilted profile's energy r·μ₀: the walk's energy with a
 //!    shape a two-lobe node can hold. (Storing the tilted harmonics themselves rebuilt, through
@@ -43,13 +43,13 @@
 //!
 //! # Row groups
 //! A walk's cost per photon grows with its largest albedo (scattering events per photon at
-//! θ = 60°, η = 1.33, g = 0: 131 up to ρ′ = 0.99, 422 up to 0.999, 4,938 up to 1, where the
-//! vertex cap ends the longest paths). The rows are walked in three groups, ρ′ ≤ 0.99,
+//! θ = 60°, η = 1.33, g = 0: about 130 up to ρ′ = 0.99, 430 up to 0.999, 5,000–7,300 up to 1,
+//! heavy-tailed: the vertex cap ends the longest paths). The rows are walked in three groups, ρ′ ≤ 0.99,
 //! ≤ 0.999 and above, the last with an eighth of the photons.
 
 use super::bake::{
-    assemble, beam_in_surface, checked_grid, node_cell, r0_concentration, to_f32,
-    two_lobe_azimuths, two_lobe_node_of, within_floor,
+    assemble, beam_in_surface, checked_grid, node_cell, r0_concentration, surface_harmonics,
+    to_f32, two_lobe_azimuths, two_lobe_node_of, within_floor,
 };
 use super::{AngularTable, Grid, PARAMS_PER_NODE};
 use crate::error::{Error, Result};
@@ -58,7 +58,7 @@ use crate::gwc::one_lobe_of;
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
 use crate::quadrature::GaussLegendre;
-use crate::walk::harmonics::{harmonics, HarmonicsConfig, WalkHarmonics, HARMONICS};
+use crate::walk::harmonics::{harmonics, kernels, HarmonicsConfig, WalkHarmonics, HARMONICS};
 use crate::walk::Component;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -106,10 +106,13 @@ pub struct WalkBakeReport {
     pub median_rel_stderr: f64,
     /// 90th percentile of the same.
     pub p90_rel_stderr: f64,
+    /// (ρ′ > 0, θ) rows with no node whose μ̂₀ the walk measured within 30 %: stored as PBD's
+    /// (the walk saw too little of them; more photons).
+    pub rows_from_pbd: usize,
 }
 
 /// A row's harmonics per node and the relative standard errors it adds to the report.
-type RowCells = (Vec<[f64; 5]>, Vec<f64>);
+type RowCells = (Vec<[f64; 5]>, Vec<f64>, bool);
 
 /// Points of the kernel averages of PBD on each side of a node, in ln r.
 const CONTROL_POINTS: usize = 3;
@@ -146,6 +149,7 @@ pub fn bake_walk(
     let mut second = vec![0.0f32; n_rho * n_theta * n_r * 2];
     let (mut photons, mut events) = (0u64, 0u64);
     let mut rel_stderr = Vec::new();
+    let mut rows_from_pbd = 0;
     let rules = (
         GaussLegendre::new(CONTROL_POINTS),
         GaussLegendre::new(CONTROL_AZIMUTHS),
@@ -191,7 +195,7 @@ pub fn bake_walk(
                         theta: (!beam_in_surface(eta, theta)).then_some(theta),
                         rules: &rules,
                     };
-                    let (tilts, rel) = row_tilts(&h, k, &grid.r, &control);
+                    let (tilts, rel, measured) = row_tilts(&h, k, &grid.r, &control);
                     let out = row_cells(&tilts, &grid.r, &control)?;
                     let noise = if grid.rho[i] >= 0.1 {
                         (0..n_r)
@@ -201,12 +205,16 @@ pub fn bake_walk(
                     } else {
                         Vec::new()
                     };
-                    Ok((out, noise))
+                    Ok((out, noise, measured))
                 })
                 .collect();
             for (&i, row) in rows.iter().zip(cells) {
-                let (harm, noise) = row?;
+                let (harm, noise, measured) = row?;
                 rel_stderr.extend(noise);
+                // ρ′ = 0 has nothing to measure and is PBD's (0) by right
+                if !measured && grid.rho[i] > 0.0 {
+                    rows_from_pbd += 1;
+                }
                 let base = (i * n_theta + j) * n_r;
                 for (node, cell) in harm.iter().enumerate() {
                     let at = base + node;
@@ -243,6 +251,7 @@ pub fn bake_walk(
         scattering_events: events,
         median_rel_stderr: quantile(0.5),
         p90_rel_stderr: quantile(0.9),
+        rows_from_pbd,
     };
     Ok((table, report))
 }
@@ -375,18 +384,21 @@ fn fit_tilt(mean: &[f64; HARMONICS], p: &[f64; PBD_HARMONICS]) -> [f64; 3] {
 /// A node's smoothed tilt (ln k, a₁, a₂) and PBD's harmonics there.
 type NodeTilt = ([f64; 3], [f64; PBD_HARMONICS]);
 
-/// The tilt of every node of row `row` (module docs; `None` at r = 0, where PBD is 0, or where
-/// no node of the row was measured well) and the relative standard error of each node's μ̂₀.
+/// The tilt of every node of row `row` (module docs; `None` at r = 0 and where PBD is 0), the
+/// relative standard error of each node's μ̂₀, and whether any node was measured well enough
+/// to tilt (if none was, the row is PBD's).
 fn row_tilts(
     h: &WalkHarmonics,
     row: usize,
     r: &[f64],
     control: &Control,
-) -> (Vec<Option<NodeTilt>>, Vec<Option<f64>>) {
+) -> (Vec<Option<NodeTilt>>, Vec<Option<f64>>, bool) {
     let (gl, azimuths) = control.rules;
     let pbd_at = |x: f64| control_harmonics(control.pbd, x, control.theta, azimuths);
+    let kernels = kernels(r);
     let measured: Vec<Measured> = (0..r.len())
         .map(|node| {
+            let kernel = kernels[node];
             let mean = h.mean(Component::Multiple, row, node).unwrap_or_default();
             let se = h.stderr(Component::Multiple, row, node).unwrap_or_default();
             if r[node] == 0.0 {
@@ -402,7 +414,7 @@ fn row_tilts(
                 mean,
                 rel: (mean[0] > 0.0).then(|| se[0] / mean[0]),
                 at_node: pbd_at(r[node]),
-                average: kernel_average(r, node, gl, pbd_at),
+                average: kernel.map_or([0.0; PBD_HARMONICS], |k| k.average(gl, pbd_at)),
             }
         })
         .collect();
@@ -420,26 +432,43 @@ fn row_tilts(
     let smoothed: Vec<[f64; 3]> = (0..reliable.len())
         .map(|i| smooth_tilt(&tilts, i))
         .collect();
-    // Beyond the last measured node, ln k goes on along the line in r through the last ones:
-    // far out both profiles fall exponentially, at rates that differ by a constant
+    // Beyond the last measured node, ln k goes on along the line in r through the last ones
+    // (far out both profiles fall exponentially, at rates that differ by a constant), by at
+    // most a factor TAIL_MAX_FACTOR; between two measured nodes the tilt goes linearly in ln r
+    // from one to the other; before the first it is the first's. A row with no measured node
+    // is PBD's (no tilt).
     let slope = tail_slope(&tilts, &reliable, r);
-    // Each node takes the (nearest) reliable node's smoothed tilt
+    let max_step = TAIL_MAX_FACTOR.ln();
     let node_tilts = (0..r.len())
         .map(|node| {
             let here = &measured[node];
-            let nearest = (0..reliable.len()).min_by_key(|&i| reliable[i].abs_diff(node));
-            nearest
-                .filter(|_| r[node] > 0.0 && here.at_node[0] > 0.0)
-                .map(|i| {
+            if r[node] == 0.0 || here.at_node[0] <= 0.0 {
+                return None;
+            }
+            let after = reliable.partition_point(|&k| k < node);
+            let tilt = match (after.checked_sub(1), reliable.get(after)) {
+                (None, Some(_)) => smoothed[0],
+                (Some(i), None) => {
                     let mut tilt = smoothed[i];
-                    if node > reliable[i] {
-                        tilt[0] += slope * (r[node] - r[reliable[i]]);
-                    }
-                    (tilt, here.at_node)
-                })
+                    let step = slope * (r[node] - r[reliable[i]]);
+                    tilt[0] += step.clamp(-max_step, max_step);
+                    tilt
+                }
+                (Some(_), Some(&k)) if k == node => smoothed[after],
+                (Some(i), Some(&k)) => {
+                    let (u0, u1) = (r[reliable[i]].ln(), r[k].ln());
+                    let t = (r[node].ln() - u0) / (u1 - u0);
+                    std::array::from_fn(|n| {
+                        smoothed[i][n] + t * (smoothed[after][n] - smoothed[i][n])
+                    })
+                }
+                (None, None) => [0.0; 3],
+            };
+            Some((tilt, here.at_node))
         })
         .collect();
-    (node_tilts, measured.iter().map(|m| m.rel).collect())
+    let rel = measured.iter().map(|m| m.rel).collect();
+    (node_tilts, rel, !reliable.is_empty())
 }
 
 /// The cells (E, E_β, c, r·μ₃, r·μ₄) of a row from its nodes' tilts (module docs): at r = 0
@@ -460,6 +489,10 @@ fn row_cells(tilts: &[Option<NodeTilt>], r: &[f64], control: &Control) -> Result
         let energy = r * m[0];
         let cell = match control.theta {
             None => {
+                // The stored shape is the limit's own, by the bake's accurate rule (the
+                // control's coarse one only enters ratios of nearby radii)
+                let m = tilted(&surface_harmonics(control.pbd, r, None), *tilt);
+                let energy = r * m[0];
                 let (beta, c) = one_lobe_of(m[1], m[2]);
                 [
                     energy,
@@ -530,6 +563,9 @@ fn tail_slope(tilts: &[(f64, f64, [f64; 3])], reliable: &[usize], r: &[f64]) -> 
     }
     (sw * sxy - sx * sy) / det
 }
+
+/// The most the far tail's ln k may move beyond the last measured node (a factor).
+const TAIL_MAX_FACTOR: f64 = 2.0;
 
 /// Measured nodes at the end of a row whose ln k sets the slope of the far tail.
 const TAIL_NODES: usize = 5;
@@ -602,37 +638,4 @@ fn control_harmonics(
         }
     }
     m
-}
-
-/// The average of `f` over the hat kernel of node `i` in ln r ([`crate::walk::harmonics`]).
-fn kernel_average<const N: usize>(
-    r: &[f64],
-    i: usize,
-    gl: &GaussLegendre,
-    f: impl Fn(f64) -> [f64; N],
-) -> [f64; N] {
-    let c = r[i].ln();
-    let right = if i + 1 < r.len() {
-        r[i + 1].ln() - c
-    } else {
-        c - r[i - 1].ln()
-    };
-    let left = if i > 0 && r[i - 1] > 0.0 {
-        c - r[i - 1].ln()
-    } else {
-        right
-    };
-    let mut sum = [0.0; N];
-    for (from, width, rising) in [(c - left, left, true), (c, right, false)] {
-        for (x, w) in gl.nodes().iter().zip(gl.weights()) {
-            let t = 0.5 * (1.0 + x);
-            let hat = if rising { t } else { 1.0 - t };
-            let v = f((from + t * width).exp());
-            for (s, vn) in sum.iter_mut().zip(v) {
-                *s += 0.5 * width * w * hat * vn;
-            }
-        }
-    }
-    let area = 0.5 * (left + right);
-    sum.map(|s| s / area)
 }

@@ -54,8 +54,10 @@ pub const HARMONICS: usize = 5;
 /// Batches of the standard errors (fewer when the walk has fewer blocks).
 pub const HARMONICS_BATCHES: usize = 32;
 
-/// The fewest photons: two blocks, so that there are two batches to take a standard error from.
-pub const MIN_HARMONICS_PHOTONS: u64 = 2 * BLOCK;
+/// The fewest photons: 16 blocks, so that a standard error comes from 16 batches (with two, it
+/// has one degree of freedom and can come out near 0, and a bake weighing nodes by 1/σ² would
+/// let such a node dominate).
+pub const MIN_HARMONICS_PHOTONS: u64 = 16 * BLOCK;
 
 /// A row's factor (a_k/a_max)ⁿ below which its exits are no longer scored.
 const FACTOR_FLOOR: f64 = 1e-15;
@@ -133,7 +135,7 @@ impl WalkHarmonics {
 
 /// The kernel of one node: ln rᵢ, the widths on each side (in ln r) and 1/Δᵢ.
 #[derive(Debug, Clone, Copy)]
-struct Kernel {
+pub(crate) struct Kernel {
     centre: f64,
     left: f64,
     right: f64,
@@ -152,8 +154,34 @@ impl Kernel {
     }
 }
 
+impl Kernel {
+    /// The average of `f` (of the radius) over this kernel, by `rule` over ln r on each side of
+    /// the node (the hat's kink).
+    pub(crate) fn average<const N: usize>(
+        &self,
+        rule: &crate::quadrature::GaussLegendre,
+        f: impl Fn(f64) -> [f64; N],
+    ) -> [f64; N] {
+        let mut sum = [0.0; N];
+        for (from, width, rising) in [
+            (self.centre - self.left, self.left, true),
+            (self.centre, self.right, false),
+        ] {
+            for (x, w) in rule.nodes().iter().zip(rule.weights()) {
+                let t = 0.5 * (1.0 + x);
+                let hat = if rising { t } else { 1.0 - t };
+                let v = f((from + t * width).exp());
+                for (s, vn) in sum.iter_mut().zip(v) {
+                    *s += 0.5 * width * w * hat * vn;
+                }
+            }
+        }
+        sum.map(|s| s * self.inv_area)
+    }
+}
+
 /// Kernels of the nodes (`None` at r = 0).
-fn kernels(r: &[f64]) -> Vec<Option<Kernel>> {
+pub(crate) fn kernels(r: &[f64]) -> Vec<Option<Kernel>> {
     let n = r.len();
     let ln = |i: usize| r[i].ln();
     (0..n)

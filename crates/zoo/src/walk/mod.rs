@@ -219,7 +219,8 @@ pub(crate) fn validate_beam(g: f64, eta: f64, theta: f64) -> Result<()> {
     }
     crate::medium::validate_eta(eta)?;
     in_range("theta", theta, 0.0, FRAC_PI_2)?;
-    if eta < 1.0 && theta.sin() > eta {
+    // Compared as angles: at θ = asin η, sin θ can round one ulp above η
+    if eta < 1.0 && theta > eta.asin() {
         return Err(Error::OutOfRange {
             name: "theta",
             value: theta,

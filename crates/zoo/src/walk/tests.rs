@@ -842,7 +842,7 @@ fn harmonics_one_row_is_the_sum_over_its_walks_exits() {
     // One row walks at its own albedo: its estimates are the exits of `ExitWalk` with the same
     // streams, summed through the kernel written out in `kernel_average`'s terms.
     let (rho, g, eta, theta) = (0.8, 0.3, 1.4, 50f64.to_radians());
-    let photons = 2 * BLOCK + 100;
+    let photons = harmonics::MIN_HARMONICS_PHOTONS + 100;
     let h = walk_harmonics(&[rho], g, 50.0, photons, 3);
     let r = harmonics_radii();
     let a = unreduced_albedo(rho, g);
@@ -857,10 +857,10 @@ fn harmonics_one_row_is_the_sum_over_its_walks_exits() {
             }
             let x = e.x.hypot(e.y) * s;
             let phi = e.y.atan2(e.x);
-            for i in 1..r.len() {
+            for (i, sum) in sums.iter_mut().enumerate().skip(1) {
                 let k = e.weight * hat(&r, i, x.ln()) / (x * x);
                 if k > 0.0 {
-                    for (n, v) in sums[i].iter_mut().enumerate() {
+                    for (n, v) in sum.iter_mut().enumerate() {
                         *v += k * (n as f64 * phi).cos();
                     }
                 }
@@ -930,7 +930,7 @@ fn harmonics_do_not_depend_on_the_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| walk_harmonics(&[0.5, 0.9], 0.2, 30.0, 5 * BLOCK + 7, 4))
+            .install(|| walk_harmonics(&[0.5, 0.9], 0.2, 30.0, 17 * BLOCK + 7, 4))
     };
     assert_eq!(run(1), run(2));
 }
@@ -963,7 +963,16 @@ fn harmonics_refuse_what_they_cannot_walk() {
         "r node = 2 must be below the next r node = 1",
     );
     bad(&|c| c.r = vec![-1.0, 2.0], "first r node = -1");
-    bad(&|c| c.photons = 2 * BLOCK - 1, "photons = 2047");
+    bad(&|c| c.photons = 16 * BLOCK - 1, "photons = 16383");
+    // At the critical angle itself, whose sine rounds one ulp above η for η = 0.8426
+    let eta = 0.8426f64;
+    assert!(eta.asin().sin() > eta);
+    let critical = HarmonicsConfig {
+        eta,
+        theta: eta.asin(),
+        ..good.clone()
+    };
+    assert!(critical.validate().is_ok());
     let h = harmonics(&good, &|_| {}).unwrap();
     assert!(h.mean(Component::Total, 0, 1).is_none());
     assert!(h.mean(Component::Multiple, 1, 1).is_none());

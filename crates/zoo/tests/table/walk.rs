@@ -102,7 +102,7 @@ fn walk_table_lookups_at_arbitrary_inputs_are_valid() {
 
 #[test]
 fn walk_bake_is_bit_identical_on_any_thread_count() {
-    let mut config = config(2 * bssrdf_zoo::walk::BLOCK + 5);
+    let mut config = config(bssrdf_zoo::table::MIN_HARMONICS_PHOTONS + 5);
     config.grid.theta = vec![0.0, 1.0];
     let run = |threads| {
         rayon::ThreadPoolBuilder::new()
