@@ -1,6 +1,7 @@
 //! Helpers shared by the model-zoo tests: building every registered model cheaply (a small
 //! shared table per η, a short walk).
 
+use bssrdf_zoo::format::{WalkComponent, WalkSource};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::models::mc::McOptions;
 use bssrdf_zoo::models::table::TableSource;
@@ -29,10 +30,23 @@ pub fn table_for(eta: f64) -> Arc<AngularTable> {
     )
 }
 
-/// Options for the tests: the shared small table, a short walk at θ with coarse bins.
+/// The small table for η marked as a walk table of g = 0 (multiple scattering): what the
+/// walk-table model looks up, for the properties of its lookups (a walk bake takes minutes;
+/// the lookups do not depend on where the numbers came from).
+pub fn walk_table_for(eta: f64) -> Arc<AngularTable> {
+    let walk = WalkSource {
+        g: 0.0,
+        component: WalkComponent::Multiple,
+    };
+    Arc::new(table_for(eta).as_ref().clone().with_walk(walk))
+}
+
+/// Options for the tests: the shared small table (also as the walk table, [`walk_table_for`]),
+/// a short walk at θ with coarse bins.
 pub fn options(eta: f64, theta: f64, photons: u64) -> Options {
     Options {
         table: TableSource::Shared(table_for(eta)),
+        walk_table: Some(walk_table_for(eta)),
         mc: McOptions {
             theta,
             photons,

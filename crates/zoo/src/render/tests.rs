@@ -140,7 +140,7 @@ fn a_model_a_render_cannot_draw_is_refused_by_name() {
             let message = result.unwrap_err().to_string();
             assert!(message.contains(model.name()), "{message}");
             assert!(
-                message.contains("table, perpendicular, pbd, mc"),
+                message.contains("table, perpendicular, pbd, walk-table, mc"),
                 "{message}"
             );
         }

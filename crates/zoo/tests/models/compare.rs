@@ -26,6 +26,16 @@ fn fast_comparison_runs_every_model_and_writes_plots() {
     // Few photons: coarser azimuthal bins and a looser resolution rule than the default.
     config.bins = Bins::new(0.01, 100.0, 40, 12).unwrap();
     config.resolution.max_rel_stderr = 0.2;
+    // Every model, the walk table too: a PBD table marked as the walk's stands for it (its
+    // lookups are what the comparison runs; a walk bake takes minutes)
+    config.models = ModelKind::ALL.to_vec();
+    let walk = bssrdf_zoo::format::WalkSource {
+        g: 0.0,
+        component: bssrdf_zoo::format::WalkComponent::Multiple,
+    };
+    let grid = Grid::ferrier(24, 7, 40);
+    let table = bssrdf_zoo::table::bake(1.33, bssrdf_zoo::fresnel::Moments::Exact, &grid, false);
+    config.options.walk_table = Some(std::sync::Arc::new(table.unwrap().0.with_walk(walk)));
     let report = run(&config).unwrap();
     assert_eq!(report.rows.len(), ModelKind::ALL.len());
     for r in &report.rows {
