@@ -63,8 +63,9 @@ pub(super) enum SourceArg {
 #[derive(Debug, Args)]
 pub struct BakeArgs {
     /// Where the table's numbers come from: photon beam diffusion, or the Monte Carlo random
-    /// walk's multiple scattering for one --eta and --g (a walk-angular table: about 1.5
-    /// minutes per 100,000 --photons at η = 1.33 on two cores; docs/walk-table.md).
+    /// walk's multiple scattering for one --eta and --g (a walk-angular table: a few minutes on
+    /// two cores at g = 0 and the default --photons, about 5.8 times as long at g = 0.9;
+    /// docs/walk-table.md).
     #[arg(long, value_enum, default_value = "pbd")]
     pub(super) source: SourceArg,
     /// Photons per θ node of a --source walk bake, for each group of albedo rows (the rows
