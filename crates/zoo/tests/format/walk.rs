@@ -298,19 +298,21 @@ fn a_walk_table_without_gwc_harmonics_is_missing_a_section() {
     assert!(err.to_string().contains(needle), "{err}");
 }
 
+/// `raw` with byte `at` of table record 0 set to `value` and the header's minor to `minor`.
+fn with_record_byte(mut raw: Raw, at: usize, value: u8, minor: u16) -> Raw {
+    let t = record(&raw);
+    raw.bytes[t + at] = value;
+    raw.set_u16(14, minor);
+    raw.fix_crcs();
+    raw
+}
+
 /// §9.1 and §4: in strict reading the reserved bytes of a walk-angular record, 40 to 63, are
 /// zero; a file of a newer minor may use them, and is read with its walk.
 #[test]
 fn a_walk_record_is_reserved_from_byte_40() {
     for at in [40, 51, 63] {
-        let set = |minor: u16| {
-            let mut raw = tiny_walk();
-            let t = record(&raw);
-            raw.bytes[t + at] = 0x5A;
-            raw.set_u16(14, minor);
-            raw.fix_crcs();
-            raw
-        };
+        let set = |minor: u16| with_record_byte(tiny_walk(), at, 0x5A, minor);
         let needle = format!("reserved byte {at} of the table record 0 is 0x5a");
         assert_rejected(
             &format!("byte {at}"),
@@ -328,12 +330,8 @@ fn a_walk_record_is_reserved_from_byte_40() {
 fn a_pbd_record_is_reserved_from_byte_28() {
     for at in [28, 32, 39, 40, 63] {
         let set = |minor: u16| {
-            let mut raw = Raw::new(tiny_builder().to_bytes(Compression::None).unwrap());
-            let t = record(&raw);
-            raw.bytes[t + at] = 0x01;
-            raw.set_u16(14, minor);
-            raw.fix_crcs();
-            raw
+            let pbd = Raw::new(tiny_builder().to_bytes(Compression::None).unwrap());
+            with_record_byte(pbd, at, 0x01, minor)
         };
         let needle = format!("reserved byte {at} of the table record 0 is 0x01");
         assert_rejected(
