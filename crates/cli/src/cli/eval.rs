@@ -7,10 +7,12 @@
 use super::points::Point;
 use super::values::{check_kept, check_theta_kept};
 use super::{check_range, CliError};
+use bssrdf_zoo::format::{WalkComponent, WalkSource};
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::models::ModelKind;
 use bssrdf_zoo::pbd::{Pbd, Rule};
+use bssrdf_zoo::walk::Component;
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::PathBuf;
@@ -107,6 +109,9 @@ struct Evaluator<'a> {
     siblings: Vec<(usize, [f64; 2])>,
     /// (ρ′, σ′t in mm⁻¹) of the chosen material channel: r is then in mm.
     material: Option<(f64, f64)>,
+    /// The walk of a walk-angular table of FILE: the Monte Carlo model walks with its g and
+    /// keeps its component, as the table's η is the model's.
+    walk: Option<WalkSource>,
 }
 
 impl Evaluator<'_> {
@@ -180,10 +185,17 @@ impl Evaluator<'_> {
         );
         if !own {
             let kind = self.model;
-            let params =
+            let mut params =
                 bssrdf_zoo::models::Params::new(rho, self.boundary.eta(), self.boundary.moments())?;
             let mut options = bssrdf_zoo::models::Options::default();
             options.mc.theta = theta;
+            if let (ModelKind::MonteCarlo, Some(walk)) = (kind, self.walk) {
+                params = params.with_g(walk.g)?;
+                options.mc.component = match walk.component {
+                    WalkComponent::Multiple => Component::Multiple,
+                    WalkComponent::Total => Component::Total,
+                };
+            }
             if self.authors {
                 options.dirpole.fresnel = bssrdf_zoo::models::dirpole::DirpoleFresnel::AuthorsFits;
             }
@@ -328,6 +340,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         (Some(c), _) => c.table.moments(),
         (None, m) => m.unwrap_or(Moments::Exact),
     };
+    let walk = chosen.as_ref().and_then(|c| c.table.record().walk());
     let (index, siblings) = chosen
         .as_ref()
         .map_or((0, Vec::new()), |c| (c.index, c.siblings.clone()));
@@ -340,6 +353,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         rule,
         table,
         material,
+        walk,
     };
     let describe = |p: &Point, value: f64| {
         serde_json::json!({
@@ -351,6 +365,10 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
                 _ => Some(moments.name()),
             },
             "quadrature": (model == ModelKind::Pbd).then_some(rule_name(rule)),
+            "g": (model == ModelKind::MonteCarlo).then(|| walk.map_or(0.0, |w| w.g)),
+            "component": (model == ModelKind::MonteCarlo).then(|| {
+                walk.map_or(WalkComponent::Total, |w| w.component).name()
+            }),
             "rho": p.rho,
             "theta_deg": p.theta_deg,
             "r": p.r,

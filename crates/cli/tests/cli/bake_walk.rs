@@ -102,6 +102,15 @@ fn a_walk_table_goes_through_every_command() {
         &[&["eval", "w.bssrdf", "--json"][..], &at].concat(),
     ));
     assert!(json.contains("\"model\":\"walk-table\""), "{json}");
+    // the Monte Carlo model next to it walks with the file's g and keeps its component
+    let mc = ok(&bssrdf(
+        d,
+        &[&["eval", "w.bssrdf", "--model", "mc", "--json"][..], &at].concat(),
+    ));
+    assert!(
+        mc.contains("\"g\":0.5") && mc.contains("\"component\":\"multiple\""),
+        "{mc}"
+    );
     fails_with(
         &bssrdf(
             d,

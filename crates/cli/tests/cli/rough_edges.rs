@@ -282,6 +282,12 @@ fn dirpole_authors_fits_are_reachable() {
     }
     let walk = json(&bssrdf(d, &[&["eval", "--model", "mc"][..], &at].concat()));
     assert!(walk["fresnel_moments"].is_null(), "{walk}");
+    // without a walk table's g, the walk's defaults: isotropic, every exit
+    assert_eq!(
+        (walk["g"].as_f64(), walk["component"].as_str()),
+        (Some(0.0), Some("total")),
+        "{walk}"
+    );
 }
 
 #[test]
