@@ -520,6 +520,23 @@ impl AngularTable {
         self.walk
     }
 
+    /// This table with the θ-sampling CDF `theta_cdf`, `[nρ][nθ]` (validated as in
+    /// [`TableRef::new`]).
+    pub fn with_theta_cdf(self, theta_cdf: Vec<f32>) -> Result<Self, TableError> {
+        TableRef::new(
+            self.eta,
+            self.moments,
+            &self.axes,
+            &self.params,
+            &self.radial_cdf,
+            Some(&theta_cdf),
+        )?;
+        Ok(Self {
+            theta_cdf: Some(theta_cdf),
+            ..self
+        })
+    }
+
     /// This table with the analytic ridge added back to what its nodes hold, or not
     /// ([`TableRef::with_ridge`]).
     pub fn with_ridge(mut self, ridge: bool) -> Self {

@@ -12,7 +12,7 @@
 //! In reduced units (σ′t = 1), with s = sin θ′, c = cos θ′ and the table's C_E:
 //!
 //! ```text
-//! R(r, φ; ρ′, θ) = w(c) · m(r) · pdf_WC(φ; κ),   κ = exp(−max(c, 10⁻³)),
+//! R(r, φ; ρ′, θ) = w(c) · m(r) · pdf_WC(φ; κ),   κ = exp(−max(c, 10⁻⁵)),
 //! m(r) = ρ′² C_E s · e^{−rs} (1 − e^{−2rs}) / (2r)        (m(0) = ρ′² C_E s²),
 //! w(c) = 1 for c ≤ 0.1, 0 for c ≥ 0.3, x²(3 − 2x) between, x = (0.3 − c)/0.2,
 //! ```
@@ -32,7 +32,7 @@ pub const FULL_WEIGHT_COS: f64 = 0.1;
 /// cos θ′ from which the ridge has weight 0.
 pub const ZERO_WEIGHT_COS: f64 = 0.3;
 /// The least cos θ′ the width takes: at θ′ = 90° the ridge would be a line.
-pub const MIN_WIDTH_COS: f64 = 1e-3;
+pub const MIN_WIDTH_COS: f64 = 1e-5;
 
 /// The ridge's weight w at cos θ′ = `cos_t`: 1 up to [`FULL_WEIGHT_COS`], 0 from
 /// [`ZERO_WEIGHT_COS`], the smooth step x²(3 − 2x) between.
@@ -133,6 +133,13 @@ impl Ridge {
         let target = u.clamp(0.0, 1.0) * self.share;
         let eps = solve_share(target);
         (-(-eps).ln_1p() / self.s).min(self.r_max)
+    }
+
+    /// Its harmonics ∫ R cos nφ dφ over [−π, π] at r, n = 0 … N − 1: w ρ′² C_E m̂(r) κⁿ (the
+    /// wrapped Cauchy density's are κⁿ); 0 outside [0, r_max].
+    pub fn harmonics<const N: usize>(&self, r: f64) -> [f64; N] {
+        let mass = std::f64::consts::TAU * self.mean(r);
+        std::array::from_fn(|n| mass * self.kappa.powi(n as i32))
     }
 
     /// The ridge's density in φ, pdf_WC(φ; κ).
@@ -282,7 +289,7 @@ mod tests {
         assert!(Ridge::at(1.0, 0.4, 0.0, 89f64.to_radians(), 50.0).is_none());
         assert!(Ridge::at(0.9, 0.4, 0.9, 70f64.to_radians(), 50.0).is_none());
         assert!(Ridge::at(1.0, 0.4, 0.9, 89f64.to_radians(), 50.0).is_some());
-        // At θ′ = 90° the width stops at 10⁻³: finite everywhere
+        // At θ′ = 90° the width stops at 10⁻⁵: finite everywhere
         let at_90 = Ridge::at(1.0, 0.4, 0.9, FRAC_PI_2, 50.0).unwrap();
         assert!(at_90.eval(1.0, 0.0).is_finite() && at_90.eval(0.0, 0.0) > 0.0);
     }
