@@ -9,23 +9,27 @@
 //! between. A table that says so (its record's `ridge`) stores at its nodes S less the ridge
 //! R below, and every lookup adds R back at its own θ, with its own width.
 //!
-//! In reduced units (σ′t = 1), with s = sin θ′, c = cos θ′ and the table's C_E:
+//! In reduced units (σ′t = 1), with s = sin θ′, c = cos θ′, the table's C_E and the diffusion
+//! coefficient of ρ′, σtr = √(3(1 − ρ′)/(2 − ρ′)):
 //!
 //! ```text
 //! R(r, φ; ρ′, θ) = w(c) · m(r) · pdf_WC(φ; κ),   κ = exp(−max(c, 10⁻⁵)),
-//! m(r) = ρ′² C_E s · e^{−rs} (1 − e^{−2rs}) / (2r)        (m(0) = ρ′² C_E s²),
+//! m(r) = ρ′² C_E s · e^{−r(s + k)} (1 − e^{−2rs}) / (2r),   k = σtr c/s   (m(0) = ρ′² C_E s²),
 //! w(c) = 1 for c ≤ 0.1, 0 for c ≥ 0.3, x²(3 − 2x) between, x = (0.3 − c)/0.2,
 //! ```
 //!
 //! and R = 0 where no light enters and beyond the table's last radius r_max, as every lookup
-//! is. m is the flux term of the sources at depth t·c along the beam, attenuated as e^{−t},
-//! each seen from the exit point above it; over the plane it carries ρ′² C_E/3 at every θ
-//! (∫ m r dr = ρ′² C_E s/2 · (1/s − 1/(3s))), of which the radii up to r_max hold the share
-//! F(r_max), F(r) = ε²(3 − ε)/2 with ε = 1 − e^{−rs}. The radial density of R, r·m(r) over its
-//! energy, is (3s/2)(e^{−rs} − e^{−3rs})/F(r_max), inverted in closed form in ε (a cubic).
+//! is. m is the flux term of the beam's sources, attenuated along the beam as e^{−t}, each
+//! seen from the exit point above it at t = r/s: a line density ρ′² C_E (1 − e^{−2rs}) e^{−rs}/2
+//! along φ = 0 in the limit c → 0 (`Pbd::surface_ridge`), spread over φ as a wrapped Cauchy
+//! lobe of width c, and attenuated by diffusion over the source's depth h = r c/s as e^{−σtr h}
+//! (which keeps it below S off the ridge at low albedo, where S decays as e^{−σtr r}). Over the
+//! plane it carries w ρ′² C_E (s/2)·G(r_max), G(r) = ∫₀^r (e^{−ax} − e^{−bx}) dx with a = s + k,
+//! b = 3s + k (ρ′² C_E/3 for k = 0, r_max = ∞). The radial density of R, r·m(r) over its
+//! energy, is (e^{−ar} − e^{−br})/G(r_max), inverted by a safeguarded Newton iteration.
 
 use crate::gwc::{inv_cdf_wc, pdf_wc};
-use std::f64::consts::FRAC_PI_2;
+use std::f64::consts::{FRAC_PI_2, TAU};
 
 /// cos θ′ up to which the ridge has its full weight.
 pub const FULL_WEIGHT_COS: f64 = 0.1;
@@ -57,15 +61,17 @@ pub fn reaches(eta: f64) -> bool {
 }
 
 /// The ridge at one (ρ′, θ) of a table: R(r, φ) = scale · m̂(r) · pdf_WC(φ; κ) with
-/// m̂ = s e^{−rs}(1 − e^{−2rs})/(2r), scale = w ρ′² C_E, on r ∈ [0, r_max].
+/// m̂ = s e^{−r(s+k)}(1 − e^{−2rs})/(2r), scale = w ρ′² C_E, on r ∈ [0, r_max].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ridge {
     scale: f64,
     s: f64,
+    /// The attenuation σtr c/s over the source's depth, per unit r.
+    k: f64,
     kappa: f64,
     r_max: f64,
-    /// F(r_max): the share of the ridge's energy up to r_max.
-    share: f64,
+    /// G(r_max): the radial integral up to r_max (`radial_integral`).
+    total: f64,
 }
 
 impl Ridge {
@@ -76,19 +82,25 @@ impl Ridge {
         let cos_t = crate::fresnel::refracted_cos(theta, eta)?;
         let scale = weight(cos_t) * rho * rho * c_e;
         let s = (1.0 - cos_t * cos_t).sqrt();
-        let share = energy_share(r_max * s);
-        (scale > 0.0 && s > 0.0 && r_max > 0.0 && share > 0.0).then_some(Self {
+        if !(scale > 0.0 && s > 0.0 && r_max > 0.0) {
+            return None;
+        }
+        let sigma_tr = (3.0 * (1.0 - rho) / (2.0 - rho)).max(0.0).sqrt();
+        let k = sigma_tr * cos_t / s;
+        let total = radial_integral(s + k, 3.0 * s + k, r_max);
+        (total > 0.0).then_some(Self {
             scale,
             s,
+            k,
             kappa: (-cos_t.max(MIN_WIDTH_COS)).exp(),
             r_max,
-            share,
+            total,
         })
     }
 
-    /// Its energy up to r_max: ∫∫ R r dr dφ = w ρ′² C_E F(r_max)/3.
+    /// Its energy up to r_max: ∫∫ R r dr dφ = w ρ′² C_E (s/2) G(r_max).
     pub fn energy(&self) -> f64 {
-        self.scale * self.share / 3.0
+        self.scale * 0.5 * self.s * self.total
     }
 
     /// Its mean over φ, (1/2π) ∫ R dφ = w ρ′² C_E m̂(r)/(2π), per unit area; 0 outside
@@ -97,7 +109,7 @@ impl Ridge {
         if !(0.0..=self.r_max).contains(&r) {
             return 0.0;
         }
-        self.scale * self.radial(r) / std::f64::consts::TAU
+        self.scale * self.radial(r) / TAU
     }
 
     /// R(r, φ) per unit area; 0 outside [0, r_max] or for φ outside [−π, π] (wrapped by the
@@ -109,37 +121,65 @@ impl Ridge {
         self.scale * self.radial(r) * pdf_wc(phi, self.kappa)
     }
 
-    /// m̂(r) = s e^{−rs}(1 − e^{−2rs})/(2r), s² at r = 0.
+    /// Its harmonics ∫ R cos nφ dφ over [−π, π] at r, n = 0 … N − 1: w ρ′² C_E m̂(r) κⁿ (the
+    /// wrapped Cauchy density's are κⁿ); 0 outside [0, r_max].
+    pub fn harmonics<const N: usize>(&self, r: f64) -> [f64; N] {
+        let mass = TAU * self.mean(r);
+        std::array::from_fn(|n| mass * self.kappa.powi(n as i32))
+    }
+
+    /// m̂(r) = s e^{−r(s+k)}(1 − e^{−2rs})/(2r), s² at r = 0.
     fn radial(&self, r: f64) -> f64 {
         let q = 2.0 * r * self.s;
         let front = if q == 0.0 { 1.0 } else { -(-q).exp_m1() / q };
-        self.s * self.s * (-r * self.s).exp() * front
+        self.s * self.s * (-r * (self.s + self.k)).exp() * front
     }
 
-    /// Density per unit r of [`Ridge::sample_radius`], (3s/2)(e^{−rs} − e^{−3rs})/F(r_max)
-    /// on [0, r_max], 0 elsewhere.
+    /// Density per unit r of [`Ridge::sample_radius`], (e^{−ar} − e^{−br})/G(r_max) on
+    /// [0, r_max], 0 elsewhere.
     pub fn pdf_radius(&self, r: f64) -> f64 {
         if !(0.0..=self.r_max).contains(&r) {
             return 0.0;
         }
-        let x = (-r * self.s).exp();
-        // e^{−rs} − e^{−3rs} = x(1 − x²), with 1 − x² = −expm1(−2rs) kept exact near 0
-        1.5 * self.s * x * -(-2.0 * r * self.s).exp_m1() / self.share
+        // e^{−ar} − e^{−br} = e^{−ar}(1 − e^{−2sr}), exact near 0
+        (-r * (self.s + self.k)).exp() * -(-2.0 * r * self.s).exp_m1() / self.total
     }
 
     /// The r ∈ [0, r_max] whose share of the ridge's energy up to r_max is u ∈ [0, 1] (u
-    /// clamped into it): F(r) = u F(r_max), solved in ε = 1 − e^{−rs} ([`solve_share`]).
+    /// clamped into it): G(r) = u G(r_max), by Newton's method kept inside a shrinking
+    /// bracket (G increases; its slope e^{−ar} − e^{−br} is 0 only at r = 0).
     pub fn sample_radius(&self, u: f64) -> f64 {
-        let target = u.clamp(0.0, 1.0) * self.share;
-        let eps = solve_share(target);
-        (-(-eps).ln_1p() / self.s).min(self.r_max)
-    }
-
-    /// Its harmonics ∫ R cos nφ dφ over [−π, π] at r, n = 0 … N − 1: w ρ′² C_E m̂(r) κⁿ (the
-    /// wrapped Cauchy density's are κⁿ); 0 outside [0, r_max].
-    pub fn harmonics<const N: usize>(&self, r: f64) -> [f64; N] {
-        let mass = std::f64::consts::TAU * self.mean(r);
-        std::array::from_fn(|n| mass * self.kappa.powi(n as i32))
+        let (a, b) = (self.s + self.k, 3.0 * self.s + self.k);
+        let target = u.clamp(0.0, 1.0) * self.total;
+        if target <= 0.0 {
+            return 0.0;
+        }
+        if target >= self.total {
+            return self.r_max;
+        }
+        let (mut lo, mut hi) = (0.0, self.r_max);
+        // Near 0, G ≈ s r²
+        let mut r = (target / self.s).sqrt().min(0.5 * self.r_max);
+        for _ in 0..200 {
+            let f = radial_integral(a, b, r) - target;
+            if f > 0.0 {
+                hi = r;
+            } else {
+                lo = r;
+            }
+            let slope = (-a * r).exp() * -(-2.0 * self.s * r).exp_m1();
+            let newton = r - f / slope;
+            let next = if slope > 0.0 && newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if (next - r).abs() <= 4.0 * f64::EPSILON * r || hi - lo <= f64::EPSILON * hi {
+                return next;
+            }
+            r = next;
+        }
+        r
     }
 
     /// The ridge's density in φ, pdf_WC(φ; κ).
@@ -153,49 +193,28 @@ impl Ridge {
     }
 }
 
-/// F at r·s = `rs`: ε²(3 − ε)/2 with ε = 1 − e^{−rs}, the share of the ridge's energy within
-/// r (1 for rs = ∞).
-pub fn energy_share(rs: f64) -> f64 {
-    let eps = -(-rs).exp_m1();
-    0.5 * eps * eps * (3.0 - eps)
-}
-
-/// The ε ∈ [0, 1] with ε²(3 − ε)/2 = `target` ∈ [0, 1]: the cubic's root in [0, 1] by its
-/// trigonometric form (1 − ε = 2 cos((2π − acos(target − 1))/3)), polished by Newton's method
-/// on ε itself, which the trigonometric form loses to cancellation where ε is small.
-pub fn solve_share(target: f64) -> f64 {
-    let target = target.clamp(0.0, 1.0);
-    if target == 0.0 {
-        return 0.0;
+/// G(r) = ∫₀^r (e^{−ax} − e^{−bx}) dx for 0 < a < b: (1 − e^{−ar})/a − (1 − e^{−br})/b, by its
+/// Taylor series where br is small (the two terms cancel to (b − a) r²/2 there).
+fn radial_integral(a: f64, b: f64, r: f64) -> f64 {
+    if b * r < 1e-3 {
+        // Σ_{n≥2} (−1)ⁿ rⁿ (bⁿ⁻¹ − aⁿ⁻¹)/n!, four terms: the fifth is below 1e-15 of the first
+        let (a2, b2) = (a * a, b * b);
+        let (a3, b3) = (a2 * a, b2 * b);
+        let (a4, b4) = (a3 * a, b3 * b);
+        let r2 = r * r;
+        return r2
+            * ((b - a) / 2.0 - r * (b2 - a2) / 6.0 + r2 * (b3 - a3) / 24.0
+                - r2 * r * (b4 - a4) / 120.0);
     }
-    let x = 2.0 * ((std::f64::consts::TAU - (target - 1.0).acos()) / 3.0).cos();
-    // For small targets ε ≈ √(2 target/3) is the better start
-    let mut eps = if target < 1e-4 {
-        (2.0 * target / 3.0).sqrt()
-    } else {
-        (1.0 - x).clamp(0.0, 1.0)
-    };
-    for _ in 0..4 {
-        let f = 0.5 * eps * eps * (3.0 - eps) - target;
-        let df = 1.5 * eps * (2.0 - eps);
-        if df <= 0.0 {
-            break;
-        }
-        let next = (eps - f / df).clamp(0.0, 1.0);
-        if next == eps {
-            break;
-        }
-        eps = next;
-    }
-    eps
+    -(-a * r).exp_m1() / a + (-b * r).exp_m1() / b
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::{PI, TAU};
+    use std::f64::consts::PI;
 
-    /// Gauss–Legendre-free check: composite Simpson on a fine grid.
+    /// Composite Simpson on n (even) intervals.
     fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
         let h = (b - a) / n as f64;
         let mut sum = f(a) + f(b);
@@ -223,17 +242,26 @@ mod tests {
     }
 
     #[test]
+    fn without_attenuation_it_carries_a_third_of_rho_squared_c_e() {
+        // ρ′ = 1: σtr = 0, k = 0, and over the whole plane ρ′² C_E/3
+        let ridge = Ridge::at(1.0, 0.37, 1.0, 85f64.to_radians(), 1e4).unwrap();
+        assert_eq!(ridge.k, 0.0);
+        assert!((ridge.energy() / (0.37 / 3.0) - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
     fn its_energy_is_the_integral_of_its_values() {
-        // ∫₀^{r_max} ∫ R r dφ dr by Simpson over r and φ against w ρ′² C_E F(r_max)/3
-        for (eta, theta_deg, r_max) in [(1.0, 89.0, 50.0), (1.0, 80.0, 3.0), (0.9, 60.0, 20.0)] {
-            let ridge = Ridge::at(eta, 0.37, 0.8, f64::to_radians(theta_deg), r_max).unwrap();
+        // ∫₀^{r_max} ∫ R r dφ dr by Simpson over r and φ against its energy, and the mean
+        // over φ against R's
+        for (eta, rho, theta_deg, r_max) in [
+            (1.0, 0.8, 89.0, 50.0),
+            (1.0, 0.3, 80.0, 3.0),
+            (0.9, 0.95, 60.0, 20.0),
+        ] {
+            let ridge = Ridge::at(eta, 0.37, rho, f64::to_radians(theta_deg), r_max).unwrap();
             // φ on a grid that resolves the narrowest width (κ up to e^{−0.0175})
-            let over_phi = |r: f64| {
-                let n = 20_000;
-                simpson(|p| ridge.eval(r, p), -PI, PI, n)
-            };
+            let over_phi = |r: f64| simpson(|p| ridge.eval(r, p), -PI, PI, 20_000);
             let radial = |r: f64| r * over_phi(r);
-            // r in pieces: the density changes over 1/s
             let total: f64 = (0..40)
                 .map(|k| {
                     let (a, b) = (r_max * k as f64 / 40.0, r_max * (k + 1) as f64 / 40.0);
@@ -242,7 +270,6 @@ mod tests {
                 .sum();
             let want = ridge.energy();
             assert!((total / want - 1.0).abs() < 1e-6, "{total} vs {want}");
-            // and the mean over φ is R's
             for r in [0.0, 0.01, 1.0, r_max] {
                 let mean = over_phi(r) / TAU;
                 assert!((mean - ridge.mean(r)).abs() <= 1e-7 * ridge.mean(r) + 1e-300);
@@ -252,33 +279,40 @@ mod tests {
 
     #[test]
     fn the_radial_sampler_inverts_its_distribution() {
-        let ridge = Ridge::at(1.0, 0.37, 0.9, 88f64.to_radians(), 30.0).unwrap();
-        let cdf = |r: f64| simpson(|x| ridge.pdf_radius(x), 0.0, r, 4000);
-        assert!((cdf(30.0) - 1.0).abs() < 1e-9);
-        for u in [1e-12, 1e-6, 0.01, 0.3, 0.5, 0.9, 0.999999, 1.0] {
-            let r = ridge.sample_radius(u);
-            assert!((0.0..=30.0).contains(&r));
-            let got = energy_share(r * ridge.s) / ridge.share;
-            assert!((got - u).abs() <= 1e-12 * u.max(1e-3), "u {u}: {got}");
+        for (rho, theta_deg) in [(0.9, 88.0), (0.05, 75.0), (1.0, 89.9)] {
+            let ridge = Ridge::at(1.0, 0.37, rho, f64::to_radians(theta_deg), 30.0).unwrap();
+            let (a, b) = (ridge.s + ridge.k, 3.0 * ridge.s + ridge.k);
+            let cdf = |r: f64| simpson(|x| ridge.pdf_radius(x), 0.0, r, 20_000);
+            assert!(
+                (cdf(30.0) - 1.0).abs() < 1e-9,
+                "{rho} {theta_deg}: {}",
+                cdf(30.0)
+            );
+            for u in [1e-15, 1e-12, 1e-6, 0.01, 0.3, 0.5, 0.9, 0.999999, 1.0] {
+                let r = ridge.sample_radius(u);
+                assert!((0.0..=30.0).contains(&r));
+                let got = radial_integral(a, b, r) / ridge.total;
+                assert!((got - u).abs() <= 1e-12 * u.max(1e-3), "u {u}: {got}");
+            }
+            assert_eq!(ridge.sample_radius(0.0), 0.0);
+            assert!((cdf(ridge.sample_radius(0.37)) - 0.37).abs() < 1e-8);
         }
-        assert_eq!(ridge.sample_radius(0.0), 0.0);
-        assert!((cdf(ridge.sample_radius(0.37)) - 0.37).abs() < 1e-8);
     }
 
     #[test]
-    fn the_cubic_is_solved_to_rounding_everywhere() {
-        for k in 0..=2000 {
-            let target = if k < 1000 {
-                10f64.powf(-16.0 + 16.0 * k as f64 / 1000.0)
-            } else {
-                (k - 1000) as f64 / 1000.0
-            };
-            let eps = solve_share(target);
-            let back = 0.5 * eps * eps * (3.0 - eps);
+    fn the_radial_integral_is_continuous_where_it_switches_to_its_series() {
+        for (a, b) in [(1.0, 3.0), (1.7, 3.7), (0.02, 0.06)] {
+            let r = 1e-3 / b;
+            let below = radial_integral(a, b, r * (1.0 - 1e-12));
+            let above = radial_integral(a, b, r * (1.0 + 1e-12));
             assert!(
-                (back - target).abs() <= 4.0 * f64::EPSILON * target.max(1e-300),
-                "{target}: {back}"
+                (above / below - 1.0).abs() < 1e-9,
+                "{a} {b}: {below} {above}"
             );
+            // and the series against the closed form in f64 where both are accurate
+            let r = 0.9e-3 / b;
+            let closed = -(-a * r).exp_m1() / a + (-b * r).exp_m1() / b;
+            assert!((radial_integral(a, b, r) / closed - 1.0).abs() < 1e-9);
         }
     }
 
