@@ -29,6 +29,7 @@ fn table(eta: f64, rho: &[f32]) -> TableData {
     TableData {
         model: ModelKind::PbdAngular,
         walk: None,
+        ridge: false,
         eta,
         fresnel: FresnelMoments::Exact,
         rho: rho.to_vec(),
