@@ -266,6 +266,7 @@ def kaitai_view(lib):
             "model": walk_of(rec)[0],
             "walk_component": walk_of(rec)[1],
             "walk_g": walk_of(rec)[2],
+            "ridge": rec.ridge == 1,
             "fresnel_moments": rec.fresnel.name,
             "eta": rec.eta,
             "dims": [rec.n_rho, rec.n_theta, rec.n_r],
