@@ -230,7 +230,7 @@ impl AngularTable {
     }
 
     /// Joins tables holding consecutive albedo rows of the same bake (same η, moments, θ and r
-    /// axes, walk, increasing ρ′, all with or all without the θ CDF) into one.
+    /// axes, walk, ridge flag, increasing ρ′, all with or all without the θ CDF) into one.
     pub fn concat_rows(parts: &[AngularTable]) -> Result<AngularTable, SubsetError> {
         let first = parts.first().ok_or(SubsetError::Mismatch("no tables"))?;
         let mut rho: Vec<f64> = Vec::new();
