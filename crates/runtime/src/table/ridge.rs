@@ -79,7 +79,13 @@ impl Ridge {
     /// `None` where it has no weight or no energy (w = 0, ρ′ = 0, no light enters, θ outside
     /// [0, π/2], r_max not positive).
     pub fn at(eta: f64, c_e: f64, rho: f64, theta: f64, r_max: f64) -> Option<Self> {
-        let cos_t = crate::fresnel::refracted_cos(theta, eta)?;
+        Self::with_cos(c_e, rho, crate::fresnel::refracted_cos(theta, eta)?, r_max)
+    }
+
+    /// The ridge at cos θ′ = `cos_t` ∈ [0, 1] ([`Ridge::at`] of the θ refracted to it). θ nodes
+    /// beyond the critical angle of an η < 1 hold the limit θ′ → 90° of the profile, so their
+    /// ridge is this at cos θ′ = 0.
+    pub fn with_cos(c_e: f64, rho: f64, cos_t: f64, r_max: f64) -> Option<Self> {
         let scale = weight(cos_t) * rho * rho * c_e;
         let s = (1.0 - cos_t * cos_t).sqrt();
         if !(scale > 0.0 && s > 0.0 && r_max > 0.0) {

@@ -346,9 +346,14 @@ pub fn bake_lobes(
             let pbd = Pbd::new(grid.rho[i], boundary)?;
             let surface = beam_in_surface(eta, grid.theta[j]);
             let theta = grid.theta[j].min(0.5 * PI);
-            let ridge = with_ridge
-                .then(|| Ridge::at(eta, boundary.c_e(), grid.rho[i], theta, r_max))
-                .flatten();
+            // (a node where the beam runs in the surface holds the limit cos θ′ → 0)
+            let cos_t = match surface {
+                true => Some(0.0),
+                false => crate::fresnel::refracted_cos(theta, eta),
+            };
+            let ridge = cos_t
+                .filter(|_| with_ridge)
+                .and_then(|c| Ridge::with_cos(boundary.c_e(), grid.rho[i], c, r_max));
             let mut row = Vec::with_capacity(n_r * PARAMS_PER_NODE);
             let mut second = Vec::new();
             let mut branches = Vec::with_capacity(n_r);

@@ -33,8 +33,9 @@ impl TableRef<'_> {
     }
 
     /// The total a θ draw reads at node (i, j) of the albedo and θ axes: the row's radial CDF
-    /// at its last radius, plus the ridge's energy at (ρ′ᵢ, θⱼ) for a table with the ridge. A
-    /// bake's θ CDF integrates these.
+    /// at its last radius, plus the ridge's energy at (ρ′ᵢ, θⱼ) for a table with the ridge (at
+    /// cos θ′ = 0 for a node beyond the critical angle, [`Ridge::with_cos`]). A bake's θ CDF
+    /// integrates these.
     pub fn node_total(&self, i: usize, j: usize) -> f64 {
         let (_, n_theta, n_r) = self.axes.dims();
         let stored = f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]);
@@ -42,8 +43,11 @@ impl TableRef<'_> {
             return stored;
         }
         let rho = self.axes.rho().as_slice()[i];
-        let theta = self.axes.theta().as_slice()[j];
-        stored + self.ridge_at(rho, theta).map_or(0.0, |r| r.energy())
+        let theta = self.axes.theta().as_slice()[j].clamp(0.0, FRAC_PI_2);
+        // Nodes beyond the critical angle (η < 1) hold the profile's limit at it, cos θ′ = 0
+        let cos_t = crate::fresnel::refracted_cos(theta, self.eta).unwrap_or(0.0);
+        let r_max = self.axes.r().as_slice()[n_r - 1];
+        stored + Ridge::with_cos(self.c_e, rho, cos_t, r_max).map_or(0.0, |r| r.energy())
     }
 
     /// S at the point: the nodes' value `nodes` plus the ridge.
