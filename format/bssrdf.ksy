@@ -10,7 +10,7 @@ doc: |
   A library file of bssrdf-zoo: baked BSSRDF tables (one per model and relative index of
   refraction η), the materials rendered with them and how they were made. This description
   follows format-spec.md, which is normative; where the two differ, the spec wins and this
-  file has a bug. It describes major version 1, minors 0 to 5, and reads files of newer
+  file has a bug. It describes major version 1, minors 0 to 6, and reads files of newer
   minors as far as the spec lets an older reader (unknown section kinds as bytes, the first
   64 or 512 bytes of longer records).
 
@@ -22,9 +22,9 @@ doc: |
   What this description checks (`valid`, `contents`): the magic, the major version, the
   byte-order mark, `file_size` against the real size, and the values a single field of the
   header, of a directory entry or of a record may take on its own (alignment, dtype, codec,
-  ndim, model, a walk's component and g, fresnel, η, table dimensions, string lengths,
-  material coefficients). A section whose `dims` ask for more bytes than it stores fails to
-  parse.
+  ndim, model, a walk's component and g, a table's ridge flag, fresnel, η, table dimensions,
+  string lengths, material coefficients). A section whose `dims` ask for more bytes than it
+  stores fails to parse.
 
   What it does not check, and a conforming reader must (format-spec.md sections 4 to 14):
   the CRC-32 values (`header_crc`, each entry's `crc32`) are described, not verified; nor the
@@ -71,7 +71,7 @@ types:
       - id: minor
         type: u2
         doc: |
-          Format minor version: 5 for format 1.5 (0 to 4 in files of formats 1.0 to 1.4).
+          Format minor version: 6 for format 1.6 (0 to 5 in files of formats 1.0 to 1.5).
           Minors only add; a newer minor is read as far as this description goes.
       - id: byte_order
         type: u4
@@ -96,11 +96,12 @@ types:
           section), bit 3 `signed-lobes` (since 1.3: some gwc-harmonics node is a sharp lobe
           less a broader one), bit 4 `merged-roots` (since 1.4: the two-lobe tables rebuild a
           merged pair where Prony's roots give no lobes), bit 5 `walk-tables` (since 1.5: some
-          table is walk-angular, model 3). Bits 6 to 63 are reserved for later minors. Not
-          checked here.
+          table is walk-angular, model 3), bit 6 `ridge` (since 1.6: some table's nodes hold
+          its profile less the analytic ridge, its record's `ridge` = 1). Bits 7 to 63 are
+          reserved for later minors. Not checked here.
       - id: optional_features
         type: u8
-        doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.5.
+        doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.6.
       - id: alignment
         type: u4
         valid:
@@ -135,6 +136,9 @@ types:
       walk_tables:
         value: (required_features & 32) != 0
         doc: Required feature bit 5, `walk-tables` (since 1.5).
+      ridge:
+        value: (required_features & 64) != 0
+        doc: Required feature bit 6, `ridge` (since 1.6).
       dir_end:
         value: 128 + 64 * section_count
         doc: End of the directory, where the padding before the first section starts.
@@ -275,7 +279,9 @@ types:
   table_record:
     doc: |
       One table (format-spec.md section 9.1), in reduced units: independent of g, except a
-      walk-angular table (model 3), which holds the g of its walk.
+      walk-angular table (model 3), which holds the g of its walk. Bytes 28 to 63 depend on
+      the model: `ridge` then reserved bytes in a pbd-angular record, `component`, `g`,
+      `ridge` then reserved bytes in a walk-angular one.
     seq:
       - id: model
         type: u4
@@ -327,9 +333,18 @@ types:
         doc: |
           Henyey–Greenstein asymmetry g of a walk-angular table's walk, finite and in (−1, 1)
           (bytes 32 to 39; reserved in other models).
+      - id: ridge
+        type: u4
+        valid:
+          max: 1
+        doc: |
+          Since 1.6 (required feature bit 6): 0 the nodes hold the profile S, 1 they hold
+          S less the analytic ridge R of format-spec.md section 10, which every lookup adds
+          back. Bytes 28 to 31 of a pbd-angular record, 40 to 43 of a walk-angular one;
+          reserved zero, hence 0, in files of older minors.
       - id: reserved
-        size: 'model == model::walk_angular ? 24 : 36'
-        doc: Zero (not checked here); from byte 40 in a walk-angular record, else from byte 28.
+        size: 'model == model::walk_angular ? 20 : 32'
+        doc: Zero (not checked here); from byte 44 in a walk-angular record, else from byte 32.
 
   material_record:
     doc: |

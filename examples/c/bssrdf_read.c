@@ -18,12 +18,16 @@
  * section, kind 0x23, makes a table's profile two lobes); a file with such a section that
  * does not set the bit is rejected. So are required feature bits 3 (signed-lobes, format 1.3:
  * nodes of gwc-harmonics that are a sharp lobe less a broader one), 4 (merged-roots,
- * format 1.4: how lookups rebuild two lobes from the harmonics) and 5 (walk-tables, format
+ * format 1.4: how lookups rebuild two lobes from the harmonics), 5 (walk-tables, format
  * 1.5: a table record of model 3, walk-angular, whose arrays are stored as a two-lobe
- * table's); a file with a walk-angular record that does not set bit 5 is rejected. It does
- * not check the
- * values themselves (finite, node rules and signed nodes of section 10). Files of any minor of major 1 are read, as section 4 requires of a
- * reader that implements every required bit the file sets.
+ * table's) and 6 (ridge, format 1.6: a table record's `ridge` = 1, whose nodes hold the
+ * profile less the analytic ridge of section 10, which lookups add back; the arrays are
+ * stored as any table's). A file with a walk-angular record that does not set bit 5, or a
+ * record with `ridge` = 1 that does not set bit 6, is rejected, and so is a `ridge` other
+ * than 0 or 1 (at byte 28 of a pbd-angular record, byte 40 of a walk-angular one). It does
+ * not check the values themselves (finite, node rules and signed nodes of section 10). Files
+ * of any minor of major 1 are read, as section 4 requires of a reader that implements every
+ * required bit the file sets.
  *
  * POSIX (mmap). Handles big-endian hosts by assembling every field byte by byte.
  */
@@ -47,15 +51,20 @@
 #define CODEC_NONE 0u
 #define NO_TABLE 0xFFFFFFFFu
 /* Required feature bits this reader implements (section 4): bit 1, signed-floor, bit 2,
- * harmonics, bit 3, signed-lobes, bit 4, merged-roots, and bit 5, walk-tables (it prints
- * stored values, whose storage no bit changes). */
-#define KNOWN_REQUIRED 0x3Eu
+ * harmonics, bit 3, signed-lobes, bit 4, merged-roots, bit 5, walk-tables, and bit 6, ridge
+ * (it prints stored values, whose storage no bit changes). */
+#define KNOWN_REQUIRED 0x7Eu
 #define REQUIRED_HARMONICS 0x4u
 #define REQUIRED_WALK_TABLES 0x20u
+#define REQUIRED_RIDGE 0x40u
 #define KIND_TABLES 0x1u
 #define KIND_HARMONICS 0x23u
 #define TABLE_RECORD_SIZE 64u
+#define MODEL_PBD_ANGULAR 1u
 #define MODEL_WALK_ANGULAR 3u
+/* Offset of `ridge` (u32) within a table record, by model (section 9.1) */
+#define RIDGE_OFFSET_PBD 28u
+#define RIDGE_OFFSET_WALK 40u
 
 static const unsigned char MAGIC[12] = {0x89, 'B', 'S', 'S', 'R', 'D',
                                         'F',  '\r', '\n', 0x1A, '\n', 0x00};
@@ -154,7 +163,7 @@ int main(int argc, char **argv) {
     if (le16(e + 10) != CODEC_NONE)
       return fail("compressed section without required feature bit 0 (zstd)");
     /* The tables section (kind 1, u8 records of dims[1] bytes, section 9): a walk-angular
-     * record (model 3 at byte 0) needs bit 5 */
+     * record (model 3 at byte 0) needs bit 5, and a record whose `ridge` is 1 needs bit 6 */
     if (le32(e) == KIND_TABLES && le32(e + 4) == NO_TABLE && le16(e + 14) == 2) {
       uint64_t records = le32(e + 16), record_size = le32(e + 20);
       uint64_t offset = le64(e + 32), stored = le64(e + 40);
@@ -162,9 +171,16 @@ int main(int argc, char **argv) {
           records > stored / record_size)
         return fail("tables section out of bounds or with records shorter than 64 bytes");
       for (uint64_t t = 0; t < records; t++) {
-        if (le32(f + offset + t * record_size) == MODEL_WALK_ANGULAR &&
-            (required & REQUIRED_WALK_TABLES) == 0)
+        const unsigned char *record = f + offset + t * record_size;
+        uint32_t model = le32(record);
+        if (model == MODEL_WALK_ANGULAR && (required & REQUIRED_WALK_TABLES) == 0)
           return fail("walk-angular table without required feature bit 5 (walk-tables)");
+        if (model != MODEL_PBD_ANGULAR && model != MODEL_WALK_ANGULAR) continue;
+        uint32_t ridge =
+            le32(record + (model == MODEL_WALK_ANGULAR ? RIDGE_OFFSET_WALK : RIDGE_OFFSET_PBD));
+        if (ridge > 1u) return fail("table record with an unknown ridge code (0 or 1)");
+        if (ridge == 1u && (required & REQUIRED_RIDGE) == 0)
+          return fail("table with ridge = 1 without required feature bit 6 (ridge)");
       }
     }
   }

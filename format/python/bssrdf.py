@@ -13,7 +13,7 @@ class Bssrdf(KaitaiStruct):
     """A library file of bssrdf-zoo: baked BSSRDF tables (one per model and relative index of
     refraction η), the materials rendered with them and how they were made. This description
     follows format-spec.md, which is normative; where the two differ, the spec wins and this
-    file has a bug. It describes major version 1, minors 0 to 5, and reads files of newer
+    file has a bug. It describes major version 1, minors 0 to 6, and reads files of newer
     minors as far as the spec lets an older reader (unknown section kinds as bytes, the first
     64 or 512 bytes of longer records).
     
@@ -25,9 +25,9 @@ class Bssrdf(KaitaiStruct):
     What this description checks (`valid`, `contents`): the magic, the major version, the
     byte-order mark, `file_size` against the real size, and the values a single field of the
     header, of a directory entry or of a record may take on its own (alignment, dtype, codec,
-    ndim, model, a walk's component and g, fresnel, η, table dimensions, string lengths,
-    material coefficients). A section whose `dims` ask for more bytes than it stores fails to
-    parse.
+    ndim, model, a walk's component and g, a table's ridge flag, fresnel, η, table dimensions,
+    string lengths, material coefficients). A section whose `dims` ask for more bytes than it
+    stores fails to parse.
     
     What it does not check, and a conforming reader must (format-spec.md sections 4 to 14):
     the CRC-32 values (`header_crc`, each entry's `crc32`) are described, not verified; nor the
@@ -327,6 +327,15 @@ class Bssrdf(KaitaiStruct):
 
             self._m_merged_roots = self.required_features & 16 != 0
             return getattr(self, '_m_merged_roots', None)
+
+        @property
+        def ridge(self):
+            """Required feature bit 6, `ridge` (since 1.6)."""
+            if hasattr(self, '_m_ridge'):
+                return self._m_ridge
+
+            self._m_ridge = self.required_features & 64 != 0
+            return getattr(self, '_m_ridge', None)
 
         @property
         def signed_floor(self):
@@ -715,7 +724,9 @@ class Bssrdf(KaitaiStruct):
 
     class TableRecord(KaitaiStruct):
         """One table (format-spec.md section 9.1), in reduced units: independent of g, except a
-        walk-angular table (model 3), which holds the g of its walk.
+        walk-angular table (model 3), which holds the g of its walk. Bytes 28 to 63 depend on
+        the model: `ridge` then reserved bytes in a pbd-angular record, `component`, `g`,
+        `ridge` then reserved bytes in a walk-angular one.
         """
         def __init__(self, _io, _parent=None, _root=None):
             super(Bssrdf.TableRecord, self).__init__(_io)
@@ -762,7 +773,10 @@ class Bssrdf(KaitaiStruct):
                 if not  ((_ > -1) and (_ < 1)) :
                     raise kaitaistruct.ValidationExprError(self.g, self._io, u"/types/table_record/seq/7")
 
-            self.reserved = self._io.read_bytes((24 if self.model == Bssrdf.Model.walk_angular else 36))
+            self.ridge = self._io.read_u4le()
+            if not self.ridge <= 1:
+                raise kaitaistruct.ValidationGreaterThanError(1, self.ridge, self._io, u"/types/table_record/seq/8")
+            self.reserved = self._io.read_bytes((20 if self.model == Bssrdf.Model.walk_angular else 32))
 
 
         def _fetch_instances(self):

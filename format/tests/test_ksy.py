@@ -37,7 +37,7 @@ TINY_KINDS = [
 ]
 TABLE_KINDS = ["axis-rho", "axis-theta", "axis-r", "gwc-params", "radial-cdf"]
 TINY = {
-    "version": (1, 5),
+    "version": (1, 6),
     "required_features": 0,
     "optional_features": 0,
     "alignment": 256,
@@ -48,13 +48,14 @@ TINY = {
     "albedo_ranges": 1,
     "table_record_size": 64,
     "table_walks": [("pbd-angular", None, None)],
+    "table_ridges": [False],
 }
 
 # tests/data/README.md, table "valid/", one line per vector; section 16 of format-spec.md for
 # spec-example. Keys a line does not state are left out.
 MANIFEST = {
     "spec-example": {
-        "version": (1, 5),
+        "version": (1, 6),
         "required_features": 1 << 1,
         "optional_features": 0,
         "alignment": 256,
@@ -67,7 +68,7 @@ MANIFEST = {
     "tiny-packed": {**TINY, "required_features": 1 << 0, "codecs": {"zstd"}},
     "newer-minor": {
         **{k: v for k, v in TINY.items() if k != "optional_features"},
-        "version": (1, 6),
+        "version": (1, 7),
         "optional_features_set": 1,
         "header_reserved_zero": False,
         "unknown_entry_flags": True,
@@ -99,6 +100,11 @@ MANIFEST = {
         "required_features": (1 << 2) | (1 << 4) | (1 << 5),
         "section_kinds": TINY_KINDS + ["gwc-harmonics"],
         "table_walks": [("walk-angular", "total", 0.75)],
+    },
+    "ridge": {
+        **TINY,
+        "required_features": 1 << 6,
+        "table_ridges": [True],
     },
     "aligned-4096": {
         "alignment": 4096,
@@ -171,6 +177,7 @@ def facts(lib):
         ),
         "table_dims": [(t.n_rho, t.n_theta, t.n_r) for t in tables],
         "table_walks": [walk_of(t) for t in tables],
+        "table_ridges": [t.ridge == 1 for t in tables],
         "n_rho": [t.n_rho for t in tables],
         "table_record_size": tables_entry.dims[1],
         "materials": len(mats),
@@ -193,15 +200,15 @@ def test_every_valid_vector_is_in_the_manifest():
 def test_spec_example_as_section_16_states():
     lib = parse_fully(REPO / "tests" / "data" / "valid" / "spec-example.bssrdf")
     h = lib.header
-    assert (h.section_count, h.file_size, h.header_crc) == (7, 2568, 0x70678054)
+    assert (h.section_count, h.file_size, h.header_crc) == (7, 2568, 0x4208F077)
     placed = [(e.offset, e.stored_len) for e in lib.directory]
     assert placed == [
         (0x300, 64), (0x400, 512), (0x600, 4), (0x700, 4), (0x800, 8), (0x900, 24), (0xA00, 8)
     ]
     b = bodies(lib)
     (table,) = b[("tables", None)].records
-    assert (table.model, table.fresnel, table.eta) == (
-        Bssrdf.Model.pbd_angular, Bssrdf.Fresnel.exact, 1.5
+    assert (table.model, table.fresnel, table.eta, table.ridge) == (
+        Bssrdf.Model.pbd_angular, Bssrdf.Fresnel.exact, 1.5, 0
     )
     axes = [b[(k, 0)].values for k in ("axis-rho", "axis-theta", "axis-r")]
     assert axes == [[0.5], [0.0], [0.5, 1.0]]
@@ -259,6 +266,7 @@ def kaitai_view(lib):
             "model": walk_of(rec)[0],
             "walk_component": walk_of(rec)[1],
             "walk_g": walk_of(rec)[2],
+            "ridge": rec.ridge == 1,
             "fresnel_moments": rec.fresnel.name,
             "eta": rec.eta,
             "dims": [rec.n_rho, rec.n_theta, rec.n_r],
@@ -339,6 +347,7 @@ REJECTED_BY_VALIDATION = {
     "unknown-model": "/types/table_record/seq/0",  # model
     "unknown-component": "/types/table_record/seq/6",  # component (walk-angular)
     "table-g": "/types/table_record/seq/7",  # g (walk-angular)
+    "unknown-ridge": "/types/table_record/seq/8",  # ridge
     "unknown-fresnel": "/types/table_record/seq/1",  # fresnel
     "table-eta": "/types/table_record/seq/2",  # eta
     "table-dims": "/types/table_record/seq/3",  # n_rho
@@ -369,6 +378,7 @@ NOT_REJECTED = {
     "feature-not-declared": "feature bits are not checked",
     "harmonics-not-declared": "feature bits are not checked",
     "walk-tables-not-declared": "feature bits are not checked",
+    "ridge-not-declared": "feature bits are not checked",
     "signed-lobes-not-declared": "feature bits and node values are not checked",
     "signed-floor-not-declared": "feature bits and node values are not checked",
     "reserved-not-zero": "reserved bytes depend on the minor",

@@ -41,17 +41,18 @@ def describe(file_cmd, path, *options):
 
 # tests/data/README.md: versions; every vector but empty has one table; tiny-packed is zstd.
 VALID_DESCRIPTIONS = {
-    "aligned-4096": f"{NAME}, format 1.5, 1 table",
-    "empty": f"{NAME}, format 1.5, 0 tables",
+    "aligned-4096": f"{NAME}, format 1.6, 1 table",
+    "empty": f"{NAME}, format 1.6, 0 tables",
     "merged-roots": f"{NAME}, format 1.4, 1 table",
-    "newer-minor": f"{NAME}, format 1.6, 1 table",
+    "newer-minor": f"{NAME}, format 1.7, 1 table",
     "older-minor": f"{NAME}, format 1.0, 1 table",
+    "ridge": f"{NAME}, format 1.6, 1 table",
     "signed-lobes": f"{NAME}, format 1.3, 1 table",
-    "spec-example": f"{NAME}, format 1.5, 1 table",
-    "tiny": f"{NAME}, format 1.5, 1 table",
-    "tiny-packed": f"{NAME}, format 1.5, 1 table, zstd-compressed",
+    "spec-example": f"{NAME}, format 1.6, 1 table",
+    "tiny": f"{NAME}, format 1.6, 1 table",
+    "tiny-packed": f"{NAME}, format 1.6, 1 table, zstd-compressed",
     "two-lobes": f"{NAME}, format 1.2, 1 table",
-    "walk-table": f"{NAME}, format 1.5, 1 table",
+    "walk-table": f"{NAME}, format 1.6, 1 table",
 }
 
 
@@ -80,8 +81,8 @@ def test_invalid_vector(file_cmd, path):
 def test_named_invalid_vectors(file_cmd):
     """The header faults file(1) shows: a newer major, a big-endian writer, no magic."""
     said = {p.stem: describe(file_cmd, p) for p in INVALID}
-    assert said["unsupported-major"] == f"{NAME}, format 2.5"
-    assert said["wrong-byte-order"] == f"{NAME}, format 1.5, big-endian (unsupported)"
+    assert said["unsupported-major"] == f"{NAME}, format 2.6"
+    assert said["wrong-byte-order"] == f"{NAME}, format 1.6, big-endian (unsupported)"
     assert NAME not in said["bad-magic"]
 
 

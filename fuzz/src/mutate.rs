@@ -22,9 +22,19 @@ const MATERIALS_KIND: u32 = 0x02;
 const TABLE_RECORD: usize = 64;
 const MATERIAL_RECORD: usize = 512;
 
-/// (offset, width) of the integer fields of a table record: model, fresnel, nρ, nθ, nr, and
-/// a reserved byte; its η (f64) is at 8.
-const TABLE_INTS: [(usize, usize); 6] = [(0, 4), (4, 4), (16, 4), (20, 4), (24, 4), (28, 1)];
+/// (offset, width) of the integer fields of a table record: model, fresnel, nρ, nθ, nr, the
+/// u32 at 28 (a pbd-angular record's ridge flag, a walk-angular one's component), the one at 40
+/// (a walk-angular record's ridge flag), and a reserved byte; its η (f64) is at 8.
+const TABLE_INTS: [(usize, usize); 8] = [
+    (0, 4),
+    (4, 4),
+    (16, 4),
+    (20, 4),
+    (24, 4),
+    (28, 4),
+    (40, 4),
+    (44, 1),
+];
 /// (offset, width) of the integer fields of a material record: name and source lengths, three
 /// table indices, flags, a reserved byte.
 const MATERIAL_INTS: [(usize, usize); 7] =

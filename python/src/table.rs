@@ -370,6 +370,12 @@ impl Table {
     fn walk_component(&self) -> PyResult<Option<&'static str>> {
         Ok(self.record()?.walk().map(|w| w.component.name()))
     }
+    /// Whether the table's nodes hold the profile less the analytic ridge of grazing incidence,
+    /// which every lookup adds back (its record's `ridge`, format 1.6); False in older files.
+    #[getter]
+    fn ridge(&self) -> PyResult<bool> {
+        Ok(self.record()?.ridge())
+    }
 
     /// ρ′ nodes as stored (f32, read-only, zero-copy).
     #[getter]
@@ -553,7 +559,7 @@ impl Table {
             format!(", walk g {} {}", w.g, w.component.name())
         });
         Ok(format!(
-            "<bssrdf_zoo.Table {}: eta {}{walk}, {n_rho} x {n_theta} x {n_r}{}{}>",
+            "<bssrdf_zoo.Table {}: eta {}{walk}, {n_rho} x {n_theta} x {n_r}{}{}{}>",
             self.index,
             record.eta(),
             if record.harmonics().is_some() {
@@ -561,6 +567,7 @@ impl Table {
             } else {
                 ""
             },
+            if record.ridge() { ", ridge" } else { "" },
             if self.lookup.is_none() {
                 ", no lookups"
             } else {

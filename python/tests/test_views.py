@@ -89,3 +89,14 @@ def test_a_walk_angular_table_names_its_model_and_walk(data_dir, table):
     assert walk.eval(0.6, 0.5, 0.05, 0.0) > 0
     assert (table.model, table.walk_g, table.walk_component) == ("pbd-angular", None, None)
     assert "walk" not in repr(table)
+
+
+def test_a_table_says_whether_its_nodes_hold_the_profile_less_the_ridge(data_dir, table):
+    # Format 1.6: the record's ridge flag; False for tables of files without it
+    (ridge,) = bz.Library.open(data_dir / "valid" / "ridge.bssrdf").tables
+    assert ridge.ridge is True and ridge.eta == 1.0
+    assert ", ridge" in repr(ridge)
+    assert ridge.eval(0.6, 0.5, 0.05, 0.0) > 0
+    assert table.ridge is False and "ridge" not in repr(table)
+    (walk,) = bz.Library.open(data_dir / "valid" / "walk-table.bssrdf").tables
+    assert walk.ridge is False

@@ -46,6 +46,7 @@ pub fn synthetic_table(
     TableData {
         model: ModelKind::PbdAngular,
         walk: None,
+        ridge: false,
         eta,
         fresnel: FresnelMoments::Exact,
         rho,
@@ -166,6 +167,7 @@ pub fn spec_example_builder() -> LibraryBuilder {
     let table = TableData {
         model: ModelKind::PbdAngular,
         walk: None,
+        ridge: false,
         eta: 1.5,
         fresnel: FresnelMoments::Exact,
         rho: vec![0.5],

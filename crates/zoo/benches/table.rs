@@ -1,13 +1,14 @@
 //! The angular table: bake of the default grid, evaluate, sample, pdf and the path-tracing draw,
 //! with the perpendicular model (pbrt's assumption: θ = 0 slice, uniform φ) measured in the same
 //! run as the baseline, and the Catmull-Rom weights on each of the table's three axes (an
-//! evaluation computes one set per axis), and the same lookups on a two-lobe table (η = 1.2).
+//! evaluation computes one set per axis), the same lookups on a two-lobe table (η = 1.2), and on
+//! the η = 1 table with and without its ridge (`-- ridge`).
 //! Run: `cargo bench -p bssrdf-zoo --bench table`, or `cargo bench -p bssrdf-zoo --bench table -- axes` for the weights
 //! alone.
 
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
-use bssrdf_zoo::table::{bake, Grid, GridPreset, TableRef};
+use bssrdf_zoo::table::{bake, bake_lobes, Grid, GridPreset, Lobes, TableRef};
 use criterion::measurement::WallTime;
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkGroup, Criterion};
 
@@ -101,6 +102,20 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("two_lobes");
     lookups(&mut group, &view, &points, &uniforms);
     group.finish();
+
+    // The η = 1 table, whose lookups add the analytic ridge (`table::ridge`), and the same
+    // arrays read without it: the ridge's cost as the ratio of the two groups
+    let grid_1 = GridPreset::Default.grid(1.0, Lobes::for_eta(1.0));
+    let (ridged, _) = bake_lobes(1.0, Moments::Exact, &grid_1, true, Lobes::Two).unwrap();
+    assert!(ridged.ridge());
+    for (name, view) in [
+        ("ridge", ridged.view()),
+        ("ridge_off_baseline", ridged.view().with_ridge(false)),
+    ] {
+        let mut group = c.benchmark_group(name);
+        lookups(&mut group, &view, &points, &uniforms);
+        group.finish();
+    }
 }
 
 /// `eval`, `sample` and their perpendicular baselines (the ratios the docs report) of `view`

@@ -1,7 +1,8 @@
 //! `bssrdf inspect FILE`: version, sizes, required features by name (`zstd-sections`,
 //! `signed-floor`), sections with their checksums (verified), materials, tables with their
-//! model (and a walk-angular table's g and component) and axes, provenance. Names from the file are printed with control characters
-//! escaped.
+//! model (and a walk-angular table's g and component), axes and ridge flag (whether the nodes
+//! hold the profile less the analytic ridge, format 1.6), provenance. Names from the file are
+//! printed with control characters escaped.
 
 use super::CliError;
 use bssrdf_zoo::format::spec::required_features;
@@ -90,6 +91,7 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
                 "rho": t.axis(AxisKind::Rho), "theta": t.axis(AxisKind::Theta), "r": t.axis(AxisKind::R),
                 "theta_sampling": t.theta_cdf().is_some(),
                 "lobes": if t.harmonics().is_some() { 2 } else { 1 },
+                "ridge": t.ridge(),
             }))
             .collect();
         let materials: Vec<_> = library
@@ -164,14 +166,15 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
         });
         writeln!(
             out,
-            "  [{}] {}{walk} eta {} moments {} dims {:?} lobes {} theta-sampling {}",
+            "  [{}] {}{walk} eta {} moments {} dims {:?} lobes {} theta-sampling {} ridge {}",
             t.index(),
             t.model().name(),
             t.eta(),
             fresnel_name(t.fresnel()),
             t.dims(),
             if t.harmonics().is_some() { 2 } else { 1 },
-            if t.theta_cdf().is_some() { "yes" } else { "no" }
+            if t.theta_cdf().is_some() { "yes" } else { "no" },
+            if t.ridge() { "yes" } else { "no" }
         )?;
         writeln!(out, "      rho:   {}", axis_summary(t.axis(AxisKind::Rho)))?;
         writeln!(

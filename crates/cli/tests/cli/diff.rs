@@ -22,7 +22,8 @@ const ROW: usize = 20;
 const THETA: usize = 3;
 const R: usize = 10;
 
-/// `a.bssrdf`, and `b.bssrdf` with one value (c of one node) multiplied by 1 + 1e-4.
+/// `a.bssrdf`, and `b.bssrdf` with one value (c of one node) multiplied by 1 + 1e-4;
+/// `ridge.bssrdf`, a.bssrdf's table marked as holding the profile less the ridge (format 1.6).
 fn pair() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let (table, _) = bake(
@@ -32,8 +33,8 @@ fn pair() -> tempfile::TempDir {
         true,
     )
     .unwrap();
-    let write = |name: &str, factor: f32| {
-        let mut data = table.to_table_data();
+    let write = |name: &str, factor: f32, ridge: bool| {
+        let mut data = table.clone().with_ridge(ridge).to_table_data();
         let (_, nt, nr) = table.axes().dims();
         let i = ((ROW * nt + THETA) * nr + R) * 3 + 2;
         data.gwc[i] *= factor;
@@ -54,8 +55,9 @@ fn pair() -> tempfile::TempDir {
         b.write_atomic(dir.path().join(name), Compression::None)
             .unwrap();
     };
-    write("a.bssrdf", 1.0);
-    write("b.bssrdf", 1.0 + 1e-4);
+    write("a.bssrdf", 1.0, false);
+    write("b.bssrdf", 1.0 + 1e-4, false);
+    write("ridge.bssrdf", 1.0, true);
     dir
 }
 
@@ -160,6 +162,27 @@ fn one_changed_value_is_found_and_located() {
     );
     let human = text(&bssrdf(d, &["diff", "a.bssrdf", "b.bssrdf"]).stdout);
     assert!(human.contains("max abs at [20,3,10]/[20,3,10]"), "{human}");
+    assert!(human.contains("DIFFERENT"), "{human}");
+}
+
+/// Tables that differ only in their ridge flag hold the same numbers for different profiles:
+/// the flag is a difference, and the files differ.
+#[test]
+fn tables_that_differ_only_in_the_ridge_flag_differ() {
+    let dir = pair();
+    let d = dir.path();
+    let o = bssrdf(d, &["diff", "a.bssrdf", "ridge.bssrdf", "--json"]);
+    assert_eq!(code(&o), Some(1));
+    let j = json(&o);
+    assert_eq!(
+        j["differences"],
+        serde_json::json!([{"item": "table 0 / 0", "field": "ridge", "a": false, "b": true}])
+    );
+    for s in j["tables"][0]["sections"].as_array().unwrap() {
+        assert_eq!(s["max_abs"], 0.0, "{s}");
+    }
+    let human = text(&bssrdf(d, &["diff", "a.bssrdf", "ridge.bssrdf"]).stdout);
+    assert!(human.contains("ridge: false vs true"), "{human}");
     assert!(human.contains("DIFFERENT"), "{human}");
 }
 

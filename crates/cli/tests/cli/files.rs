@@ -244,6 +244,37 @@ fn inspect_shows_the_model_and_the_walk() {
     assert!(value.trim().parse::<f64>().unwrap() > 0.0, "{value}");
 }
 
+/// A table whose nodes hold the profile less the ridge (format 1.6) says so, in the report and
+/// in `--json`, with the file's required feature bit 6 by name; a table without it says no.
+#[test]
+fn inspect_shows_the_ridge_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/valid");
+    for (name, ridge) in [("ridge.bssrdf", true), ("tiny.bssrdf", false)] {
+        std::fs::copy(data.join(name), dir.path().join(name)).unwrap();
+        let human = ok(&bssrdf(dir.path(), &["inspect", name]));
+        let flag = if ridge { "yes" } else { "no" };
+        assert!(
+            human.contains(&format!(
+                "dims [2, 2, 4] lobes 1 theta-sampling yes ridge {flag}\n"
+            )),
+            "{human}"
+        );
+        let features = if ridge {
+            "0x40 (ridge)"
+        } else {
+            "0x0 optional"
+        };
+        assert!(
+            human.contains(&format!("features required {features}")),
+            "{human}"
+        );
+        let json: serde_json::Value =
+            serde_json::from_str(&ok(&bssrdf(dir.path(), &["inspect", name, "--json"]))).unwrap();
+        assert_eq!(json["tables"][0]["ridge"], ridge, "{name}");
+    }
+}
+
 #[test]
 fn eval_table_agrees_with_pbd_and_materials_use_millimetres() {
     let dir = baked();

@@ -39,6 +39,9 @@ struct Prepared {
     /// A two-lobe table's `table::harmonic_shares_of`, computed at open: 24 bytes per node,
     /// which take its lookups from dividing 16 rows × 4 nodes each to one blend.
     shares: Option<Vec<f32>>,
+    /// Whether its nodes hold the profile less the ridge, which its lookups add back (the
+    /// record's `ridge`).
+    ridge: bool,
 }
 
 impl Inner {
@@ -59,6 +62,7 @@ impl Inner {
             p.rebuild,
             p.shares.as_deref(),
         )
+        .with_ridge(p.ridge)
     }
 
     /// The lookups of table `index`, which a handle was made for: [`Library::table`] and
@@ -208,6 +212,7 @@ impl Library {
                     let params = table.record().gwc_params();
                     crate::table::harmonic_shares_of(params, h, n_r, view.rebuild())
                 }),
+                ridge: view.ridge(),
             };
             // The arrays found by position must be the very ones `TableRef::new` just checked.
             let same =

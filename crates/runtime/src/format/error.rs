@@ -254,6 +254,13 @@ pub enum FormatError {
     /// A walk-angular table's component code is unknown.
     #[error("table {table}: unknown walk component code {component} (0 multiple, 1 total)")]
     UnknownComponent { table: usize, component: u32 },
+    /// A table record's `ridge` is neither 0 nor 1.
+    #[error("table {table}: unknown ridge code {ridge} (0 the nodes hold the profile, 1 the profile less the ridge)")]
+    UnknownRidge { table: usize, ridge: u32 },
+    /// A table whose nodes hold the profile less the ridge (`ridge` = 1) in a file that does
+    /// not set required feature bit 6.
+    #[error("table {table}: ridge = 1 in a file without required feature bit 6 (ridge)")]
+    RidgeNotDeclared { table: usize },
     /// A table's Fresnel-moments code is unknown.
     #[error("table {table}: unknown fresnel-moments code {fresnel}")]
     UnknownFresnel { table: usize, fresnel: u32 },
@@ -461,6 +468,8 @@ impl FormatError {
             FormatError::UnknownModel { .. } => "unknown-model",
             FormatError::WalkTablesNotDeclared { .. } => "walk-tables-not-declared",
             FormatError::UnknownComponent { .. } => "unknown-component",
+            FormatError::UnknownRidge { .. } => "unknown-ridge",
+            FormatError::RidgeNotDeclared { .. } => "ridge-not-declared",
             FormatError::UnknownFresnel { .. } => "unknown-fresnel",
             FormatError::TableG { .. } => "table-g",
             FormatError::TableEta { .. } => "table-eta",

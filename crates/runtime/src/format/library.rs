@@ -190,6 +190,13 @@ impl<'a> Table<'a> {
         self.header().walk
     }
 
+    /// Whether the table's nodes hold the profile S less the analytic ridge R of grazing
+    /// incidence, which every lookup adds back (its record's `ridge`, format 1.6;
+    /// format-spec.md §10, "The ridge"). `false` in files of older minors.
+    pub fn ridge(&self) -> bool {
+        self.header().ridge
+    }
+
     /// Relative index of refraction η the table was baked for.
     pub fn eta(&self) -> f64 {
         self.header().eta

@@ -7,10 +7,11 @@ use zerocopy::IntoBytes;
 
 use super::error::{FormatError, FormatResult};
 use super::spec::{
-    required_features, AxisKind, FresnelMoments, ModelKind, RawMaterial, RawTable, SectionKind,
-    WalkComponent, WalkSource, MATERIAL_HAS_ALBEDO_RANGE, MATERIAL_RESERVED_OFFSET, MAX_AXIS_LEN,
-    MAX_NAME_BYTES, MAX_SOURCE_BYTES, PROFILE_ABS_SLACK, PROFILE_REL_SLACK, TABLE_RESERVED_OFFSET,
-    TABLE_WALK_OFFSET,
+    required_features, AxisKind, FresnelMoments, ModelKind, RawMaterial, RawPbdFields, RawTable,
+    RawWalkFields, SectionKind, WalkComponent, WalkSource, MATERIAL_HAS_ALBEDO_RANGE,
+    MATERIAL_RESERVED_OFFSET, MAX_AXIS_LEN, MAX_NAME_BYTES, MAX_SOURCE_BYTES, PBD_RESERVED_OFFSET,
+    PROFILE_ABS_SLACK, PROFILE_REL_SLACK, TABLE_BY_MODEL_LEN, TABLE_BY_MODEL_OFFSET,
+    WALK_RESERVED_OFFSET,
 };
 
 /// Names of the three colour channels, in storage order.
@@ -279,13 +280,18 @@ pub(crate) fn reserved_bits(what: String, offset: usize, bits: u32) -> FormatErr
     }
 }
 
-/// The fixed description of one table: model, η, Fresnel convention and dimensions.
+/// The fixed description of one table: model, η, Fresnel convention, dimensions and whether
+/// its nodes hold the profile less the ridge.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TableHeader {
     /// The model the table was baked for.
     pub model: ModelKind,
     /// The walk of a [`ModelKind::WalkAngular`] table (`Some` exactly for that model).
     pub walk: Option<WalkSource>,
+    /// The record's `ridge` (format 1.6): the nodes hold the profile S less the analytic ridge
+    /// R of grazing incidence, and every lookup adds R back (format-spec.md §10, "The ridge";
+    /// `table::ridge`). Files that set it need required feature bit 6.
+    pub ridge: bool,
     /// Relative index of refraction η the table was baked for, > 0.
     pub eta: f64,
     /// How the Fresnel moments were computed.
@@ -377,8 +383,21 @@ impl TableHeader {
     }
 
     pub(crate) fn encode(&self) -> RawTable {
-        // Reserved (zero) in a table without a walk
-        let (component, g) = self.walk.map_or((0, 0.0), |w| (w.component.code(), w.g));
+        let ridge = U32::new(u32::from(self.ridge));
+        // Bytes 28..63 in the layout of the model (a table has a walk exactly when it is
+        // walk-angular: `validate`)
+        let by_model: [u8; TABLE_BY_MODEL_LEN] = match self.walk {
+            Some(walk) => zerocopy::transmute!(RawWalkFields {
+                component: U32::new(walk.component.code()),
+                g: F64::new(walk.g),
+                ridge,
+                reserved: [0; 20],
+            }),
+            None => zerocopy::transmute!(RawPbdFields {
+                ridge,
+                reserved: [0; 32],
+            }),
+        };
         RawTable {
             model: U32::new(self.model.code()),
             fresnel: U32::new(self.fresnel.code()),
@@ -386,54 +405,71 @@ impl TableHeader {
             n_rho: U32::new(self.n_rho),
             n_theta: U32::new(self.n_theta),
             n_r: U32::new(self.n_r),
-            component: U32::new(component),
-            g: F64::new(g),
-            reserved: [0; 24],
+            by_model,
         }
     }
 
     /// Decodes and validates record `index` of a file whose required feature bits are
     /// `required`, in the order of format-spec.md §14. `strict` (file minor ≤ ours) also
-    /// requires the reserved bytes to be zero: from byte 40 in a walk-angular record, from
-    /// byte 28 in any other.
+    /// requires the reserved bytes to be zero: from byte 44 in a walk-angular record, from
+    /// byte 32 in a pbd-angular one and from byte 28 in a record of an unknown model.
     pub(crate) fn decode(
         index: usize,
         raw: &RawTable,
         strict: bool,
         required: u64,
     ) -> FormatResult<TableHeader> {
-        let walk_record = raw.model.get() == ModelKind::WalkAngular.code();
+        // The layout of bytes 28..63 by model code; none for a code rejected below
+        let (walk_fields, ridge_code, reserved_from) = match ModelKind::from_code(raw.model.get()) {
+            Some(ModelKind::WalkAngular) => {
+                let fields: RawWalkFields = zerocopy::transmute!(raw.by_model);
+                (Some(fields), fields.ridge.get(), WALK_RESERVED_OFFSET)
+            }
+            Some(ModelKind::PbdAngular) => {
+                let fields: RawPbdFields = zerocopy::transmute!(raw.by_model);
+                (None, fields.ridge.get(), PBD_RESERVED_OFFSET)
+            }
+            None => (None, 0, TABLE_BY_MODEL_OFFSET),
+        };
         if strict {
-            let from = if walk_record {
-                TABLE_RESERVED_OFFSET
-            } else {
-                TABLE_WALK_OFFSET
-            };
-            let reserved = raw.as_bytes().get(from..).unwrap_or_default();
-            check_reserved(&format!("table record {index}"), from, reserved)?;
+            let reserved = raw.as_bytes().get(reserved_from..).unwrap_or_default();
+            check_reserved(&format!("table record {index}"), reserved_from, reserved)?;
         }
         let model = ModelKind::from_code(raw.model.get()).ok_or(FormatError::UnknownModel {
             table: index,
             model: raw.model.get(),
         })?;
-        let walk = match model {
-            ModelKind::WalkAngular => {
+        let walk = match walk_fields {
+            Some(fields) => {
                 if required & required_features::WALK_TABLES == 0 {
                     return Err(FormatError::WalkTablesNotDeclared { table: index });
                 }
-                let code = raw.component.get();
+                let code = fields.component.get();
                 let component =
                     WalkComponent::from_code(code).ok_or(FormatError::UnknownComponent {
                         table: index,
                         component: code,
                     })?;
                 Some(WalkSource {
-                    g: raw.g.get(),
+                    g: fields.g.get(),
                     component,
                 })
             }
-            ModelKind::PbdAngular => None,
+            None => None,
         };
+        let ridge = match ridge_code {
+            0 => false,
+            1 => true,
+            code => {
+                return Err(FormatError::UnknownRidge {
+                    table: index,
+                    ridge: code,
+                })
+            }
+        };
+        if ridge && required & required_features::RIDGE == 0 {
+            return Err(FormatError::RidgeNotDeclared { table: index });
+        }
         let fresnel =
             FresnelMoments::from_code(raw.fresnel.get()).ok_or(FormatError::UnknownFresnel {
                 table: index,
@@ -442,6 +478,7 @@ impl TableHeader {
         let header = TableHeader {
             model,
             walk,
+            ridge,
             eta: raw.eta.get(),
             fresnel,
             n_rho: raw.n_rho.get(),
@@ -662,6 +699,7 @@ mod tests {
         TableHeader {
             model: ModelKind::PbdAngular,
             walk: None,
+            ridge: false,
             eta: 1.3,
             fresnel: FresnelMoments::Exact,
             n_rho,

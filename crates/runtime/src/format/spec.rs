@@ -17,8 +17,9 @@ pub const VERSION_MAJOR: u16 = 1;
 /// [`SectionKind::Harmonics`] with required feature bit 2, [`required_features::HARMONICS`];
 /// minor 3 the required feature bit 3, [`required_features::SIGNED_LOBES`]; minor 4 the required
 /// feature bit 4, [`required_features::MERGED_ROOTS`]; minor 5 the model
-/// [`ModelKind::WalkAngular`] with required feature bit 5, [`required_features::WALK_TABLES`].
-pub const VERSION_MINOR: u16 = 5;
+/// [`ModelKind::WalkAngular`] with required feature bit 5, [`required_features::WALK_TABLES`];
+/// minor 6 the table record's `ridge` with required feature bit 6, [`required_features::RIDGE`].
+pub const VERSION_MINOR: u16 = 6;
 /// Written as a little-endian u32 at byte 16; a byte-swapped file shows `0x0D0C0B0A`.
 pub const BYTE_ORDER_MARK: u32 = 0x0A0B_0C0D;
 
@@ -97,9 +98,13 @@ pub mod required_features {
     /// At least one table is walk-angular (model 3): its record holds the walk's g and
     /// component (format 1.5). A 1.4 reader would reject the model anyway; the bit names why.
     pub const WALK_TABLES: u64 = 1 << 5;
+    /// At least one table's record sets `ridge`: its nodes hold the profile less the analytic
+    /// ridge of grazing incidence, which lookups add back (format 1.6, `table::ridge`). A 1.5
+    /// reader would read the nodes as the whole profile.
+    pub const RIDGE: u64 = 1 << 6;
     /// Every required feature this reader understands.
     pub const KNOWN: u64 =
-        ZSTD | SIGNED_FLOOR | HARMONICS | SIGNED_LOBES | MERGED_ROOTS | WALK_TABLES;
+        ZSTD | SIGNED_FLOOR | HARMONICS | SIGNED_LOBES | MERGED_ROOTS | WALK_TABLES | RIDGE;
     /// Name of a required feature bit, for messages.
     pub fn name(bit: u32) -> &'static str {
         match bit {
@@ -109,6 +114,7 @@ pub mod required_features {
             3 => "signed-lobes",
             4 => "merged-roots",
             5 => "walk-tables",
+            6 => "ridge",
             _ => "unknown",
         }
     }
@@ -470,8 +476,8 @@ pub(crate) struct RawEntry {
 /// Offset of the reserved bytes within an entry.
 pub(crate) const ENTRY_RESERVED_OFFSET: usize = 60;
 
-/// One table record (64 bytes) in the `tables` section. `component` and `g` are those of a
-/// walk-angular table; in a table of another model they are reserved bytes like `reserved`.
+/// One table record (64 bytes) in the `tables` section: the fields of every model, then
+/// bytes 28..63, whose fields depend on the model ([`RawPbdFields`], [`RawWalkFields`]).
 #[derive(Debug, Clone, Copy, FromBytes, IntoBytes, KnownLayout, Immutable)]
 #[repr(C)]
 pub(crate) struct RawTable {
@@ -481,16 +487,37 @@ pub(crate) struct RawTable {
     pub n_rho: U32,
     pub n_theta: U32,
     pub n_r: U32,
-    pub component: U32,
-    pub g: F64,
-    pub reserved: [u8; 24],
+    pub by_model: [u8; TABLE_BY_MODEL_LEN],
 }
 
-/// Offset of the walk's fields (`component`, `g`) within a table record: reserved bytes from
-/// here on in a table of a model other than walk-angular.
-pub(crate) const TABLE_WALK_OFFSET: usize = 28;
-/// Offset of the reserved bytes within a walk-angular table record.
-pub(crate) const TABLE_RESERVED_OFFSET: usize = 40;
+/// Bytes 28..63 of a pbd-angular record (model 1): the ridge flag (format 1.6), then reserved.
+#[derive(Debug, Clone, Copy, FromBytes, IntoBytes, KnownLayout, Immutable)]
+#[repr(C)]
+pub(crate) struct RawPbdFields {
+    pub ridge: U32,
+    pub reserved: [u8; 32],
+}
+
+/// Bytes 28..63 of a walk-angular record (model 3): the walk's component and g (format 1.5),
+/// the ridge flag (format 1.6), then reserved.
+#[derive(Debug, Clone, Copy, FromBytes, IntoBytes, KnownLayout, Immutable)]
+#[repr(C)]
+pub(crate) struct RawWalkFields {
+    pub component: U32,
+    pub g: F64,
+    pub ridge: U32,
+    pub reserved: [u8; 20],
+}
+
+/// Offset of the fields that depend on the model within a table record; in a record of a
+/// model this reader does not know, every byte from here on is reserved.
+pub(crate) const TABLE_BY_MODEL_OFFSET: usize = 28;
+/// Length of the fields that depend on the model.
+pub(crate) const TABLE_BY_MODEL_LEN: usize = TABLE_RECORD_SIZE - TABLE_BY_MODEL_OFFSET;
+/// Offset of the reserved bytes within a pbd-angular table record (after `ridge`).
+pub(crate) const PBD_RESERVED_OFFSET: usize = 32;
+/// Offset of the reserved bytes within a walk-angular table record (after `ridge`).
+pub(crate) const WALK_RESERVED_OFFSET: usize = 44;
 
 /// One material record (512 bytes) in the `materials` section.
 #[derive(Debug, Clone, Copy, FromBytes, IntoBytes, KnownLayout, Immutable)]
@@ -520,10 +547,20 @@ const _: () = assert!(std::mem::size_of::<RawTable>() == TABLE_RECORD_SIZE);
 const _: () = assert!(std::mem::size_of::<RawMaterial>() == MATERIAL_RECORD_SIZE);
 const _: () = assert!(HEADER_RESERVED_OFFSET + 72 == HEADER_CRC_OFFSET);
 const _: () = assert!(MATERIAL_RESERVED_OFFSET + 40 == 192);
-const _: () = assert!(std::mem::offset_of!(RawTable, component) == TABLE_WALK_OFFSET);
-const _: () = assert!(std::mem::offset_of!(RawTable, g) == 32);
-const _: () = assert!(std::mem::offset_of!(RawTable, reserved) == TABLE_RESERVED_OFFSET);
-const _: () = assert!(TABLE_RESERVED_OFFSET + 24 == TABLE_RECORD_SIZE);
+const _: () = assert!(std::mem::offset_of!(RawTable, by_model) == TABLE_BY_MODEL_OFFSET);
+const _: () = assert!(std::mem::size_of::<RawPbdFields>() == TABLE_BY_MODEL_LEN);
+const _: () = assert!(std::mem::size_of::<RawWalkFields>() == TABLE_BY_MODEL_LEN);
+// Offsets within the record: ridge at 28 and reserved from 32 (model 1); component at 28, g at
+// 32, ridge at 40 and reserved from 44 (model 3)
+const _: () = assert!(TABLE_BY_MODEL_OFFSET + std::mem::offset_of!(RawPbdFields, ridge) == 28);
+const _: () = assert!(
+    TABLE_BY_MODEL_OFFSET + std::mem::offset_of!(RawPbdFields, reserved) == PBD_RESERVED_OFFSET
+);
+const _: () = assert!(TABLE_BY_MODEL_OFFSET + std::mem::offset_of!(RawWalkFields, g) == 32);
+const _: () = assert!(TABLE_BY_MODEL_OFFSET + std::mem::offset_of!(RawWalkFields, ridge) == 40);
+const _: () = assert!(
+    TABLE_BY_MODEL_OFFSET + std::mem::offset_of!(RawWalkFields, reserved) == WALK_RESERVED_OFFSET
+);
 
 /// CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320, as in zlib) of several byte runs.
 pub(crate) fn crc32(parts: &[&[u8]]) -> u32 {

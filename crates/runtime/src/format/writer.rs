@@ -51,6 +51,10 @@ pub struct TableData {
     /// (−1, 1)); such a table has `harmonics`, and the file needs format 1.5's `walk-tables`
     /// bit.
     pub walk: Option<WalkSource>,
+    /// Whether the nodes hold the profile S less the analytic ridge R of grazing incidence,
+    /// which lookups add back (the record's `ridge`, format-spec.md §10 "The ridge"); the file
+    /// then needs format 1.6's `ridge` bit.
+    pub ridge: bool,
     /// Relative index of refraction η, > 0.
     pub eta: f64,
     /// How the Fresnel moments were computed.
@@ -167,6 +171,7 @@ impl LibraryBuilder {
         let header = TableHeader {
             model: table.model,
             walk: table.walk,
+            ridge: table.ridge,
             eta: table.eta,
             fresnel: table.fresnel,
             n_rho: len32(&table.rho),
@@ -447,6 +452,7 @@ impl LibraryBuilder {
             .tables
             .iter()
             .any(|(header, _)| header.model == ModelKind::WalkAngular);
+        let ridge = self.tables.iter().any(|(header, _)| header.ridge);
         let required = if signed_floor {
             required_features::SIGNED_FLOOR
         } else {
@@ -467,7 +473,7 @@ impl LibraryBuilder {
             required_features::WALK_TABLES
         } else {
             0
-        };
+        } | if ridge { required_features::RIDGE } else { 0 };
         layout(&sections, self.alignment, compression, required)
     }
 

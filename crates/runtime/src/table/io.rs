@@ -34,6 +34,7 @@ impl AngularTable {
                 None => ModelKind::PbdAngular,
             },
             walk: self.walk,
+            ridge: self.ridge,
             eta: self.eta,
             fresnel: self.moments.into(),
             rho: axis(self.axes.rho()),
@@ -90,7 +91,7 @@ impl<'a> FileTable<'a> {
         Ok(file_table)
     }
 
-    /// The lookup view (cheap: borrows the file's arrays).
+    /// The lookup view (cheap: borrows the file's arrays), with the record's ridge flag.
     pub fn view(&self) -> Result<TableRef<'_>, TableError> {
         let view = TableRef::new(
             self.table.eta(),
@@ -99,7 +100,8 @@ impl<'a> FileTable<'a> {
             self.table.gwc_params(),
             self.table.radial_cdf(),
             self.table.theta_cdf(),
-        )?;
+        )?
+        .with_ridge(self.table.ridge());
         match self.table.harmonics() {
             Some(harmonics) => Ok(view
                 .with_harmonics(harmonics)?
@@ -118,7 +120,7 @@ impl<'a> FileTable<'a> {
         self.moments
     }
 
-    /// Copies the table into memory, with its walk if it is walk-angular.
+    /// Copies the table into memory, with its walk if it is walk-angular and its ridge flag.
     pub fn to_owned_table(&self) -> Result<AngularTable, TableError> {
         let view = self.view()?;
         let table = AngularTable::from_parts(
@@ -128,7 +130,8 @@ impl<'a> FileTable<'a> {
             self.table.gwc_params().to_vec(),
             self.table.radial_cdf().to_vec(),
             self.table.theta_cdf().map(<[f32]>::to_vec),
-        )?;
+        )?
+        .with_ridge(self.table.ridge());
         let table = match self.table.harmonics() {
             Some(harmonics) => table.with_harmonics_by(harmonics.to_vec(), self.table.rebuild())?,
             None => table,

@@ -66,6 +66,7 @@ mod albedo;
 mod io;
 mod lookup;
 mod reflectance;
+pub mod ridge;
 mod subset;
 
 pub use crate::error::TableError;
@@ -163,6 +164,8 @@ pub struct AngularTable {
     shares: Option<Vec<f32>>,
     /// The walk a table measured from the Monte Carlo walk was baked with (`None`: PBD).
     walk: Option<crate::format::WalkSource>,
+    /// Whether the nodes hold S less the analytic ridge, which lookups add back ([`ridge`]).
+    ridge: bool,
 }
 
 /// A borrowed view of a table's arrays, as owned by [`AngularTable`] or mapped from a file.
@@ -183,6 +186,8 @@ pub struct TableRef<'a> {
     /// [`AngularTable`], an opened `embed::Library`): lookups then blend them as they are
     /// instead of dividing row by row. `None` in views of raw arrays ([`TableRef::new`]).
     shares: Option<&'a [f32]>,
+    /// Whether the nodes hold S less the analytic ridge, which lookups add back ([`ridge`]).
+    ridge: bool,
 }
 
 /// Values per node of [`harmonic_shares_of`] that lookups blend.
@@ -348,6 +353,7 @@ impl<'a> TableRef<'a> {
             harmonics: None,
             rebuild: Rebuild::default(),
             shares: None,
+            ridge: false,
         })
     }
 
@@ -395,6 +401,17 @@ impl<'a> TableRef<'a> {
         self.rebuild
     }
 
+    /// This view with the analytic ridge added back to what its nodes hold, or not (a file's
+    /// table record, format-spec.md §10 "The ridge"; [`ridge`]).
+    pub fn with_ridge(self, ridge: bool) -> Self {
+        Self { ridge, ..self }
+    }
+
+    /// Whether the nodes hold S less the analytic ridge, which lookups add back.
+    pub fn ridge(&self) -> bool {
+        self.ridge
+    }
+
     /// A view of arrays that [`TableRef::new`] has already accepted with these axes, with
     /// `c_e = Boundary::new(eta, moments)?.c_e()` as `new` computes it: O(1), no checks and no
     /// Fresnel integration, for handles that rebuild their view on every lookup
@@ -417,6 +434,7 @@ impl<'a> TableRef<'a> {
             harmonics: None,
             rebuild: Rebuild::default(),
             shares: None,
+            ridge: false,
         }
     }
 
@@ -486,6 +504,7 @@ impl AngularTable {
             rebuild: Rebuild::default(),
             shares: None,
             walk: None,
+            ridge: false,
         })
     }
 
@@ -499,6 +518,35 @@ impl AngularTable {
     /// The walk the table was measured with, if it was (`None`: photon beam diffusion).
     pub fn walk(&self) -> Option<crate::format::WalkSource> {
         self.walk
+    }
+
+    /// This table with the θ-sampling CDF `theta_cdf`, `[nρ][nθ]` (validated as in
+    /// [`TableRef::new`]).
+    pub fn with_theta_cdf(self, theta_cdf: Vec<f32>) -> Result<Self, TableError> {
+        TableRef::new(
+            self.eta,
+            self.moments,
+            &self.axes,
+            &self.params,
+            &self.radial_cdf,
+            Some(&theta_cdf),
+        )?;
+        Ok(Self {
+            theta_cdf: Some(theta_cdf),
+            ..self
+        })
+    }
+
+    /// This table with the analytic ridge added back to what its nodes hold, or not
+    /// ([`TableRef::with_ridge`]).
+    pub fn with_ridge(mut self, ridge: bool) -> Self {
+        self.ridge = ridge;
+        self
+    }
+
+    /// Whether the nodes hold S less the analytic ridge, which lookups add back.
+    pub fn ridge(&self) -> bool {
+        self.ridge
     }
 
     /// Whether this is a table of the walk at exactly `eta` and `g`: the values a file stores
@@ -551,6 +599,7 @@ impl AngularTable {
             harmonics: self.harmonics.as_deref(),
             rebuild: self.rebuild,
             shares: self.shares.as_deref(),
+            ridge: self.ridge,
         }
     }
     /// η.

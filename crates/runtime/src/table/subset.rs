@@ -209,7 +209,7 @@ impl AngularTable {
             }
             None => table,
         };
-        Ok(with_walk_of(table, self.walk()))
+        Ok(with_walk_of(table, self.walk()).with_ridge(self.ridge()))
     }
 
     /// The same table without the θ-sampling CDF (for renderers that only particle-trace).
@@ -226,11 +226,11 @@ impl AngularTable {
             Some(h) => table.with_harmonics_by(h.to_vec(), self.rebuild())?,
             None => table,
         };
-        Ok(with_walk_of(table, self.walk()))
+        Ok(with_walk_of(table, self.walk()).with_ridge(self.ridge()))
     }
 
     /// Joins tables holding consecutive albedo rows of the same bake (same η, moments, θ and r
-    /// axes, walk, increasing ρ′, all with or all without the θ CDF) into one.
+    /// axes, walk, ridge flag, increasing ρ′, all with or all without the θ CDF) into one.
     pub fn concat_rows(parts: &[AngularTable]) -> Result<AngularTable, SubsetError> {
         let first = parts.first().ok_or(SubsetError::Mismatch("no tables"))?;
         let mut rho: Vec<f64> = Vec::new();
@@ -254,6 +254,9 @@ impl AngularTable {
             }
             if p.walk() != first.walk() {
                 return Err(SubsetError::Mismatch("model or walk (g, component)"));
+            }
+            if p.ridge() != first.ridge() {
+                return Err(SubsetError::Mismatch("ridge"));
             }
             rho.extend_from_slice(p.axes().rho().as_slice());
             params.extend_from_slice(p.params());
@@ -280,7 +283,7 @@ impl AngularTable {
             Some(_) => table.with_harmonics_by(harmonics, first.rebuild())?,
             None => table,
         };
-        Ok(with_walk_of(table, first.walk()))
+        Ok(with_walk_of(table, first.walk()).with_ridge(first.ridge()))
     }
 }
 

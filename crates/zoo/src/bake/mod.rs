@@ -415,6 +415,14 @@ impl Baker {
                 "stored": "the limit theta' -> 90 deg by its harmonics: PBD with the beam in the surface, 8-point Gauss-Legendre panels [0, pi 1e-5] then a decade wide, plus the ridge rho'^2 C_E kappa e^-r/(2r) on phi = 0",
             });
         }
+        if tables.iter().any(|t| t.table.ridge()) {
+            settings["ridge"] = json!({
+                "weight_full_below_cos_refracted": table::ridge::FULL_WEIGHT_COS,
+                "weight_zero_from_cos_refracted": table::ridge::ZERO_WEIGHT_COS,
+                "width_floor_cos_refracted": table::ridge::MIN_WIDTH_COS,
+                "stored": "the profile less the analytic ridge (format-spec.md section 10, The ridge), which lookups add back; where the beam runs in the surface, the limit's harmonics less the ridge's",
+            });
+        }
         if let (Some(grazing), true) = (grazing, near_eta_1) {
             // A custom grid is baked as given at every η
             settings["theta_nodes_near_eta_1"] = json!({

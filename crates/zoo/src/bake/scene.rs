@@ -92,6 +92,7 @@ impl Baker {
             builder.add_table(TableData {
                 model: ModelKind::PbdAngular,
                 walk: None,
+                ridge: false,
                 eta,
                 fresnel: self.moments.into(),
                 rho: axis(&grid.rho),

@@ -51,6 +51,7 @@ use crate::gwc::{
 };
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
+use crate::table::ridge::{self, Ridge};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
@@ -336,12 +337,23 @@ pub fn bake_lobes(
     let rows: Vec<(usize, usize)> = (0..n_rho)
         .flat_map(|i| (0..n_theta).map(move |j| (i, j)))
         .collect();
+    // Two-lobe tables whose θ axis reaches the ridge's weight store S less it (`ridge`)
+    let with_ridge = lobes == Lobes::Two && ridge::reaches(eta);
+    let r_max = grid.r[n_r - 1];
     let baked: Vec<Result<BakedRow>> = rows
         .par_iter()
         .map(|&(i, j)| {
             let pbd = Pbd::new(grid.rho[i], boundary)?;
             let surface = beam_in_surface(eta, grid.theta[j]);
             let theta = grid.theta[j].min(0.5 * PI);
+            // (a node where the beam runs in the surface holds the limit cos θ′ → 0)
+            let cos_t = match surface {
+                true => Some(0.0),
+                false => crate::fresnel::refracted_cos(theta, eta),
+            };
+            let ridge = cos_t
+                .filter(|_| with_ridge)
+                .and_then(|c| Ridge::with_cos(boundary.c_e(), grid.rho[i], c, r_max));
             let mut row = Vec::with_capacity(n_r * PARAMS_PER_NODE);
             let mut second = Vec::new();
             let mut branches = Vec::with_capacity(n_r);
@@ -349,7 +361,7 @@ pub fn bake_lobes(
             let mut hint = None;
             for &r in &grid.r {
                 if surface && r > 0.0 {
-                    let [e, e_beta, c, m3, m4] = surface_cells(&pbd, r, lobes);
+                    let [e, e_beta, c, m3, m4] = surface_cells(&pbd, r, lobes, ridge.as_ref());
                     row.extend([to_f32(e), to_f32(e_beta), c as f32]);
                     if lobes == Lobes::Two {
                         second.extend([to_f32(m3), to_f32(m4)]);
@@ -358,12 +370,15 @@ pub fn bake_lobes(
                     continue;
                 }
                 if lobes == Lobes::Two && theta > 0.0 && r > 0.0 {
-                    let ([e, e_beta, c, m3, m4], fitted) = two_lobe_node(&pbd, theta, r, hint);
+                    let ([e, e_beta, c, m3, m4], fitted) =
+                        two_lobe_node(&pbd, theta, r, hint, ridge.as_ref());
                     hint = fitted;
                     let [e, e_beta, c, m3, m4] = match crate::fresnel::refracted_cos(theta, eta) {
                         Some(cos_t) if cos_t < RESCALE_BELOW_COS && e > 0.0 => {
-                            // The fit's shape with the profile's own energy
-                            let k = r * surface_harmonics::<5>(&pbd, r, Some(theta))[0] / e;
+                            // The fit's shape with the profile's own energy (less the ridge's)
+                            let ridge_mass = ridge.map_or(0.0, |g| g.harmonics::<1>(r)[0]);
+                            let mass = surface_harmonics::<5>(&pbd, r, Some(theta))[0];
+                            let k = r * (mass - ridge_mass).max(0.0) / e;
                             [e * k, e_beta * k, c, m3 * k, m4 * k]
                         }
                         _ => [e, e_beta, c, m3, m4],
@@ -403,7 +418,15 @@ pub fn bake_lobes(
         }
     }
 
-    let table = assemble(eta, moments, grid, axes, params, harmonics, theta_sampling)?;
+    let table = assemble(
+        eta,
+        moments,
+        grid,
+        axes,
+        (params, harmonics),
+        theta_sampling,
+        with_ridge,
+    )?;
     let report = BakeReport {
         seconds: start.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
@@ -439,15 +462,16 @@ pub(super) fn checked_grid(grid: &Grid) -> Result<(Grid, Axes)> {
 
 /// The table of a bake's node values (`params`, and `harmonics`, empty with one lobe, in the
 /// order of the grid's rows): below η = 1 the nodes beyond the critical node copy it, then the
-/// radial CDFs, the θ CDF (`theta_sampling`) and the table.
+/// radial CDFs, the θ CDF (`theta_sampling`) and the table. With `ridge` the nodes hold S less
+/// the analytic ridge (`ridge`), whose energy the θ CDF adds at each node.
 pub(super) fn assemble(
     eta: f64,
     moments: Moments,
     grid: &Grid,
     axes: Axes,
-    mut params: Vec<f32>,
-    mut harmonics: Vec<f32>,
+    (mut params, mut harmonics): (Vec<f32>, Vec<f32>),
     theta_sampling: bool,
+    ridge: bool,
 ) -> Result<AngularTable> {
     let (n_rho, n_theta, n_r) = axes.dims();
     // Below η = 1, the nodes beyond a critical node (`Grid::below_critical`), where no light
@@ -493,10 +517,18 @@ pub(super) fn assemble(
         .take_while(|&&t| crate::fresnel::refracted_cos(t.min(0.5 * PI), eta).is_some())
         .count();
     let lit = (entering + 1).min(n_theta);
-    let theta_cdf =
-        theta_sampling.then(|| theta_cdf(axes.theta(), &radial_cdf, [n_rho, n_theta, n_r], lit));
-    let mut table = AngularTable::from_parts(eta, moments, axes, params, radial_cdf, theta_cdf)
-        .map_err(Error::from)?;
+    let mut table = AngularTable::from_parts(eta, moments, axes, params, radial_cdf, None)
+        .map_err(Error::from)?
+        .with_ridge(ridge);
+    if theta_sampling {
+        // The totals θ draws read (`TableRef::node_total`: the ridge's energy included)
+        let view = table.view();
+        let totals: Vec<f64> = (0..n_rho * n_theta)
+            .map(|k| view.node_total(k / n_theta, k % n_theta))
+            .collect();
+        let theta_cdf = theta_cdf(view.axes().theta(), &totals, n_theta, lit);
+        table = table.with_theta_cdf(theta_cdf).map_err(Error::from)?;
+    }
     if !harmonics.is_empty() {
         table = table.with_harmonics(harmonics).map_err(Error::from)?;
     }
@@ -663,13 +695,16 @@ fn two_lobe_node(
     theta: f64,
     r: f64,
     hint: Option<[f64; 2]>,
+    ridge: Option<&Ridge>,
 ) -> ([f64; 5], Option<[f64; 2]>) {
     let azimuths = two_lobe_azimuths();
     // At exact index matching and grazing incidence the refracted beam runs in the surface and
-    // PBD is infinite at φ = 0: the fit takes the azimuths where it is finite
+    // PBD is infinite at φ = 0: the fit takes the azimuths where it is finite. With the ridge,
+    // the nodes hold PBD less it (the fit's lobes are ≥ 0 where that dips below 0)
+    let ridge_at = |p: f64| ridge.map_or(0.0, |g| g.eval(r, p));
     let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
         .iter()
-        .map(|&p| (p, pbd.eval(theta, r, p, Rule::Fast)))
+        .map(|&p| (p, pbd.eval(theta, r, p, Rule::Fast) - ridge_at(p)))
         .filter(|(_, v)| v.is_finite())
         .unzip();
     two_lobe_node_of(&phi, &y, r, hint)
@@ -716,8 +751,11 @@ pub(super) fn two_lobe_node_of(
 /// A fit through a few azimuths, as at other nodes, misses the profile's energy there: PBD with
 /// the beam in the surface grows like ln(1/φ) towards φ = 0, and the fits were 6 % high in ρ_eff
 /// at ρ′ = 0.1 (η = 1).
-fn surface_cells(pbd: &Pbd, r: f64, lobes: Lobes) -> [f64; 5] {
-    let [m0, m1, m2, m3, m4] = surface_harmonics(pbd, r, None);
+fn surface_cells(pbd: &Pbd, r: f64, lobes: Lobes, ridge: Option<&Ridge>) -> [f64; 5] {
+    let full = surface_harmonics::<5>(pbd, r, None);
+    // Less the analytic ridge's, whose mass the limit's line ridge carries
+    let less = ridge.map_or([0.0; 5], |g| g.harmonics::<5>(r));
+    let [m0, m1, m2, m3, m4]: [f64; 5] = std::array::from_fn(|n| full[n] - less[n]);
     let (beta, c) = one_lobe_of(m1, m2);
     match lobes {
         Lobes::Two => [r * m0, r * within_floor(beta, c, m0), c, r * m3, r * m4],
@@ -836,20 +874,15 @@ fn normal_incidence_node(pbd: &Pbd, r: f64, anchors: [f64; 3]) -> Result<([f64; 
     Ok(([e, e_beta, 0.0], fit.branch))
 }
 
-/// CDF over θ of ρ_eff(ρ′, θ) (the last radial CDF node), per albedo row: the running integral
+/// CDF over θ of ρ_eff(ρ′, θ) (`totals`, per albedo row and θ node), per albedo row: the running integral
 /// of the spline of `theta`, so with its end condition (slope 0 at 90°, [`Axes::new`]), as
 /// every lookup that samples θ with it interpolates, over the first `lit` nodes; constant from
 /// there (below η = 1, beyond the critical node, where no light enters).
-fn theta_cdf(
-    theta: &Nodes,
-    radial_cdf: &[f32],
-    [n_rho, n_theta, n_r]: [usize; 3],
-    lit: usize,
-) -> Vec<f32> {
-    let mut out = vec![0.0f32; n_rho * n_theta];
+fn theta_cdf(theta: &Nodes, totals: &[f64], n_theta: usize, lit: usize) -> Vec<f32> {
+    let mut out = vec![0.0f32; totals.len()];
     let mut cumulative = vec![0.0f64; n_theta];
     for (i, chunk) in out.chunks_mut(n_theta).enumerate() {
-        let rho_eff = |j: usize| f64::from(radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]);
+        let rho_eff = |j: usize| totals[i * n_theta + j];
         theta.integrate_positive(rho_eff, &mut cumulative);
         let last_lit = cumulative[lit.clamp(1, n_theta) - 1];
         for (j, (o, c)) in chunk.iter_mut().zip(&cumulative).enumerate() {

@@ -232,9 +232,9 @@ pub fn bake_walk(
         Moments::Exact,
         grid,
         axes,
-        params,
-        second,
+        (params, second),
         config.theta_sampling,
+        false,
     )?;
     rel_stderr.sort_by(f64::total_cmp);
     let quantile = |q: f64| -> f64 {

@@ -158,6 +158,8 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
             "invalid/walk-tables-not-declared",
             "a walk-angular table without bit 5",
         ),
+        ("invalid/ridge-not-declared", "ridge = 1 without bit 6"),
+        ("invalid/unknown-ridge", "ridge = 2"),
     ] {
         let (code, _) = run(&exe, &data.join(format!("{file}.bssrdf")), 0, gwc, 0);
         assert_eq!(code, 3, "{file} should be rejected ({why})");
@@ -166,4 +168,62 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
     let undeclared = data.join("invalid/harmonics-not-declared.bssrdf");
     let (code, _) = run(&exe, &undeclared, 0, harmonics, 3);
     assert_eq!(code, 3, "harmonics-not-declared: its harmonics were read");
+}
+
+/// Format 1.6: the C reader reads a table whose record sets `ridge` where the file sets bit 6,
+/// at byte 28 of a pbd-angular record and byte 40 of a walk-angular one (whose byte 28 is the
+/// walk's component), and rejects it without the bit or with a `ridge` other than 0 and 1.
+#[test]
+fn c_reader_reads_the_ridge_flag_by_model() {
+    use bssrdf_testkit::files::{as_walk_table, kind, Raw};
+    use bssrdf_zoo::format::spec::required_features::RIDGE;
+    use bssrdf_zoo::format::{TableData, WalkComponent};
+    let dir = tempfile::tempdir().unwrap();
+    let Some(exe) = compile(dir.path()) else {
+        return;
+    };
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data");
+    let gwc = SectionKind::GwcParams.code();
+    // The ridge vector: the values the Rust reader reads
+    let path = data.join("valid/ridge.bssrdf");
+    let library = Library::read(&path, Verify::Full).unwrap();
+    let expected = library.table(0).unwrap().gwc_params()[7];
+    let (code, stdout) = run(&exe, &path, 0, gwc, 7);
+    assert_eq!(code, 0, "{stdout}");
+    let bits = stdout.split_whitespace().next().unwrap();
+    assert_eq!(u32::from_str_radix(bits, 16).unwrap(), expected.to_bits());
+    // A walk-angular table with the ridge (component total = 1 at byte 28, ridge at byte 40)
+    let table = TableData {
+        ridge: true,
+        ..synthetic_table(1.0, 2, 2, 4, true)
+    };
+    let mut builder = LibraryBuilder::new();
+    builder
+        .add_table(as_walk_table(table, 0.75, WalkComponent::Total))
+        .unwrap();
+    let raw = Raw::new(builder.to_bytes(Compression::None).unwrap());
+    let edited = |name: &str, edit: &dyn Fn(&mut Raw)| {
+        let mut raw = raw.clone();
+        edit(&mut raw);
+        raw.fix_crcs();
+        let path = dir.path().join(name);
+        std::fs::write(&path, &raw.bytes).unwrap();
+        run(&exe, &path, 0, gwc, 0).0
+    };
+    let record = raw.data(kind::TABLES, kind::FILE);
+    assert_eq!(edited("walk-ridge.bssrdf", &|_| {}), 0);
+    let no_bit = |r: &mut Raw| r.set_u64(32, r.u64(32) & !RIDGE);
+    assert_eq!(
+        edited("no-bit.bssrdf", &no_bit),
+        3,
+        "ridge = 1 without bit 6"
+    );
+    let two = |r: &mut Raw| r.set_u32(record + 40, 2);
+    assert_eq!(edited("two.bssrdf", &two), 3, "ridge = 2");
+    // Without the ridge and without the bit: the component at byte 28 is no ridge flag
+    let without = |r: &mut Raw| {
+        no_bit(r);
+        r.set_u32(record + 40, 0);
+    };
+    assert_eq!(edited("without.bssrdf", &without), 0);
 }

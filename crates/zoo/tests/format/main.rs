@@ -6,6 +6,7 @@ mod corruption;
 mod harmonics;
 mod mapping;
 mod proptest;
+mod ridge;
 mod roundtrip;
 mod spec_example;
 mod walk;

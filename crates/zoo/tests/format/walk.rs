@@ -1,5 +1,6 @@
 //! Every rule of format-spec.md for a walk-angular table (model 3, format 1.5): the record's
-//! `component` at byte 28 and `g` at byte 32, its reserved bytes from byte 40, required feature
+//! `component` at byte 28 and `g` at byte 32, its reserved bytes from byte 44 (byte 40 holds
+//! the ridge flag of format 1.6, tested in `ridge.rs`), required feature
 //! bit 5 (`walk-tables`) and its required `gwc-harmonics` section, each broken by a file that
 //! must be rejected with the error code §14 names, next to the accept paths. The conformance
 //! vectors of the new codes are made here ([`walk_vectors`]); errors that other vectors
@@ -41,12 +42,12 @@ pub fn tiny_walk() -> Raw {
 }
 
 /// File offset of the record of table 0.
-fn record(raw: &Raw) -> usize {
+pub fn record(raw: &Raw) -> usize {
     raw.data(kind::TABLES, kind::FILE)
 }
 
 /// `raw` changed by `edit`, with every CRC recomputed.
-fn edited(mut raw: Raw, edit: impl Fn(&mut Raw)) -> Raw {
+pub fn edited(mut raw: Raw, edit: impl Fn(&mut Raw)) -> Raw {
     edit(&mut raw);
     raw.fix_crcs();
     raw
@@ -154,8 +155,9 @@ fn a_walk_table_round_trips() {
     assert_eq!(owned.to_table_data(), second);
 }
 
-/// §9.1: `component` is the u32 at byte 28 of the record, `g` the f64 at byte 32, zeros from
-/// byte 40; a pbd-angular record is zero from byte 28.
+/// §9.1: `component` is the u32 at byte 28 of the record, `g` the f64 at byte 32, the ridge
+/// flag (0 here) at byte 40 and zeros from byte 44; a pbd-angular record without the ridge is
+/// zero from byte 28.
 #[test]
 fn the_record_holds_component_at_28_and_g_at_32() {
     let raw = tiny_walk();
@@ -299,7 +301,7 @@ fn a_walk_table_without_gwc_harmonics_is_missing_a_section() {
 }
 
 /// `raw` with byte `at` of table record 0 set to `value` and the header's minor to `minor`.
-fn with_record_byte(mut raw: Raw, at: usize, value: u8, minor: u16) -> Raw {
+pub fn with_record_byte(mut raw: Raw, at: usize, value: u8, minor: u16) -> Raw {
     let t = record(&raw);
     raw.bytes[t + at] = value;
     raw.set_u16(14, minor);
@@ -307,11 +309,11 @@ fn with_record_byte(mut raw: Raw, at: usize, value: u8, minor: u16) -> Raw {
     raw
 }
 
-/// §9.1 and §4: in strict reading the reserved bytes of a walk-angular record, 40 to 63, are
+/// §9.1 and §4: in strict reading the reserved bytes of a walk-angular record, 44 to 63, are
 /// zero; a file of a newer minor may use them, and is read with its walk.
 #[test]
-fn a_walk_record_is_reserved_from_byte_40() {
-    for at in [40, 51, 63] {
+fn a_walk_record_is_reserved_from_byte_44() {
+    for at in [44, 51, 63] {
         let set = |minor: u16| with_record_byte(tiny_walk(), at, 0x5A, minor);
         let needle = format!("reserved byte {at} of the table record 0 is 0x5a");
         assert_rejected(
@@ -325,10 +327,11 @@ fn a_walk_record_is_reserved_from_byte_40() {
     }
 }
 
-/// §9.1: in a pbd-angular record bytes 28 to 63 stay reserved, those of a walk's fields too.
+/// §9.1: in a pbd-angular record bytes 32 to 63 stay reserved (byte 28 is its ridge flag),
+/// those of a walk's fields too.
 #[test]
-fn a_pbd_record_is_reserved_from_byte_28() {
-    for at in [28, 32, 39, 40, 63] {
+fn a_pbd_record_is_reserved_from_byte_32() {
+    for at in [32, 39, 40, 44, 63] {
         let set = |minor: u16| {
             let pbd = Raw::new(tiny_builder().to_bytes(Compression::None).unwrap());
             with_record_byte(pbd, at, 0x01, minor)

@@ -14,7 +14,7 @@ use bssrdf_zoo::table::{
 use std::f64::consts::FRAC_PI_2;
 
 /// The table `bssrdf bake --eta ETA` makes: the default preset's grid and lobes at η.
-fn default_at(eta: f64, theta_sampling: bool) -> AngularTable {
+pub(crate) fn default_at(eta: f64, theta_sampling: bool) -> AngularTable {
     let lobes = Lobes::for_eta(eta);
     let grid = GridPreset::Default.grid(eta, lobes);
     bake_lobes(eta, Moments::Exact, &grid, theta_sampling, lobes)
@@ -184,7 +184,10 @@ fn on_a_grid_without_a_critical_node_theta_is_drawn_up_to_the_critical_angle() {
 /// Path draws of θ at ρ′ = 0.5 and 0.99: every one lands where light enters (θ ≤ `end`), and
 /// their histogram over the θ node intervals (the last ones, next to the surface beam, hold the
 /// least) agrees with `pdf_theta` integrated over each interval (chi-square at p = 10⁻⁶).
-fn path_draws_of_theta_follow_pdf_theta(view: &bssrdf_zoo::table::TableRef<'_>, end: f64) {
+pub(crate) fn path_draws_of_theta_follow_pdf_theta(
+    view: &bssrdf_zoo::table::TableRef<'_>,
+    end: f64,
+) {
     use bssrdf_testkit::stats::chi2_critical_1e6;
     use bssrdf_zoo::quadrature::GaussLegendre;
     let nodes: Vec<f64> = view

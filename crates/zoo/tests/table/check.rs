@@ -60,15 +60,16 @@ fn default_bake(eta: f64) -> AngularTable {
 
 /// The tail points see what r log-uniform over the whole axis crossed in too few points: the
 /// default table at η = 1.01 is 10–80 % off PBD at ρ′ < 0.1, θ ≥ 75° and r ≈ 13–20, where PBD
-/// is 10⁻¹²–10⁻⁹ of its peak (`examples/tail_error`); its check fails there, and only there,
-/// on coverage points, its weighted means within the bound.
+/// is 10⁻¹²–10⁻⁹ of its peak (`examples/tail_error`), and up to 16 % at ρ′ 0.1–0.7, 75–85°,
+/// where the analytic ridge's lobe reaches past S off the ridge (`table::ridge`); its check
+/// fails there, and only there, on coverage points, its weighted means within the bound.
 #[test]
 fn the_far_tail_near_grazing_at_eta_1_01_fails_the_check() {
     let result = check(&default_bake(1.01).view(), Moments::Exact, CHECK_BOUNDS).unwrap();
     let failed: Vec<_> = result.failures().collect();
     assert!(!failed.is_empty());
     for r in failed {
-        assert_eq!(r.rho[0] as f32, 0.001, "{r:?}");
+        assert!(r.rho[1] as f32 <= 0.7, "{r:?}");
         assert!(r.theta_deg[0] >= 75.0, "{r:?}");
         assert!(
             r.coverage_max_rel_error > CHECK_BOUNDS.coverage_rel_error,

@@ -205,6 +205,35 @@ fn table_views_equal_file_table_views_bit_for_bit() {
     }
 }
 
+/// A table whose record sets `ridge` (format 1.6) gives views that say so, however the library
+/// is opened and whichever handle makes them, as a `FileTable` of the record does; a table
+/// without it gives views without.
+#[test]
+fn views_carry_the_ridge_flag_of_the_record() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/valid");
+    for (name, ridge) in [("ridge", true), ("tiny", false), ("walk-table", false)] {
+        let path = data.join(format!("{name}.bssrdf"));
+        let header_only = format::Library::read(&path, Verify::HeaderOnly).unwrap();
+        for library in [
+            Library::open_mmap(&path).unwrap(),
+            Library::read(&path).unwrap(),
+            Library::from_format(header_only).unwrap(),
+        ] {
+            assert_eq!(library.view(0).unwrap().ridge(), ridge, "{name}");
+            let table = library.table(0).unwrap();
+            assert_eq!(table.view().ridge(), ridge, "{name}");
+            // A medium's lookups go through the view its table makes
+            let medium = table.medium(0.5, 1.0).unwrap();
+            assert_eq!(medium.table().view().ridge(), ridge, "{name}");
+            assert!(library.tables().all(|t| t.view().ridge() == ridge));
+            let record = library.format().table(0).unwrap();
+            assert_eq!(record.ridge(), ridge, "{name}");
+            let direct = FileTable::new(record).unwrap();
+            assert_eq!(direct.view().unwrap().ridge(), ridge, "{name}");
+        }
+    }
+}
+
 #[test]
 fn handles_outlive_their_library_and_work_from_many_threads() {
     let dir = tempfile::tempdir().unwrap();

@@ -14,6 +14,7 @@ mod gwc;
 mod lookup;
 mod pinned;
 mod reflectance;
+mod ridge;
 mod separable;
 mod subset;
 mod walk;

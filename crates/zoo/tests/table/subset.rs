@@ -330,3 +330,55 @@ fn subsets_keep_the_walk() {
         assert!(err.to_string().contains("walk"), "{err}");
     }
 }
+
+/// A table whose nodes hold the profile less the ridge keeps its flag through every subset, in
+/// its views and in the file it is written to; tables with and without it are not joined.
+#[test]
+fn subsets_keep_the_ridge() {
+    use bssrdf_zoo::format::{
+        Compression, Library, LibraryBuilder, Verify, WalkComponent, WalkSource,
+    };
+    use bssrdf_zoo::table::FileTable;
+    let n = full().axes().rho().as_slice().len();
+    let walk = WalkSource {
+        g: 0.5,
+        component: WalkComponent::Total,
+    };
+    for marked in [
+        full().clone().with_ridge(true),
+        full().clone().with_ridge(true).with_walk(walk),
+    ] {
+        for part in [
+            marked.subset_rows(0..n / 2).unwrap(),
+            marked.without_theta_sampling().unwrap(),
+            AngularTable::concat_rows(&[
+                marked.subset_rows(0..n / 2).unwrap(),
+                marked.subset_rows(n / 2..n).unwrap(),
+            ])
+            .unwrap(),
+        ] {
+            assert!(part.ridge() && part.view().ridge());
+            assert_eq!(part.walk(), marked.walk());
+            let data = part.to_table_data();
+            assert!(data.ridge);
+            // A walk-angular table needs two lobes to be written; this one has one
+            if part.walk().is_some() {
+                continue;
+            }
+            let mut builder = LibraryBuilder::new();
+            builder.add_table(data).unwrap();
+            let bytes = builder.to_bytes(Compression::None).unwrap();
+            let library = Library::from_bytes(&bytes, Verify::Full).unwrap();
+            let read = FileTable::new(library.table(0).unwrap()).unwrap();
+            assert!(read.view().unwrap().ridge());
+            assert_eq!(read.to_owned_table().unwrap(), part);
+        }
+    }
+    let marked = full().clone().with_ridge(true);
+    let err = AngularTable::concat_rows(&[
+        marked.subset_rows(0..n / 2).unwrap(),
+        full().subset_rows(n / 2..n).unwrap(),
+    ])
+    .unwrap_err();
+    assert!(err.to_string().contains("ridge"), "{err}");
+}

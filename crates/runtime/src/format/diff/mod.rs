@@ -2,12 +2,13 @@
 //! print or test.
 //!
 //! [`compare`] pairs each table of A with a table of B of the same η and Fresnel moments (one
-//! of the same model and walk if there is one, then the same index if possible, else the one
-//! sharing the most albedo nodes, so several tables of a scene bake may pair with one full
-//! table), and reports
+//! of the same model, walk and ridge flag if there is one, then the same index if possible,
+//! else the one sharing the most albedo nodes, so several tables of a scene bake may pair with
+//! one full table), and reports
 //! - the metadata differences ([`Difference`]): tables without a counterpart, the table count,
-//!   per pair its model, the walk's g and component, Fresnel moments, dims, each axis, the
-//!   θ-sampling section and the number of lobes; per material its presence and every field;
+//!   per pair its model, the walk's g and component, the ridge flag, Fresnel moments, dims,
+//!   each axis, the θ-sampling section and the number of lobes; per material its presence and
+//!   every field;
 //! - per pair of tables ([`TableDiff`]), for each compared quantity ([`Quantity`]: E, E_β and c
 //!   of `gwc-params`, `radial-cdf`, `theta-cdf`, rμ₃ and rμ₄ of `gwc-harmonics`) over the axis
 //!   nodes both tables hold (equal f32 values), the count, the max and mean absolute and
@@ -114,13 +115,17 @@ fn common(a: &[f32], b: &[f32]) -> Vec<(usize, usize)> {
 }
 
 /// Pairs each table of A with a table of B of the same η and Fresnel moments, among those of
-/// the same model and walk (g, component) if there are any: the same index if they share an
-/// albedo node, else the one sharing the most albedo nodes (the lowest index among equals).
+/// the same model, walk (g, component) and ridge flag if there are any: the same index if they
+/// share an albedo node, else the one sharing the most albedo nodes (the lowest index among
+/// equals).
 /// Returns the pairs, the tables of A without a counterpart and the tables of B no table of A
 /// paired with.
 fn pair_tables(a: &Library, b: &Library) -> (Vec<(usize, usize)>, Vec<usize>, Vec<usize>) {
     let key = |t: &Table<'_>| (t.eta().to_bits(), t.fresnel());
-    let source = |t: &Table<'_>| (t.model(), t.walk().map(|w| (w.g.to_bits(), w.component)));
+    let source = |t: &Table<'_>| {
+        let walk = t.walk().map(|w| (w.g.to_bits(), w.component));
+        (t.model(), walk, t.ridge())
+    };
     let mut used = vec![false; b.table_count()];
     let (mut pairs, mut only_a) = (Vec::new(), Vec::new());
     for ta in a.tables() {
@@ -148,8 +153,8 @@ fn pair_tables(a: &Library, b: &Library) -> (Vec<(usize, usize)>, Vec<usize>, Ve
 }
 
 /// Appends the metadata differences of a pair of tables: model, the walk's g and component,
-/// Fresnel moments, dims, each axis (when its node count, first or last node differ),
-/// θ-sampling and lobes.
+/// the ridge flag, Fresnel moments, dims, each axis (when its node count, first or last node
+/// differ), θ-sampling and lobes.
 fn compare_table_fields(ta: &Table<'_>, tb: &Table<'_>, differences: &mut Vec<Difference>) {
     let item = Item::Tables {
         a: ta.index(),
@@ -178,6 +183,11 @@ fn compare_table_fields(ta: &Table<'_>, tb: &Table<'_>, differences: &mut Vec<Di
         })
     };
     differ(Field::WalkComponent, component(ta), component(tb));
+    differ(
+        Field::Ridge,
+        MetaValue::Bool(ta.ridge()),
+        MetaValue::Bool(tb.ridge()),
+    );
     differ(
         Field::FresnelMoments,
         MetaValue::Fresnel(ta.fresnel()),

@@ -118,6 +118,9 @@ pub enum Field {
     WalkG,
     /// What a walk-angular table tabulates (`WalkComponent::name`; absent for other models).
     WalkComponent,
+    /// Whether a table's nodes hold the profile less the analytic ridge, which its lookups add
+    /// back (its record's `ridge`, format 1.6).
+    Ridge,
     /// A table's Fresnel moments.
     FresnelMoments,
     /// A table's dims (nρ, nθ, nr).
@@ -151,9 +154,9 @@ pub enum Field {
 
 impl Field {
     /// The field's name in reports: `counterpart`, `tables`, `compressed`, `model`, `walk_g`,
-    /// `walk_component`, `fresnel_moments`, `dims`, `axis-rho`, `axis-theta`, `axis-r`,
-    /// `theta-cdf`, `lobes`, `rebuild`, `present`, `source`, `sigma_s`, `sigma_a`, `g`, `eta`,
-    /// `albedo_range`, `value`.
+    /// `walk_component`, `ridge`, `fresnel_moments`, `dims`, `axis-rho`, `axis-theta`,
+    /// `axis-r`, `theta-cdf`, `lobes`, `rebuild`, `present`, `source`, `sigma_s`, `sigma_a`,
+    /// `g`, `eta`, `albedo_range`, `value`.
     pub fn name(self) -> &'static str {
         match self {
             Field::Counterpart => "counterpart",
@@ -162,6 +165,7 @@ impl Field {
             Field::Model => "model",
             Field::WalkG => "walk_g",
             Field::WalkComponent => "walk_component",
+            Field::Ridge => "ridge",
             Field::FresnelMoments => "fresnel_moments",
             Field::Dims => "dims",
             Field::Axis(AxisKind::Rho) => "axis-rho",

@@ -29,6 +29,7 @@ fn table(eta: f64, rho: &[f32]) -> TableData {
     TableData {
         model: ModelKind::PbdAngular,
         walk: None,
+        ridge: false,
         eta,
         fresnel: FresnelMoments::Exact,
         rho: rho.to_vec(),
@@ -540,6 +541,43 @@ fn the_model_and_the_walk_are_differences() {
     assert_eq!(differences, ["table 0 of B counterpart", "file tables"]);
 }
 
+/// Tables that differ only in their ridge flag (format 1.6) are told apart: their values are
+/// the same numbers, which mean different profiles. A table pairs first with one of its flag.
+#[test]
+fn the_ridge_flag_is_a_difference() {
+    let plain_table = table(1.3, &RHO);
+    let ridge = TableData {
+        ridge: true,
+        ..plain_table.clone()
+    };
+    let report = compare(
+        &plain(vec![plain_table.clone()]),
+        &plain(vec![ridge.clone()]),
+        Tolerance::default(),
+    );
+    assert_eq!(
+        fields(&report),
+        [(
+            Field::Ridge,
+            &MetaValue::Bool(false),
+            &MetaValue::Bool(true)
+        )]
+    );
+    assert!(!report.within_tolerance());
+    assert_eq!(report.outside_tolerance(), 0);
+    assert!(report.tables()[0].values_compared() > 0);
+    assert_eq!(report.differences()[0].field.name(), "ridge");
+    // Two tables of each flag at one η: each pairs with its own, nothing differs.
+    let report = compare(
+        &plain(vec![plain_table.clone(), ridge.clone()]),
+        &plain(vec![ridge, plain_table]),
+        Tolerance::default(),
+    );
+    let pairs: Vec<(usize, usize)> = report.tables().iter().map(|t| (t.a(), t.b())).collect();
+    assert_eq!(pairs, [(0, 1), (1, 0)]);
+    assert!(report.within_tolerance(), "{:?}", report.differences());
+}
+
 #[test]
 fn materials_are_compared_and_provenance_and_compression_only_listed() {
     let tables = || vec![table(1.3, &RHO)];
@@ -627,6 +665,7 @@ fn names_are_the_reports_spellings() {
         (Field::Model, "model"),
         (Field::WalkG, "walk_g"),
         (Field::WalkComponent, "walk_component"),
+        (Field::Ridge, "ridge"),
         (Field::FresnelMoments, "fresnel_moments"),
         (Field::Dims, "dims"),
         (Field::Axis(AxisKind::Rho), "axis-rho"),

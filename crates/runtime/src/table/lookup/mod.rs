@@ -23,6 +23,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 mod albedo_ends;
 mod batch;
 mod blend;
+mod ridged;
 mod sample;
 mod separable;
 #[cfg(test)]
@@ -446,6 +447,16 @@ impl<'a> TableRef<'a> {
     /// radial support (r < 0, r beyond the last node, NaN r or φ) and beyond the critical angle
     /// (η < 1) the value is 0.
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
+        let nodes = self.eval_nodes(rho, theta, r, phi)?;
+        if self.ridge {
+            return Some(self.with_ridge_value(nodes, rho, theta, r, phi));
+        }
+        Some(nodes)
+    }
+
+    /// What the nodes give at the point: S, or S less the ridge for a table with one.
+    #[inline(always)]
+    fn eval_nodes(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
         if let Some(second) = self.harmonics {
             return self.eval_two_lobes(second, rho, theta, r, phi);
         }
@@ -536,7 +547,8 @@ impl<'a> TableRef<'a> {
     /// ρ′ ≲ 1e-20.
     pub fn effective_albedo(&self, rho: f64, theta: f64) -> Option<f64> {
         let enters = self.light_enters(theta);
-        self.with_slice(rho, theta, |s| if enters { self.total(s) } else { 0.0 })
+        let nodes = self.with_slice(rho, theta, |s| if enters { self.total(s) } else { 0.0 })?;
+        Some(nodes + self.ridge_at(rho, theta).map_or(0.0, |r| r.energy()))
     }
 
     /// Whether light enters at θ (radians, within the axis): always for η ≥ 1, below the

@@ -13,6 +13,9 @@ impl TableRef<'_> {
         if !self.light_enters(theta) || u_phi.is_nan() {
             return None;
         }
+        if let Some(ridge) = self.ridge_at(rho, theta) {
+            return self.with_slice(rho, theta, |s| self.sample_mixture(s, &ridge, u_r, u_phi))?;
+        }
         self.with_slice(rho, theta, |s| self.sample_slice(s, u_r, u_phi))?
     }
 
@@ -85,6 +88,11 @@ impl TableRef<'_> {
     pub fn pdf(&self, rho: f64, theta: f64, r: f64, phi: f64) -> f64 {
         if !self.light_enters(theta) {
             return 0.0;
+        }
+        if let Some(ridge) = self.ridge_at(rho, theta) {
+            return self
+                .with_slice(rho, theta, |s| self.pdf_mixture(s, &ridge, r, phi))
+                .unwrap_or(0.0);
         }
         self.with_slice(rho, theta, |s| self.pdf_slice(s, r, phi))
             .unwrap_or(0.0)
@@ -161,10 +169,8 @@ impl TableRef<'_> {
         }
         let theta_cdf = self.theta_cdf?;
         let w_rho = self.axes.rho.weights(rho)?;
-        let (_, n_theta, n_r) = self.axes.dims();
-        let rho_eff = |j: usize| {
-            w_rho.apply_rows(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
-        };
+        let (_, n_theta, _) = self.axes.dims();
+        let rho_eff = |j: usize| w_rho.apply_rows(|i| self.node_total(i, j));
         let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
         let t = self.axes.theta().sample(rho_eff, cdf, u[0])?;
         if !self.light_enters(t.x) {
@@ -172,7 +178,10 @@ impl TableRef<'_> {
         }
         let w_theta = self.axes.theta().weights(t.x)?;
         let s = self.slice_of(&w_rho.energy, &w_theta, Blend::new(&w_rho, rho, t.x));
-        let rphi = self.sample_slice(&s, u[1], u[2])?;
+        let rphi = match self.ridge_at(rho, t.x) {
+            Some(ridge) => self.sample_mixture(&s, &ridge, u[1], u[2])?,
+            None => self.sample_slice(&s, u[1], u[2])?,
+        };
         let phi_prime = uniform_azimuth(u[3]);
         Some(PathSample {
             theta: t.x,
@@ -193,27 +202,32 @@ impl TableRef<'_> {
         if !self.light_enters(theta) {
             return 0.0;
         }
-        let (_, n_theta, n_r) = self.axes.dims();
-        let rho_eff = |j: usize| {
-            w_rho.apply_rows(|i| f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]))
-        };
+        let (_, n_theta, _) = self.axes.dims();
+        let rho_eff = |j: usize| w_rho.apply_rows(|i| self.node_total(i, j));
         let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
         self.axes.theta().pdf(rho_eff, cdf, self.snap_theta(theta))
     }
 
     /// The inverse of [`TableRef::sample`]: the uniforms (u_r, u_φ) that `sample` maps to
     /// (r, φ), from the radial CDF of the interpolated spline and the GWC profile's analytic CDF.
-    /// `None` outside the axes or where the table holds no energy.
+    /// `None` outside the axes or where the table holds no energy. For a table with the ridge,
+    /// the preimage through the nodes' part (`lookup::ridged`).
     pub fn invert(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<(f64, f64)> {
         if !self.light_enters(theta) {
             return None;
         }
+        let ridge = self.ridge_at(rho, theta);
         self.with_slice(rho, theta, |s| {
             let e = |k: usize| self.energy(s, k);
             let cdf = |k: usize| self.cdf(s, k);
             let u_r = self.axes.r().cdf(e, cdf, r)?;
             let g = self.profile_at(s, r, None)?;
-            Some((u_r, g.cdf(wrap_phi(phi))))
+            // The nodes' part takes the radial uniforms below E_D/(E_D + E_R)
+            let share = ridge.map_or(1.0, |ridge| {
+                let e_d = self.total(s);
+                e_d / (e_d + ridge.energy())
+            });
+            Some((u_r * share, g.cdf(wrap_phi(phi))))
         })?
     }
 }

@@ -51,6 +51,11 @@ impl TableRef<'_> {
         if !self.light_enters(theta) {
             return None;
         }
+        if let Some(ridge) = self.ridge_at(rho, theta) {
+            let (r, pdf) =
+                self.with_slice(rho, theta, |s| self.radius_draw_mixture(s, &ridge, u))??;
+            return Some(RadialSample { r, pdf });
+        }
         let radial = self.with_slice(rho, theta, |s| self.radius_draw(s, u))??;
         (radial.pdf.is_finite() && radial.pdf > 0.0).then_some(RadialSample {
             r: radial.x,
@@ -65,6 +70,11 @@ impl TableRef<'_> {
         if !self.light_enters(theta) || r <= 0.0 || !r.is_finite() {
             return 0.0;
         }
+        if let Some(ridge) = self.ridge_at(rho, theta) {
+            return self
+                .with_slice(rho, theta, |s| self.radial_pdf_mixture(s, &ridge, r))
+                .unwrap_or(0.0);
+        }
         self.with_slice(rho, theta, |s| self.radial_pdf(s, r))
             .unwrap_or(0.0)
     }
@@ -75,7 +85,20 @@ impl TableRef<'_> {
     /// radial support, no energy, beyond the critical angle) and for NaN φ; `None` for (ρ′, θ)
     /// outside the axes, as eval. See the module docs for the estimators it serves.
     pub fn angular_factor(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
-        let Cell::Profile([e_per_r, beta, c]) = self.cell_at_point(rho, theta, r)? else {
+        let cell = self.cell_at_point(rho, theta, r)?;
+        if let Some(ridge) = self.ridge_at(rho, theta) {
+            // S over its mean over φ, the nodes' part's E/(2πr) and the ridge's
+            let e_per_r = match cell {
+                Cell::Profile([e_per_r, ..]) => e_per_r,
+                Cell::OutsideRadius => 0.0,
+            };
+            let mean = e_per_r / TAU + ridge.mean(r);
+            if mean <= 0.0 || !phi.is_finite() {
+                return Some(0.0);
+            }
+            return Some(self.eval(rho, theta, r, phi)? / mean);
+        }
+        let Cell::Profile([e_per_r, beta, c]) = cell else {
             return Some(0.0);
         };
         if e_per_r <= 0.0 || !phi.is_finite() || !self.light_enters(theta) {
