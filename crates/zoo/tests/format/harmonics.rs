@@ -8,6 +8,7 @@
 //! 2×2×4 table, the last of its ten sections (entry 9), changed in one field and, where the
 //! check comes after them, with the CRCs recomputed.
 
+use crate::assert_accepted;
 use bssrdf_testkit::files::{
     kind, synthetic_table, tiny_builder, tiny_two_lobes_sections, Raw, Sec,
 };
@@ -89,13 +90,6 @@ fn assert_rejected(case: &str, raw: &Raw, code: &str, needle: &str) {
             assert_eq!(e.code(), code, "{case} (verify): {e}");
         }
     }
-}
-
-fn assert_accepted(case: &str, raw: &Raw) -> Library {
-    let library =
-        Library::from_bytes(&raw.bytes, Verify::Full).unwrap_or_else(|e| panic!("{case}: {e}"));
-    library.verify().unwrap();
-    library
 }
 
 #[test]

@@ -14,11 +14,12 @@ use bssrdf_zoo::format::spec::required_features::{
 };
 use bssrdf_zoo::format::spec::VERSION_MINOR;
 use bssrdf_zoo::format::{
-    pack, unpack, Compression, Library, LibraryBuilder, ModelKind, TableData, Verify, WalkComponent,
+    Compression, Library, LibraryBuilder, ModelKind, TableData, Verify, WalkComponent,
 };
 use bssrdf_zoo::table::FileTable;
 
-use super::walk::{edited, record, with_record_byte};
+use super::walk::{edited, record, rewritten_and_packed, with_record_byte};
+use crate::{assert_accepted, assert_rejected};
 
 /// The tiny library's table at η = 1, marked as holding the profile less the ridge.
 fn ridge_table() -> TableData {
@@ -69,29 +70,6 @@ pub fn ridge_vectors() -> Vec<(&'static str, Raw)> {
     ]
 }
 
-fn assert_rejected(case: &str, raw: &Raw, code: &str, needle: &str) {
-    // Record checks are never deferred: a header-only open fails the same way.
-    for verify in [Verify::Full, Verify::HeaderOnly] {
-        let err = match Library::from_bytes(&raw.bytes, verify) {
-            Ok(_) => panic!("{case}: accepted, expected {code}"),
-            Err(e) => e,
-        };
-        assert_eq!(err.code(), code, "{case}: {err}");
-        let message = err.to_string();
-        assert!(
-            message.contains(needle),
-            "{case}: {message:?} lacks {needle:?}"
-        );
-    }
-}
-
-fn assert_accepted(case: &str, raw: &Raw) -> Library {
-    let library =
-        Library::from_bytes(&raw.bytes, Verify::Full).unwrap_or_else(|e| panic!("{case}: {e}"));
-    library.verify().unwrap();
-    library
-}
-
 /// A table with the ridge goes through the writer and back with its flag: in the format's
 /// view, in a lookup view and an owned table, through a rewrite and through pack and unpack;
 /// a walk-angular one too.
@@ -112,17 +90,9 @@ fn a_ridge_table_round_trips() {
     assert_eq!(owned.to_table_data(), ridge_table());
     assert!(!owned.clone().with_ridge(false).to_table_data().ridge);
     // The writer rewrites the file byte for byte; pack and unpack keep the flag.
-    let rebuilt = LibraryBuilder::from_library(&library).unwrap();
-    assert!(rebuilt.to_bytes(Compression::None).unwrap() == raw.bytes);
-    let dir = tempfile::tempdir().unwrap();
-    let (a, b) = (dir.path().join("a.bssrdf"), dir.path().join("b.bssrdf"));
-    std::fs::write(&a, &raw.bytes).unwrap();
-    pack(&a, &b, 3).unwrap();
-    let packed = Library::read(&b, Verify::Full).unwrap();
+    let packed = rewritten_and_packed(&library, &raw);
     assert!(packed.table(0).unwrap().ridge());
     assert_eq!(packed.required_features(), RIDGE | ZSTD);
-    unpack(&b, &b).unwrap();
-    assert!(std::fs::read(&b).unwrap() == raw.bytes);
     // A walk-angular table with the ridge, beside a pbd-angular one without
     let mut builder = tiny_builder_of(walk_ridge_table());
     builder

@@ -20,6 +20,8 @@ use bssrdf_zoo::format::{
 };
 use bssrdf_zoo::table::FileTable;
 
+use crate::{assert_accepted, assert_rejected};
+
 /// The walk of the tiny walk-angular table.
 const WALK: WalkSource = WalkSource {
     g: 0.75,
@@ -77,27 +79,20 @@ pub fn walk_vectors() -> Vec<(&'static str, Raw)> {
     ]
 }
 
-fn assert_rejected(case: &str, raw: &Raw, code: &str, needle: &str) {
-    // Record checks are never deferred: a header-only open fails the same way.
-    for verify in [Verify::Full, Verify::HeaderOnly] {
-        let err = match Library::from_bytes(&raw.bytes, verify) {
-            Ok(_) => panic!("{case}: accepted, expected {code}"),
-            Err(e) => e,
-        };
-        assert_eq!(err.code(), code, "{case}: {err}");
-        let message = err.to_string();
-        assert!(
-            message.contains(needle),
-            "{case}: {message:?} lacks {needle:?}"
-        );
-    }
-}
-
-fn assert_accepted(case: &str, raw: &Raw) -> Library {
-    let library =
-        Library::from_bytes(&raw.bytes, Verify::Full).unwrap_or_else(|e| panic!("{case}: {e}"));
-    library.verify().unwrap();
-    library
+/// `library`, read from `raw`, rewritten by the writer (byte for byte the same), then packed
+/// (zstd) and unpacked again (byte for byte the same): the packed file, read back.
+pub(crate) fn rewritten_and_packed(library: &Library, raw: &Raw) -> Library {
+    let rebuilt = LibraryBuilder::from_library(library).unwrap();
+    assert!(rebuilt.to_bytes(Compression::None).unwrap() == raw.bytes);
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a.bssrdf"), dir.path().join("b.bssrdf"));
+    std::fs::write(&a, &raw.bytes).unwrap();
+    pack(&a, &b, 3).unwrap();
+    let packed = Library::read(&b, Verify::Full).unwrap();
+    let unpacked = dir.path().join("c.bssrdf");
+    unpack(&b, &unpacked).unwrap();
+    assert!(std::fs::read(&unpacked).unwrap() == raw.bytes);
+    packed
 }
 
 /// A walk-angular table goes through the writer and back unchanged: model, g, component and
@@ -121,18 +116,10 @@ fn a_walk_table_round_trips() {
     assert_eq!(owned.walk(), Some(WALK));
     assert_eq!(owned.to_table_data(), walk_table());
     // The writer rewrites the file byte for byte; pack and unpack keep the walk.
-    let rebuilt = LibraryBuilder::from_library(&library).unwrap();
-    assert!(rebuilt.to_bytes(Compression::None).unwrap() == raw.bytes);
-    let dir = tempfile::tempdir().unwrap();
-    let (a, b) = (dir.path().join("a.bssrdf"), dir.path().join("b.bssrdf"));
-    std::fs::write(&a, &raw.bytes).unwrap();
-    pack(&a, &b, 3).unwrap();
-    let packed = Library::read(&b, Verify::Full).unwrap();
+    let packed = rewritten_and_packed(&library, &raw);
     assert_eq!(packed.table(0).unwrap().walk(), Some(WALK));
     assert_eq!(packed.required_features() & WALK_TABLES, WALK_TABLES);
     assert_eq!(packed.required_features() & ZSTD, ZSTD);
-    unpack(&b, &b).unwrap();
-    assert!(std::fs::read(&b).unwrap() == raw.bytes);
     // The other component, and a negative g, in a second table of the same file.
     let multiple = WalkSource {
         g: -0.3,

@@ -175,22 +175,7 @@ pub(crate) fn samples_follow_the_pdf_at(table: &AngularTable, cases: &[(f64, f64
                 .clamp(0.0, n_phi as f64 - 1.0) as usize;
             counts[k * n_phi + j] += 1;
         }
-        // Pool bins expecting fewer than 20 samples.
-        let (mut chi2, mut dof, mut pooled_e, mut pooled_o) = (0.0, 0usize, 0.0, 0.0);
-        for (e, &o) in expected.iter().zip(&counts) {
-            let e = e * n as f64;
-            if e < 20.0 {
-                pooled_e += e;
-                pooled_o += o as f64;
-            } else {
-                chi2 += (o as f64 - e).powi(2) / e;
-                dof += 1;
-            }
-        }
-        if pooled_e > 0.0 {
-            chi2 += (pooled_o - pooled_e).powi(2) / pooled_e.max(1.0);
-            dof += 1;
-        }
+        let (chi2, dof) = pooled_chi_square(&expected, &counts, n);
         let crit = chi2_critical_1e6(dof - 1);
         assert!(
             chi2 < crit,
@@ -198,6 +183,27 @@ pub(crate) fn samples_follow_the_pdf_at(table: &AngularTable, cases: &[(f64, f64
             table.eta()
         );
     }
+}
+
+/// Chi-square of `counts` of `n` draws against the bins' probabilities `expected`, the bins
+/// expecting fewer than 20 draws pooled into one: (statistic, number of terms).
+pub(crate) fn pooled_chi_square(expected: &[f64], counts: &[usize], n: usize) -> (f64, usize) {
+    let (mut chi2, mut dof, mut pooled_e, mut pooled_o) = (0.0, 0usize, 0.0, 0.0);
+    for (e, &o) in expected.iter().zip(counts) {
+        let e = e * n as f64;
+        if e < 20.0 {
+            pooled_e += e;
+            pooled_o += o as f64;
+        } else {
+            chi2 += (o as f64 - e).powi(2) / e;
+            dof += 1;
+        }
+    }
+    if pooled_e > 0.0 {
+        chi2 += (pooled_o - pooled_e).powi(2) / pooled_e.max(1.0);
+        dof += 1;
+    }
+    (chi2, dof)
 }
 
 /// Mean relative error of the table against the reference quadrature over points drawn with

@@ -3,6 +3,7 @@
 //! its density (chi-square of draws, densities integrating to 1, θ draws, the inverse).
 
 use crate::below_critical::{default_at, path_draws_of_theta_follow_pdf_theta};
+use crate::lookup::pooled_chi_square;
 use bssrdf_testkit::stats::chi2_critical_1e6;
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::quadrature::GaussLegendre;
@@ -133,19 +134,8 @@ fn draws_follow_the_density_of_table_and_ridge() {
             (share - ridge_share).abs() < 5.0 * sigma + 1e-4,
             "{share} vs {ridge_share}"
         );
-        let (mut chi2, mut dof, mut pooled_e, mut pooled_o) = (0.0, 0usize, 0.0, 0.0);
-        for (e, &o) in expected.iter().zip(&counts) {
-            let e = e * n as f64;
-            if e < 20.0 {
-                pooled_e += e;
-                pooled_o += o as f64;
-            } else {
-                chi2 += (o as f64 - e).powi(2) / e;
-                dof += 1;
-            }
-        }
-        chi2 += (pooled_o - pooled_e).powi(2) / pooled_e.max(1.0);
-        let crit = chi2_critical_1e6(dof);
+        let (chi2, dof) = pooled_chi_square(&expected, &counts, n);
+        let crit = chi2_critical_1e6(dof - 1);
         assert!(
             chi2 < crit,
             "{rho} {theta_deg}: chi2 {chi2:.1} > {crit:.1} (dof {dof})"
