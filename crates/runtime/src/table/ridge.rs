@@ -23,7 +23,8 @@
 //! seen from the exit point above it at t = r/s: a line density ρ′² C_E (1 − e^{−2rs}) e^{−rs}/2
 //! along φ = 0 in the limit c → 0 (`Pbd::surface_ridge`), spread over φ as a wrapped Cauchy
 //! lobe of width c, and attenuated by diffusion over the source's depth h = r c/s as e^{−σtr h}
-//! (which keeps it below S off the ridge at low albedo, where S decays as e^{−σtr r}). Over the
+//! (which keeps it nearer S off the ridge at low albedo, where S decays as e^{−σtr r}; it can
+//! still reach past S there, far out, and a bake then keeps a floor of S at the node). Over the
 //! plane it carries w ρ′² C_E (s/2)·G(r_max), G(r) = ∫₀^r (e^{−ax} − e^{−bx}) dx with a = s + k,
 //! b = 3s + k (ρ′² C_E/3 for k = 0, r_max = ∞). The radial density of R, r·m(r) over its
 //! energy, is (e^{−ar} − e^{−br})/G(r_max), inverted by a safeguarded Newton iteration.
@@ -51,7 +52,7 @@ pub fn weight(cos_t: f64) -> f64 {
     }
 }
 
-/// Whether the ridge has weight at some incidence θ ∈ [0°, 90°] for this η: below η ≈ 1.048,
+/// Whether the ridge has weight at some incidence θ ∈ [0°, 90°] for this η: below η = 1/√0.91 ≈ 1.0483,
 /// where cos θ′ at grazing (or at the critical angle, η < 1) falls below [`ZERO_WEIGHT_COS`].
 pub fn reaches(eta: f64) -> bool {
     match crate::fresnel::refracted_cos(FRAC_PI_2, eta) {
@@ -168,6 +169,9 @@ impl Ridge {
         let mut r = (target / self.s).sqrt().min(0.5 * self.r_max);
         for _ in 0..200 {
             let f = radial_integral(a, b, r) - target;
+            if f == 0.0 {
+                return r;
+            }
             if f > 0.0 {
                 hi = r;
             } else {
@@ -175,7 +179,7 @@ impl Ridge {
             }
             let slope = (-a * r).exp() * -(-2.0 * self.s * r).exp_m1();
             let newton = r - f / slope;
-            let next = if slope > 0.0 && newton > lo && newton < hi {
+            let next = if slope > 0.0 && (lo..=hi).contains(&newton) {
                 newton
             } else {
                 0.5 * (lo + hi)
@@ -245,6 +249,8 @@ mod tests {
         }
         assert!(reaches(1.0) && reaches(0.8) && reaches(1.04));
         assert!(!reaches(1.05) && !reaches(1.33));
+        // the edge: cos θ′ at 90° is 0.3 at η = 1/√0.91
+        assert!(reaches(1.0482) && !reaches(1.0484));
     }
 
     #[test]
@@ -294,13 +300,20 @@ mod tests {
                 "{rho} {theta_deg}: {}",
                 cdf(30.0)
             );
-            for u in [1e-15, 1e-12, 1e-6, 0.01, 0.3, 0.5, 0.9, 0.999999, 1.0] {
+            for u in [
+                1e-300, 1e-200, 1e-15, 1e-12, 1e-6, 0.01, 0.3, 0.5, 0.9, 0.999999, 1.0,
+            ] {
                 let r = ridge.sample_radius(u);
                 assert!((0.0..=30.0).contains(&r));
                 let got = radial_integral(a, b, r) / ridge.total;
-                assert!((got - u).abs() <= 1e-12 * u.max(1e-3), "u {u}: {got}");
+                assert!(
+                    (got - u).abs() <= 1e-12 * u.max(1e-3) && (got - u).abs() <= 1e-9 * u,
+                    "u {u}: {got}"
+                );
             }
             assert_eq!(ridge.sample_radius(0.0), 0.0);
+            // the least uniform draws within rounding of 0 (its target underflows or nearly)
+            assert!(ridge.sample_radius(5e-324) < 1e-150);
             assert!((cdf(ridge.sample_radius(0.37)) - 0.37).abs() < 1e-8);
         }
     }

@@ -346,10 +346,11 @@ pub fn bake_lobes(
             let pbd = Pbd::new(grid.rho[i], boundary)?;
             let surface = beam_in_surface(eta, grid.theta[j]);
             let theta = grid.theta[j].min(0.5 * PI);
-            // (a node where the beam runs in the surface holds the limit cos θ′ → 0)
-            let cos_t = match surface {
-                true => Some(0.0),
-                false => crate::fresnel::refracted_cos(theta, eta),
+            // (the critical node of an η < 1, beyond the critical angle by its f32 rounding,
+            // holds the limit cos θ′ → 0)
+            let cos_t = match crate::fresnel::refracted_cos(theta, eta) {
+                None if surface => Some(0.0),
+                c => c,
             };
             let ridge = cos_t
                 .filter(|_| with_ridge)
@@ -700,11 +701,16 @@ fn two_lobe_node(
     let azimuths = two_lobe_azimuths();
     // At exact index matching and grazing incidence the refracted beam runs in the surface and
     // PBD is infinite at φ = 0: the fit takes the azimuths where it is finite. With the ridge,
-    // the nodes hold PBD less it (the fit's lobes are ≥ 0 where that dips below 0)
-    let ridge_at = |p: f64| ridge.map_or(0.0, |g| g.eval(r, p));
+    // the nodes hold PBD less it, at least RIDGE_FLOOR of PBD: off the ridge at low albedo and
+    // large r the ridge's lobe can reach past PBD, and a fit through a value ≤ 0 fails (the
+    // node would hold 0)
+    let less_ridge = |p: f64, v: f64| match ridge {
+        Some(g) => (v - g.eval(r, p)).max(RIDGE_FLOOR * v),
+        None => v,
+    };
     let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
         .iter()
-        .map(|&p| (p, pbd.eval(theta, r, p, Rule::Fast) - ridge_at(p)))
+        .map(|&p| (p, less_ridge(p, pbd.eval(theta, r, p, Rule::Fast))))
         .filter(|(_, v)| v.is_finite())
         .unzip();
     two_lobe_node_of(&phi, &y, r, hint)
@@ -817,6 +823,10 @@ pub(super) fn surface_harmonics<const N: usize>(pbd: &Pbd, r: f64, theta: Option
     }
     m
 }
+
+/// The least share of PBD a node with the ridge keeps at an azimuth where the ridge reaches
+/// past PBD (`two_lobe_node`): the node's profile stays > 0 there, so its fit exists.
+const RIDGE_FLOOR: f64 = 1e-3;
 
 /// How much further than the fit itself (besides twice as far) a signed pair's stored form may
 /// be from PBD at the fit's azimuths, relative (`two_lobe_node`).

@@ -6,6 +6,8 @@ use crate::below_critical::{default_at, path_draws_of_theta_follow_pdf_theta};
 use crate::lookup::pooled_chi_square;
 use bssrdf_testkit::stats::chi2_critical_1e6;
 use bssrdf_zoo::fresnel::Moments;
+use bssrdf_zoo::medium::Boundary;
+use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::quadrature::GaussLegendre;
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{bake_lobes, check, AngularTable, GridPreset, Lobes, CHECK_BOUNDS};
@@ -34,6 +36,56 @@ fn two_lobe_bakes_below_eta_1_048_take_the_ridge() {
     let grid = GridPreset::Coarse.grid(1.0, Lobes::One);
     let (one, _) = bake_lobes(1.0, Moments::Exact, &grid, false, Lobes::One).unwrap();
     assert!(!one.ridge());
+}
+
+#[test]
+fn no_node_is_lost_where_the_ridge_reaches_past_pbd() {
+    // Far off the ridge at low albedo R can exceed S; a fit through S − R ≤ 0 failed and the
+    // node held 0 (ρ′ = 0.078, θ = 85–89°, r = 15.9 at η = 1), so lookups near it gave R alone,
+    // 0.16–0.51 times PBD. Every node where PBD holds energy holds energy.
+    let table = ridge_table();
+    let view = table.view();
+    let boundary = Boundary::new(1.0, Moments::Exact).unwrap();
+    let (n_rho, n_theta, n_r) = view.axes().dims();
+    let [rho_axis, theta_axis, r_axis] = [
+        view.axes().rho().as_slice(),
+        view.axes().theta().as_slice(),
+        view.axes().r().as_slice(),
+    ];
+    for i in (1..n_rho).filter(|&i| rho_axis[i] < 0.3) {
+        let pbd = Pbd::new(rho_axis[i], boundary).unwrap();
+        for j in
+            (0..n_theta).filter(|&j| theta_axis[j] > 80f64.to_radians() && theta_axis[j] < 1.57)
+        {
+            for k in 1..n_r {
+                let e = table.params()[((i * n_theta + j) * n_r + k) * 3];
+                let truth = pbd.eval(theta_axis[j], r_axis[k], PI, Rule::Fast);
+                if truth > 1e-30 {
+                    assert!(
+                        e > 0.0,
+                        "rho {} theta {} r {}",
+                        rho_axis[i],
+                        theta_axis[j].to_degrees(),
+                        r_axis[k]
+                    );
+                }
+            }
+        }
+    }
+    // and the lookups there follow PBD as the table did before the ridge (0.68 of it at
+    // (0.05, 89°, r = 10, φ = π), PBD 10⁻¹¹ there: the far tail below the first albedo node)
+    for (rho, theta_deg) in [(0.05, 89.0), (0.1, 86.0)] {
+        let pbd = Pbd::new(rho, boundary).unwrap();
+        for phi in [0.5, PI] {
+            let theta = f64::to_radians(theta_deg);
+            let ratio = view.eval(rho, theta, 10.0, phi).unwrap()
+                / pbd.eval(theta, 10.0, phi, Rule::Reference);
+            assert!(
+                (0.6..1.5).contains(&ratio),
+                "{rho} {theta_deg} {phi}: {ratio}"
+            );
+        }
+    }
 }
 
 #[test]

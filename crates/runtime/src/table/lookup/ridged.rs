@@ -34,8 +34,8 @@ impl TableRef<'_> {
 
     /// The total a θ draw reads at node (i, j) of the albedo and θ axes: the row's radial CDF
     /// at its last radius, plus the ridge's energy at (ρ′ᵢ, θⱼ) for a table with the ridge (at
-    /// cos θ′ = 0 for a node beyond the critical angle, [`Ridge::with_cos`]). A bake's θ CDF
-    /// integrates these.
+    /// cos θ′ = 0 for a node beyond the critical angle that holds energy, [`Ridge::with_cos`]).
+    /// A bake's θ CDF integrates these.
     pub fn node_total(&self, i: usize, j: usize) -> f64 {
         let (_, n_theta, n_r) = self.axes.dims();
         let stored = f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]);
@@ -44,8 +44,13 @@ impl TableRef<'_> {
         }
         let rho = self.axes.rho().as_slice()[i];
         let theta = self.axes.theta().as_slice()[j].clamp(0.0, FRAC_PI_2);
-        // Nodes beyond the critical angle (η < 1) hold the profile's limit at it, cos θ′ = 0
-        let cos_t = crate::fresnel::refracted_cos(theta, self.eta).unwrap_or(0.0);
+        // Nodes beyond the critical angle (η < 1) that hold energy hold the profile's limit at
+        // it, cos θ′ = 0 (the critical node and its copies); the others hold 0
+        let cos_t = match crate::fresnel::refracted_cos(theta, self.eta) {
+            Some(cos_t) => cos_t,
+            None if stored > 0.0 => 0.0,
+            None => return stored,
+        };
         let r_max = self.axes.r().as_slice()[n_r - 1];
         stored + Ridge::with_cos(self.c_e, rho, cos_t, r_max).map_or(0.0, |r| r.energy())
     }
