@@ -144,7 +144,9 @@ impl ReflectanceCurve {
             columns(table.radial_cdf(), 1),
             None,
         )
-        .map_err(crate::Error::from)?;
+        .map_err(crate::Error::from)?
+        // (no ridge at θ = 0, where the curve looks up, but the nodes are the table's)
+        .with_ridge(table.ridge());
         if let Some(harmonics) = table.harmonics() {
             curve = curve
                 .with_harmonics_by(
