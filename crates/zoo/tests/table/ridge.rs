@@ -57,16 +57,16 @@ fn no_node_is_lost_where_the_ridge_reaches_past_pbd() {
         for j in
             (0..n_theta).filter(|&j| theta_axis[j] > 80f64.to_radians() && theta_axis[j] < 1.57)
         {
-            for k in 1..n_r {
+            for (k, &r) in r_axis.iter().enumerate().skip(1) {
                 let e = table.params()[((i * n_theta + j) * n_r + k) * 3];
-                let truth = pbd.eval(theta_axis[j], r_axis[k], PI, Rule::Fast);
+                let truth = pbd.eval(theta_axis[j], r, PI, Rule::Fast);
                 if truth > 1e-30 {
                     assert!(
                         e > 0.0,
                         "rho {} theta {} r {}",
                         rho_axis[i],
                         theta_axis[j].to_degrees(),
-                        r_axis[k]
+                        r
                     );
                 }
             }
