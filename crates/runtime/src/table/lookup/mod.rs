@@ -445,7 +445,8 @@ impl<'a> TableRef<'a> {
     /// S_table(r, φ; ρ′, θ) in reduced units (algorithm 1). `None` if (ρ′, θ) lies outside the
     /// stored axes (a scene bake keeps only some albedo rows: never extrapolated). Outside the
     /// radial support (r < 0, r beyond the last node, NaN r or φ) and beyond the critical angle
-    /// (η < 1) the value is 0.
+    /// (η < 1) the value is 0. A table with the ridge adds it to what its nodes give
+    /// (`lookup::ridged`).
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
         let nodes = self.eval_nodes(rho, theta, r, phi)?;
         if self.ridge {
@@ -544,7 +545,7 @@ impl<'a> TableRef<'a> {
     /// entering, as the table represents it; 0 where the blend of the rows' totals is negative
     /// (as [`TableRef::eval`] is 0 where the blended E is): the θ spline undershoots between a
     /// lit node and an unlit one beyond the critical angle (η < 1), and f32 weights round at
-    /// ρ′ ≲ 1e-20.
+    /// ρ′ ≲ 1e-20. A table with the ridge adds the ridge's energy up to its last radius.
     pub fn effective_albedo(&self, rho: f64, theta: f64) -> Option<f64> {
         let enters = self.light_enters(theta);
         let nodes = self.with_slice(rho, theta, |s| if enters { self.total(s) } else { 0.0 })?;
