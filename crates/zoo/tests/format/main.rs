@@ -12,7 +12,7 @@ mod spec_example;
 mod walk;
 
 use bssrdf_testkit::files::Raw;
-use bssrdf_zoo::format::{Library, Verify};
+use bssrdf_zoo::format::{Compression, Library, LibraryBuilder, Verify};
 
 /// A file every reader must reject with `code`, its message naming `needle`: by a full open and
 /// by a header-only one (record checks are never deferred).
@@ -37,4 +37,11 @@ pub(crate) fn assert_accepted(case: &str, raw: &Raw) -> Library {
         Library::from_bytes(&raw.bytes, Verify::Full).unwrap_or_else(|e| panic!("{case}: {e}"));
     library.verify().unwrap();
     library
+}
+
+/// The required feature bits of the file `builder` writes (uncompressed), as read back.
+pub(crate) fn written_features(builder: &LibraryBuilder) -> u64 {
+    Library::from_bytes(&builder.to_bytes(Compression::None).unwrap(), Verify::Full)
+        .unwrap()
+        .required_features()
 }

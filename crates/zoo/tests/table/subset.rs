@@ -272,15 +272,7 @@ fn subsets_keep_the_rule_of_the_rebuild() {
     .unwrap()
     .with_harmonics_by(copy.harmonics().unwrap().to_vec(), Rebuild::Roots)
     .unwrap();
-    for part in [
-        roots.subset_rows(0..n / 2).unwrap(),
-        roots.without_theta_sampling().unwrap(),
-        AngularTable::concat_rows(&[
-            roots.subset_rows(0..n / 2).unwrap(),
-            roots.subset_rows(n / 2..n).unwrap(),
-        ])
-        .unwrap(),
-    ] {
+    for part in cut_three_ways(&roots) {
         assert_eq!(part.rebuild(), Rebuild::Roots);
         assert_eq!(part.view().rebuild(), Rebuild::Roots);
     }
@@ -304,15 +296,7 @@ fn subsets_keep_the_walk() {
     };
     let n = full().axes().rho().as_slice().len();
     let marked = full().clone().with_walk(walk);
-    for part in [
-        marked.subset_rows(0..n / 2).unwrap(),
-        marked.without_theta_sampling().unwrap(),
-        AngularTable::concat_rows(&[
-            marked.subset_rows(0..n / 2).unwrap(),
-            marked.subset_rows(n / 2..n).unwrap(),
-        ])
-        .unwrap(),
-    ] {
+    for part in cut_three_ways(&marked) {
         assert_eq!(part.walk(), Some(walk));
         let data = part.to_table_data();
         assert_eq!(
@@ -348,15 +332,7 @@ fn subsets_keep_the_ridge() {
         full().clone().with_ridge(true),
         full().clone().with_ridge(true).with_walk(walk),
     ] {
-        for part in [
-            marked.subset_rows(0..n / 2).unwrap(),
-            marked.without_theta_sampling().unwrap(),
-            AngularTable::concat_rows(&[
-                marked.subset_rows(0..n / 2).unwrap(),
-                marked.subset_rows(n / 2..n).unwrap(),
-            ])
-            .unwrap(),
-        ] {
+        for part in cut_three_ways(&marked) {
             assert!(part.ridge() && part.view().ridge());
             assert_eq!(part.walk(), marked.walk());
             let data = part.to_table_data();
@@ -381,4 +357,19 @@ fn subsets_keep_the_ridge() {
     ])
     .unwrap_err();
     assert!(err.to_string().contains("ridge"), "{err}");
+}
+
+/// The tables cut from `table` by each subset operation: its first half of the albedo rows,
+/// itself without θ sampling, and its two halves joined again.
+fn cut_three_ways(table: &AngularTable) -> [AngularTable; 3] {
+    let n = table.axes().dims().0;
+    [
+        table.subset_rows(0..n / 2).unwrap(),
+        table.without_theta_sampling().unwrap(),
+        AngularTable::concat_rows(&[
+            table.subset_rows(0..n / 2).unwrap(),
+            table.subset_rows(n / 2..n).unwrap(),
+        ])
+        .unwrap(),
+    ]
 }
