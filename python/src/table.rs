@@ -374,7 +374,13 @@ impl Table {
     /// which every lookup adds back (its record's `ridge`, format 1.6); False in older files.
     #[getter]
     fn ridge(&self) -> PyResult<bool> {
-        Ok(self.record()?.ridge())
+        Ok(self.record()?.ridge().is_some())
+    }
+    /// Which ridge the nodes hold the profile less: "none", "flux" (record `ridge` = 1, format
+    /// 1.6) or "flux+fluence" (`ridge` = 2).
+    #[getter]
+    fn ridge_kind(&self) -> PyResult<&'static str> {
+        Ok(self.record()?.ridge().name())
     }
 
     /// ρ′ nodes as stored (f32, read-only, zero-copy).
@@ -567,7 +573,11 @@ impl Table {
             } else {
                 ""
             },
-            if record.ridge() { ", ridge" } else { "" },
+            if record.ridge().is_some() {
+                ", ridge"
+            } else {
+                ""
+            },
             if self.lookup.is_none() {
                 ", no lookups"
             } else {

@@ -46,7 +46,7 @@ pub fn synthetic_table(
     TableData {
         model: ModelKind::PbdAngular,
         walk: None,
-        ridge: false,
+        ridge: bssrdf_zoo::table::RidgeKind::None,
         eta,
         fresnel: FresnelMoments::Exact,
         rho,
@@ -167,7 +167,7 @@ pub fn spec_example_builder() -> LibraryBuilder {
     let table = TableData {
         model: ModelKind::PbdAngular,
         walk: None,
-        ridge: false,
+        ridge: bssrdf_zoo::table::RidgeKind::None,
         eta: 1.5,
         fresnel: FresnelMoments::Exact,
         rho: vec![0.5],

@@ -8,7 +8,7 @@ use super::CliError;
 use bssrdf_zoo::format::spec::required_features;
 use bssrdf_zoo::format::{AxisKind, Codec, FresnelMoments, SectionKind, KEY_ACCURACY};
 use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::table::TableCheck;
+use bssrdf_zoo::table::{RidgeKind, TableCheck};
 use clap::Args;
 use std::io::Write;
 use std::path::PathBuf;
@@ -91,7 +91,7 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
                 "rho": t.axis(AxisKind::Rho), "theta": t.axis(AxisKind::Theta), "r": t.axis(AxisKind::R),
                 "theta_sampling": t.theta_cdf().is_some(),
                 "lobes": if t.harmonics().is_some() { 2 } else { 1 },
-                "ridge": t.ridge(),
+                "ridge": t.ridge().is_some(), "ridge_kind": t.ridge().name(),
             }))
             .collect();
         let materials: Vec<_> = library
@@ -174,7 +174,10 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
             t.dims(),
             if t.harmonics().is_some() { 2 } else { 1 },
             if t.theta_cdf().is_some() { "yes" } else { "no" },
-            if t.ridge() { "yes" } else { "no" }
+            match t.ridge() {
+                RidgeKind::None => "no",
+                kind => kind.name(),
+            }
         )?;
         writeln!(out, "      rho:   {}", axis_summary(t.axis(AxisKind::Rho)))?;
         writeln!(

@@ -3,7 +3,7 @@
 
 use bssrdf_zoo::format::{Compression, LibraryBuilder, Material, Provenance};
 use bssrdf_zoo::fresnel::Moments;
-use bssrdf_zoo::table::{bake, Grid, GridPreset};
+use bssrdf_zoo::table::{bake, Grid, GridPreset, RidgeKind};
 use std::process::Output;
 
 use crate::common::{bssrdf, text};
@@ -33,7 +33,7 @@ fn pair() -> tempfile::TempDir {
         true,
     )
     .unwrap();
-    let write = |name: &str, factor: f32, ridge: bool| {
+    let write = |name: &str, factor: f32, ridge: RidgeKind| {
         let mut data = table.clone().with_ridge(ridge).to_table_data();
         let (_, nt, nr) = table.axes().dims();
         let i = ((ROW * nt + THETA) * nr + R) * 3 + 2;
@@ -55,9 +55,9 @@ fn pair() -> tempfile::TempDir {
         b.write_atomic(dir.path().join(name), Compression::None)
             .unwrap();
     };
-    write("a.bssrdf", 1.0, false);
-    write("b.bssrdf", 1.0 + 1e-4, false);
-    write("ridge.bssrdf", 1.0, true);
+    write("a.bssrdf", 1.0, RidgeKind::None);
+    write("b.bssrdf", 1.0 + 1e-4, RidgeKind::None);
+    write("ridge.bssrdf", 1.0, RidgeKind::Flux);
     dir
 }
 
@@ -176,13 +176,13 @@ fn tables_that_differ_only_in_the_ridge_flag_differ() {
     let j = json(&o);
     assert_eq!(
         j["differences"],
-        serde_json::json!([{"item": "table 0 / 0", "field": "ridge", "a": false, "b": true}])
+        serde_json::json!([{"item": "table 0 / 0", "field": "ridge", "a": "none", "b": "flux"}])
     );
     for s in j["tables"][0]["sections"].as_array().unwrap() {
         assert_eq!(s["max_abs"], 0.0, "{s}");
     }
     let human = text(&bssrdf(d, &["diff", "a.bssrdf", "ridge.bssrdf"]).stdout);
-    assert!(human.contains("ridge: false vs true"), "{human}");
+    assert!(human.contains("ridge: none vs flux"), "{human}");
     assert!(human.contains("DIFFERENT"), "{human}");
 }
 

@@ -27,7 +27,7 @@ struct Inner {
 struct Prepared {
     axes: Axes,
     eta: f64,
-    c_e: f64,
+    boundary: Boundary,
     /// Directory positions of the gwc-params, radial-cdf and theta-cdf sections.
     params: usize,
     radial_cdf: usize,
@@ -39,9 +39,8 @@ struct Prepared {
     /// A two-lobe table's `table::harmonic_shares_of`, computed at open: 24 bytes per node,
     /// which take its lookups from dividing 16 rows × 4 nodes each to one blend.
     shares: Option<Vec<f32>>,
-    /// Whether its nodes hold the profile less the ridge, which its lookups add back (the
-    /// record's `ridge`).
-    ridge: bool,
+    /// What its nodes hold less, the ridge its lookups add back (the record's `ridge`).
+    ridge: crate::table::RidgeKind,
 }
 
 impl Inner {
@@ -51,7 +50,7 @@ impl Inner {
         let (p, file) = (self.prepared(index), &self.file);
         TableRef::prevalidated(
             p.eta,
-            p.c_e,
+            p.boundary,
             &p.axes,
             floats(file, p.params),
             floats(file, p.radial_cdf),
@@ -185,13 +184,13 @@ impl Library {
                 }
             };
             let eta = view.eta();
-            // `TableRef::new` accepted η, so this cannot fail; it is C_E exactly as it computed it.
-            let c_e = Boundary::new(eta, table.moments())
-                .map_err(|source| EmbedError::Medium {
+            // `TableRef::new` accepted η, so this cannot fail; it is the boundary exactly as it
+            // computed it.
+            let boundary =
+                Boundary::new(eta, table.moments()).map_err(|source| EmbedError::Medium {
                     what: format!("table {index}"),
                     source,
-                })?
-                .c_e();
+                })?;
             let position = |kind: SectionKind| {
                 file.sections()
                     .iter()
@@ -201,7 +200,7 @@ impl Library {
             let prepared = Prepared {
                 axes: view.axes().clone(),
                 eta,
-                c_e,
+                boundary,
                 params: position(SectionKind::GwcParams).ok_or_else(unlocated)?,
                 radial_cdf: position(SectionKind::RadialCdf).ok_or_else(unlocated)?,
                 theta_cdf: position(SectionKind::ThetaCdf),

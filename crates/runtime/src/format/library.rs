@@ -190,10 +190,10 @@ impl<'a> Table<'a> {
         self.header().walk
     }
 
-    /// Whether the table's nodes hold the profile S less the analytic ridge R of grazing
-    /// incidence, which every lookup adds back (its record's `ridge`, format 1.6;
-    /// format-spec.md §10, "The ridge"). `false` in files of older minors.
-    pub fn ridge(&self) -> bool {
+    /// What the table's nodes hold less, the analytic ridge of grazing incidence that every
+    /// lookup adds back (its record's `ridge`, format 1.6; format-spec.md §10, "The ridge").
+    /// `RidgeKind::None` in files of older minors.
+    pub fn ridge(&self) -> crate::table::RidgeKind {
         self.header().ridge
     }
 

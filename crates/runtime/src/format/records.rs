@@ -6,6 +6,7 @@ use zerocopy::little_endian::{F64, U32};
 use zerocopy::IntoBytes;
 
 use super::error::{FormatError, FormatResult};
+use crate::table::RidgeKind;
 use super::spec::{
     required_features, AxisKind, FresnelMoments, ModelKind, RawMaterial, RawPbdFields, RawTable,
     RawWalkFields, SectionKind, WalkComponent, WalkSource, MATERIAL_HAS_ALBEDO_RANGE,
@@ -288,10 +289,10 @@ pub struct TableHeader {
     pub model: ModelKind,
     /// The walk of a [`ModelKind::WalkAngular`] table (`Some` exactly for that model).
     pub walk: Option<WalkSource>,
-    /// The record's `ridge` (format 1.6): the nodes hold the profile S less the analytic ridge
-    /// R of grazing incidence, and every lookup adds R back (format-spec.md §10, "The ridge";
-    /// `table::ridge`). Files that set it need required feature bit 6.
-    pub ridge: bool,
+    /// The record's `ridge` (format 1.6; value 2 added since): the nodes hold the profile S less
+    /// the analytic ridge of grazing incidence, and every lookup adds it back (format-spec.md
+    /// §10, "The ridge"; `table::ridge`). Files that set it need required feature bit 6.
+    pub ridge: RidgeKind,
     /// Relative index of refraction η the table was baked for, > 0.
     pub eta: f64,
     /// How the Fresnel moments were computed.
@@ -383,7 +384,7 @@ impl TableHeader {
     }
 
     pub(crate) fn encode(&self) -> RawTable {
-        let ridge = U32::new(u32::from(self.ridge));
+        let ridge = U32::new(self.ridge.code());
         // Bytes 28..63 in the layout of the model (a table has a walk exactly when it is
         // walk-angular: `validate`)
         let by_model: [u8; TABLE_BY_MODEL_LEN] = match self.walk {
@@ -457,17 +458,11 @@ impl TableHeader {
             }
             None => None,
         };
-        let ridge = match ridge_code {
-            0 => false,
-            1 => true,
-            code => {
-                return Err(FormatError::UnknownRidge {
-                    table: index,
-                    ridge: code,
-                })
-            }
-        };
-        if ridge && required & required_features::RIDGE == 0 {
+        let ridge = RidgeKind::from_code(ridge_code).ok_or(FormatError::UnknownRidge {
+            table: index,
+            ridge: ridge_code,
+        })?;
+        if ridge.is_some() && required & required_features::RIDGE == 0 {
             return Err(FormatError::RidgeNotDeclared { table: index });
         }
         let fresnel =
@@ -699,7 +694,7 @@ mod tests {
         TableHeader {
             model: ModelKind::PbdAngular,
             walk: None,
-            ridge: false,
+            ridge: RidgeKind::None,
             eta: 1.3,
             fresnel: FresnelMoments::Exact,
             n_rho,

@@ -51,10 +51,10 @@ pub struct TableData {
     /// (−1, 1)); such a table has `harmonics`, and the file needs format 1.5's `walk-tables`
     /// bit.
     pub walk: Option<WalkSource>,
-    /// Whether the nodes hold the profile S less the analytic ridge R of grazing incidence,
-    /// which lookups add back (the record's `ridge`, format-spec.md §10 "The ridge"); the file
-    /// then needs format 1.6's `ridge` bit.
-    pub ridge: bool,
+    /// What the nodes hold less, the analytic ridge of grazing incidence that lookups add
+    /// back (the record's `ridge`, format-spec.md §10 "The ridge"); with one, the file needs
+    /// format 1.6's `ridge` bit.
+    pub ridge: crate::table::RidgeKind,
     /// Relative index of refraction η, > 0.
     pub eta: f64,
     /// How the Fresnel moments were computed.
@@ -452,7 +452,7 @@ impl LibraryBuilder {
             .tables
             .iter()
             .any(|(header, _)| header.model == ModelKind::WalkAngular);
-        let ridge = self.tables.iter().any(|(header, _)| header.ridge);
+        let ridge = self.tables.iter().any(|(header, _)| header.ridge.is_some());
         let required = if signed_floor {
             required_features::SIGNED_FLOOR
         } else {

@@ -67,6 +67,7 @@ mod io;
 mod lookup;
 mod reflectance;
 pub mod ridge;
+pub use ridge::RidgeKind;
 mod subset;
 
 pub use crate::error::TableError;
@@ -151,7 +152,7 @@ impl Axes {
 #[derive(Debug, Clone, PartialEq)]
 pub struct AngularTable {
     eta: f64,
-    c_e: f64,
+    boundary: crate::medium::Boundary,
     moments: Moments,
     axes: Axes,
     params: Vec<f32>,
@@ -164,16 +165,17 @@ pub struct AngularTable {
     shares: Option<Vec<f32>>,
     /// The walk a table measured from the Monte Carlo walk was baked with (`None`: PBD).
     walk: Option<crate::format::WalkSource>,
-    /// Whether the nodes hold S less the analytic ridge, which lookups add back ([`ridge`]).
-    ridge: bool,
+    /// What the nodes hold less, the analytic ridge that lookups add back ([`ridge`]).
+    ridge: RidgeKind,
 }
 
 /// A borrowed view of a table's arrays, as owned by [`AngularTable`] or mapped from a file.
 #[derive(Debug, Clone, Copy)]
 pub struct TableRef<'a> {
     eta: f64,
-    /// C_E of the boundary, for the ln(1/r) growth in the first radius interval.
-    c_e: f64,
+    /// The boundary's constants: C_E for the ln(1/r) growth in the first radius interval, and
+    /// the ridge's ([`ridge`]).
+    boundary: crate::medium::Boundary,
     axes: &'a Axes,
     params: &'a [f32],
     radial_cdf: &'a [f32],
@@ -186,8 +188,8 @@ pub struct TableRef<'a> {
     /// [`AngularTable`], an opened `embed::Library`): lookups then blend them as they are
     /// instead of dividing row by row. `None` in views of raw arrays ([`TableRef::new`]).
     shares: Option<&'a [f32]>,
-    /// Whether the nodes hold S less the analytic ridge, which lookups add back ([`ridge`]).
-    ridge: bool,
+    /// What the nodes hold less, the analytic ridge that lookups add back ([`ridge`]).
+    ridge: RidgeKind,
 }
 
 /// Values per node of [`harmonic_shares_of`] that lookups blend.
@@ -336,16 +338,14 @@ impl<'a> TableRef<'a> {
         if let Some(t) = theta_cdf {
             check("theta_cdf", t, nrho * ntheta)?;
         }
-        let c_e = crate::medium::Boundary::new(eta, moments)
-            .map_err(|_| TableError::Eta {
-                value: eta,
-                min: crate::medium::ETA_MIN,
-                max: crate::medium::ETA_MAX,
-            })?
-            .c_e();
+        let boundary = crate::medium::Boundary::new(eta, moments).map_err(|_| TableError::Eta {
+            value: eta,
+            min: crate::medium::ETA_MIN,
+            max: crate::medium::ETA_MAX,
+        })?;
         Ok(Self {
             eta,
-            c_e,
+            boundary,
             axes,
             params,
             radial_cdf,
@@ -353,7 +353,7 @@ impl<'a> TableRef<'a> {
             harmonics: None,
             rebuild: Rebuild::default(),
             shares: None,
-            ridge: false,
+            ridge: RidgeKind::None,
         })
     }
 
@@ -403,22 +403,22 @@ impl<'a> TableRef<'a> {
 
     /// This view with the analytic ridge added back to what its nodes hold, or not (a file's
     /// table record, format-spec.md §10 "The ridge"; [`ridge`]).
-    pub fn with_ridge(self, ridge: bool) -> Self {
+    pub fn with_ridge(self, ridge: RidgeKind) -> Self {
         Self { ridge, ..self }
     }
 
-    /// Whether the nodes hold S less the analytic ridge, which lookups add back.
-    pub fn ridge(&self) -> bool {
+    /// What the nodes hold less, the analytic ridge that lookups add back.
+    pub fn ridge(&self) -> RidgeKind {
         self.ridge
     }
 
     /// A view of arrays that [`TableRef::new`] has already accepted with these axes, with
-    /// `c_e = Boundary::new(eta, moments)?.c_e()` as `new` computes it: O(1), no checks and no
+    /// `boundary = Boundary::new(eta, moments)?` as `new` computes it: O(1), no checks and no
     /// Fresnel integration, for handles that rebuild their view on every lookup
     /// (`crate::embed`). Arrays of other lengths make lookups panic; they are never unsound.
     pub(crate) fn prevalidated(
         eta: f64,
-        c_e: f64,
+        boundary: crate::medium::Boundary,
         axes: &'a Axes,
         params: &'a [f32],
         radial_cdf: &'a [f32],
@@ -426,7 +426,7 @@ impl<'a> TableRef<'a> {
     ) -> Self {
         Self {
             eta,
-            c_e,
+            boundary,
             axes,
             params,
             radial_cdf,
@@ -434,7 +434,7 @@ impl<'a> TableRef<'a> {
             harmonics: None,
             rebuild: Rebuild::default(),
             shares: None,
-            ridge: false,
+            ridge: RidgeKind::None,
         }
     }
 
@@ -483,7 +483,7 @@ impl AngularTable {
         radial_cdf: Vec<f32>,
         theta_cdf: Option<Vec<f32>>,
     ) -> Result<Self, TableError> {
-        let c_e = TableRef::new(
+        let boundary = TableRef::new(
             eta,
             moments,
             &axes,
@@ -491,10 +491,10 @@ impl AngularTable {
             &radial_cdf,
             theta_cdf.as_deref(),
         )?
-        .c_e;
+        .boundary;
         Ok(Self {
             eta,
-            c_e,
+            boundary,
             moments,
             axes,
             params,
@@ -504,7 +504,7 @@ impl AngularTable {
             rebuild: Rebuild::default(),
             shares: None,
             walk: None,
-            ridge: false,
+            ridge: RidgeKind::None,
         })
     }
 
@@ -539,13 +539,13 @@ impl AngularTable {
 
     /// This table with the analytic ridge added back to what its nodes hold, or not
     /// ([`TableRef::with_ridge`]).
-    pub fn with_ridge(mut self, ridge: bool) -> Self {
+    pub fn with_ridge(mut self, ridge: RidgeKind) -> Self {
         self.ridge = ridge;
         self
     }
 
-    /// Whether the nodes hold S less the analytic ridge, which lookups add back.
-    pub fn ridge(&self) -> bool {
+    /// What the nodes hold less, the analytic ridge that lookups add back.
+    pub fn ridge(&self) -> RidgeKind {
         self.ridge
     }
 
@@ -591,7 +591,7 @@ impl AngularTable {
     pub fn view(&self) -> TableRef<'_> {
         TableRef {
             eta: self.eta,
-            c_e: self.c_e,
+            boundary: self.boundary,
             axes: &self.axes,
             params: &self.params,
             radial_cdf: &self.radial_cdf,

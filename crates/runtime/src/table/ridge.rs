@@ -28,9 +28,31 @@
 //! plane it carries w ρ′² C_E (s/2)·G(r_max), G(r) = ∫₀^r (e^{−ax} − e^{−bx}) dx with a = s + k,
 //! b = 3s + k (ρ′² C_E/3 for k = 0, r_max = ∞). The radial density of R, r·m(r) over its
 //! energy, is (e^{−ar} − e^{−br})/G(r_max), inverted by a safeguarded Newton iteration.
+//!
+//! That is the ridge of a table whose record says `ridge` = 1 ([`RidgeKind::Flux`]). A record
+//! with `ridge` = 2 ([`RidgeKind::FluxAndFluence`]) adds the fluence term's part L of the same
+//! near field. Each beam point's fluence C_φ e^{−σtr d}/(4πD d) integrates along the beam to
+//! about −ln(φ² + c²) times ρ′² C_φ κ e^{−t}/(4πD) near φ = 0: a logarithmic cusp of width c
+//! that no lobe over the nodes follows either (the nodes' fit missed PBD by up to 6 % at
+//! φ = 0.02–0.2 without it, θ = 89°, η = 1). Since −ln(φ² + c²) = ∫_c^∞ 2w/(φ² + w²) dw up to
+//! a constant, L is a sum of wrapped Cauchy lobes whose widths w_j run from c to W = 2,
+//! spaced evenly in ln w (K = 12 of them, trapezoid weights), each cut off beyond φ ≈ 1/(λr)
+//! as the cusp is:
+//!
+//! ```text
+//! L(r, φ) = w(c) ρ′² C_φ/(4πD) · Σ_j ω_j (e^{−α_j r} − e^{−β_j r}) · 2π pdf_WC(φ; e^{−w_j}),
+//! w_j = c_w (W/c_w)^{j/(K−1)},  c_w = max(c, 10⁻⁵),  ω_j = h w_j (h/2 · w_j at both ends),
+//! h = ln(W/c_w)/(K − 1),  α_j = s + λ w_j,  β_j = α_j + 2s,  λ = σtr + 1/(4 z_b),
+//! ```
+//!
+//! with D = (2 − ρ′)/3 and z_b = 2AD. Each lobe's energy up to r_max is closed-form,
+//! 2π w ρ′² C_φ/(4πD) ω_j H_j(r_max) with H_j(r) = ∫₀^r x(e^{−α_j x} − e^{−β_j x}) dx, and so
+//! is its radial CDF, inverted by the same Newton iteration: a draw picks the flux part or
+//! one lobe by their energies, then r from that part's radial density and φ from its lobe.
 
 use crate::gwc::{inv_cdf_wc, pdf_wc};
-use std::f64::consts::{FRAC_PI_2, TAU};
+use crate::medium::Boundary;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// cos θ′ up to which the ridge has its full weight.
 pub const FULL_WEIGHT_COS: f64 = 0.1;
@@ -61,8 +83,65 @@ pub fn reaches(eta: f64) -> bool {
     }
 }
 
-/// The ridge at one (ρ′, θ) of a table: R(r, φ) = scale · m̂(r) · pdf_WC(φ; κ) with
-/// m̂ = s e^{−r(s+k)}(1 − e^{−2rs})/(2r), scale = w ρ′² C_E, on r ∈ [0, r_max].
+/// What a table's nodes hold less, and its lookups add back: its record's `ridge`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum RidgeKind {
+    /// `ridge` = 0: the nodes hold the profile itself.
+    #[default]
+    None,
+    /// `ridge` = 1 (format 1.6): the flux part R alone.
+    Flux,
+    /// `ridge` = 2: R plus the fluence part L (readers that know only 0 and 1 reject it as
+    /// `unknown-ridge`).
+    FluxAndFluence,
+}
+
+impl RidgeKind {
+    /// The kind a bake stores.
+    pub const NEWEST: RidgeKind = RidgeKind::FluxAndFluence;
+
+    /// The record's code.
+    pub fn code(self) -> u32 {
+        match self {
+            RidgeKind::None => 0,
+            RidgeKind::Flux => 1,
+            RidgeKind::FluxAndFluence => 2,
+        }
+    }
+
+    /// The kind of a record's code, `None` for an unknown one.
+    pub fn from_code(code: u32) -> Option<Self> {
+        match code {
+            0 => Some(RidgeKind::None),
+            1 => Some(RidgeKind::Flux),
+            2 => Some(RidgeKind::FluxAndFluence),
+            _ => None,
+        }
+    }
+
+    /// Whether the nodes hold the profile less a ridge.
+    pub fn is_some(self) -> bool {
+        self != RidgeKind::None
+    }
+
+    /// A short name: "none", "flux", "flux+fluence".
+    pub fn name(self) -> &'static str {
+        match self {
+            RidgeKind::None => "none",
+            RidgeKind::Flux => "flux",
+            RidgeKind::FluxAndFluence => "flux+fluence",
+        }
+    }
+}
+
+/// The number K of lobes of the fluence part.
+pub const FLUENCE_LOBES: usize = 12;
+/// The widest lobe W of the fluence part.
+pub const FLUENCE_MAX_WIDTH: f64 = 2.0;
+
+/// The ridge at one (ρ′, θ) of a table: the flux part R(r, φ) = scale · m̂(r) · pdf_WC(φ; κ)
+/// with m̂ = s e^{−r(s+k)}(1 − e^{−2rs})/(2r), scale = w ρ′² C_E, on r ∈ [0, r_max], and for
+/// [`RidgeKind::FluxAndFluence`] the fluence part L (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ridge {
     scale: f64,
@@ -73,21 +152,93 @@ pub struct Ridge {
     r_max: f64,
     /// G(r_max): the radial integral up to r_max (`radial_integral`).
     total: f64,
+    fluence: Option<Fluence>,
+}
+
+/// The fluence part L of a ridge: lobe j carries scale · ω_j (e^{−α_j r} − e^{−β_j r}) ·
+/// 2π pdf_WC(φ; κ_j).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Fluence {
+    scale: f64,
+    weight: [f64; FLUENCE_LOBES],
+    alpha: [f64; FLUENCE_LOBES],
+    kappa: [f64; FLUENCE_LOBES],
+    /// Each lobe's energy up to r_max.
+    energy: [f64; FLUENCE_LOBES],
+}
+
+impl Fluence {
+    /// L at (ρ′, c = cos θ′, s = sin θ′) of a ridge of weight `w` (module docs); `None` where
+    /// it carries nothing.
+    fn new(boundary: &Boundary, rho: f64, w: f64, c: f64, s: f64, r_max: f64) -> Option<Self> {
+        let d = (2.0 - rho) / 3.0;
+        let sigma_tr = ((1.0 - rho) / d).max(0.0).sqrt();
+        let z_b = 2.0 * boundary.a() * d;
+        let lambda = sigma_tr + 0.25 / z_b;
+        let scale = w * rho * rho * boundary.c_phi() / (4.0 * PI * d);
+        let lo = c.max(MIN_WIDTH_COS);
+        let h = (FLUENCE_MAX_WIDTH / lo).ln() / (FLUENCE_LOBES - 1) as f64;
+        let mut out = Self {
+            scale,
+            weight: [0.0; FLUENCE_LOBES],
+            alpha: [0.0; FLUENCE_LOBES],
+            kappa: [0.0; FLUENCE_LOBES],
+            energy: [0.0; FLUENCE_LOBES],
+        };
+        for j in 0..FLUENCE_LOBES {
+            let width = lo * (h * j as f64).exp();
+            let end = if j == 0 || j + 1 == FLUENCE_LOBES { 0.5 } else { 1.0 };
+            out.weight[j] = end * h * width;
+            out.alpha[j] = s + lambda * width;
+            out.kappa[j] = (-width).exp();
+            out.energy[j] = TAU
+                * scale
+                * out.weight[j]
+                * radial_moment(out.alpha[j], out.alpha[j] + 2.0 * s, r_max);
+        }
+        (scale > 0.0 && out.energy.iter().all(|e| e.is_finite())).then_some(out)
+    }
+
+    /// Lobe j's mass over φ at r: ω_j (e^{−α_j r} − e^{−β_j r}) times the scale.
+    fn lobe_mass(&self, j: usize, r: f64, s: f64) -> f64 {
+        self.scale * self.weight[j] * (-self.alpha[j] * r).exp() * -(-2.0 * s * r).exp_m1()
+    }
+
+    fn total(&self) -> f64 {
+        self.energy.iter().sum()
+    }
 }
 
 impl Ridge {
-    /// The ridge at (ρ′, θ) of a table of index `eta`, constant `c_e` and last radius `r_max`;
-    /// `None` where it has no weight or no energy (w = 0, ρ′ = 0, no light enters, θ outside
-    /// [0, π/2], r_max not positive).
-    pub fn at(eta: f64, c_e: f64, rho: f64, theta: f64, r_max: f64) -> Option<Self> {
-        Self::with_cos(c_e, rho, crate::fresnel::refracted_cos(theta, eta)?, r_max)
+    /// The ridge of `kind` at (ρ′, θ) of a table of boundary `boundary` and last radius
+    /// `r_max`; `None` where it has no weight or no energy (no ridge, w = 0, ρ′ = 0, no light
+    /// enters, θ outside [0, π/2], r_max not positive).
+    pub fn at(
+        kind: RidgeKind,
+        boundary: &Boundary,
+        rho: f64,
+        theta: f64,
+        r_max: f64,
+    ) -> Option<Self> {
+        let cos_t = crate::fresnel::refracted_cos(theta, boundary.eta())?;
+        Self::with_cos(kind, boundary, rho, cos_t, r_max)
     }
 
     /// The ridge at cos θ′ = `cos_t` ∈ [0, 1] ([`Ridge::at`] of the θ refracted to it). θ nodes
     /// beyond the critical angle of an η < 1 hold the limit θ′ → 90° of the profile, so their
     /// ridge is this at cos θ′ = 0.
-    pub fn with_cos(c_e: f64, rho: f64, cos_t: f64, r_max: f64) -> Option<Self> {
-        let scale = weight(cos_t) * rho * rho * c_e;
+    pub fn with_cos(
+        kind: RidgeKind,
+        boundary: &Boundary,
+        rho: f64,
+        cos_t: f64,
+        r_max: f64,
+    ) -> Option<Self> {
+        if kind == RidgeKind::None {
+            return None;
+        }
+        let w = weight(cos_t);
+        let scale = w * rho * rho * boundary.c_e();
         let s = (1.0 - cos_t * cos_t).sqrt();
         if !(scale > 0.0 && s > 0.0 && r_max > 0.0) {
             return None;
@@ -95,6 +246,10 @@ impl Ridge {
         let sigma_tr = (3.0 * (1.0 - rho) / (2.0 - rho)).max(0.0).sqrt();
         let k = sigma_tr * cos_t / s;
         let total = radial_integral(s + k, 3.0 * s + k, r_max);
+        let fluence = match kind {
+            RidgeKind::FluxAndFluence => Fluence::new(boundary, rho, w, cos_t, s, r_max),
+            _ => None,
+        };
         (total > 0.0).then_some(Self {
             scale,
             s,
@@ -102,37 +257,63 @@ impl Ridge {
             kappa: (-cos_t.max(MIN_WIDTH_COS)).exp(),
             r_max,
             total,
+            fluence,
         })
     }
 
-    /// Its energy up to r_max: ∫∫ R r dr dφ = w ρ′² C_E (s/2) G(r_max).
+    /// Its energy up to r_max: ∫∫ R r dr dφ = w ρ′² C_E (s/2) G(r_max), plus the fluence
+    /// lobes'.
     pub fn energy(&self) -> f64 {
+        self.flux_energy() + self.fluence.as_ref().map_or(0.0, Fluence::total)
+    }
+
+    fn flux_energy(&self) -> f64 {
         self.scale * 0.5 * self.s * self.total
     }
 
-    /// Its mean over φ, (1/2π) ∫ R dφ = w ρ′² C_E m̂(r)/(2π), per unit area; 0 outside
-    /// [0, r_max].
+    /// Its mean over φ, (1/2π) ∫ R dφ, per unit area; 0 outside [0, r_max].
     pub fn mean(&self, r: f64) -> f64 {
         if !(0.0..=self.r_max).contains(&r) {
             return 0.0;
         }
-        self.scale * self.radial(r) / TAU
+        let fluence = self.fluence.as_ref().map_or(0.0, |f| {
+            (0..FLUENCE_LOBES).map(|j| f.lobe_mass(j, r, self.s)).sum()
+        });
+        self.scale * self.radial(r) / TAU + fluence
     }
 
-    /// R(r, φ) per unit area; 0 outside [0, r_max] or for φ outside [−π, π] (wrapped by the
-    /// caller) or NaN.
+    /// The ridge at (r, φ) per unit area; 0 outside [0, r_max] or for φ outside [−π, π]
+    /// (wrapped by the caller) or NaN.
     pub fn eval(&self, r: f64, phi: f64) -> f64 {
         if !(0.0..=self.r_max).contains(&r) {
             return 0.0;
         }
-        self.scale * self.radial(r) * pdf_wc(phi, self.kappa)
+        let flux = self.scale * self.radial(r) * pdf_wc(phi, self.kappa);
+        match &self.fluence {
+            Some(f) => {
+                flux + (0..FLUENCE_LOBES)
+                    .map(|j| f.lobe_mass(j, r, self.s) * TAU * pdf_wc(phi, f.kappa[j]))
+                    .sum::<f64>()
+            }
+            None => flux,
+        }
     }
 
-    /// Its harmonics ∫ R cos nφ dφ over [−π, π] at r, n = 0 … N − 1: w ρ′² C_E m̂(r) κⁿ (the
-    /// wrapped Cauchy density's are κⁿ); 0 outside [0, r_max].
+    /// Its harmonics ∫ R cos nφ dφ over [−π, π] at r, n = 0 … N − 1 (each wrapped Cauchy
+    /// lobe's are its mass times κⁿ); 0 outside [0, r_max].
     pub fn harmonics<const N: usize>(&self, r: f64) -> [f64; N] {
-        let mass = TAU * self.mean(r);
-        std::array::from_fn(|n| mass * self.kappa.powi(n as i32))
+        if !(0.0..=self.r_max).contains(&r) {
+            return [0.0; N];
+        }
+        let flux = self.scale * self.radial(r);
+        std::array::from_fn(|n| {
+            let fluence = self.fluence.as_ref().map_or(0.0, |f| {
+                (0..FLUENCE_LOBES)
+                    .map(|j| TAU * f.lobe_mass(j, r, self.s) * f.kappa[j].powi(n as i32))
+                    .sum()
+            });
+            flux * self.kappa.powi(n as i32) + fluence
+        })
     }
 
     /// m̂(r) = s e^{−r(s+k)}(1 − e^{−2rs})/(2r), s² at r = 0.
@@ -142,65 +323,157 @@ impl Ridge {
         self.s * self.s * (-r * (self.s + self.k)).exp() * front
     }
 
-    /// Density per unit r of [`Ridge::sample_radius`], (e^{−ar} − e^{−br})/G(r_max) on
-    /// [0, r_max], 0 elsewhere.
+    /// Density per unit area of [`Ridge::sample`] at (r, φ): the ridge over its energy.
+    pub fn pdf(&self, r: f64, phi: f64) -> f64 {
+        if r <= 0.0 {
+            return 0.0;
+        }
+        self.eval(r, phi) / self.energy()
+    }
+
+    /// Density per unit r of [`Ridge::sample_radius`]: 2πr times the mean over φ, over the
+    /// energy, on [0, r_max], 0 elsewhere.
     pub fn pdf_radius(&self, r: f64) -> f64 {
         if !(0.0..=self.r_max).contains(&r) {
             return 0.0;
         }
-        // e^{−ar} − e^{−br} = e^{−ar}(1 − e^{−2sr}), exact near 0
-        (-r * (self.s + self.k)).exp() * -(-2.0 * r * self.s).exp_m1() / self.total
+        let Some(f) = &self.fluence else {
+            // e^{−ar} − e^{−br} = e^{−ar}(1 − e^{−2sr}), exact near 0
+            return (-r * (self.s + self.k)).exp() * -(-2.0 * r * self.s).exp_m1() / self.total;
+        };
+        let flux = self.scale * 0.5 * self.s * (-r * (self.s + self.k)).exp() * -(-2.0 * r * self.s).exp_m1();
+        let fluence: f64 = (0..FLUENCE_LOBES).map(|j| TAU * r * f.lobe_mass(j, r, self.s)).sum();
+        (flux + fluence) / (self.flux_energy() + f.total())
     }
 
-    /// The r ∈ [0, r_max] whose share of the ridge's energy up to r_max is u ∈ [0, 1] (u
-    /// clamped into it): G(r) = u G(r_max), by Newton's method kept inside a shrinking
-    /// bracket (G increases; its slope e^{−ar} − e^{−br} is 0 only at r = 0).
+    /// The part a radial uniform u ∈ [0, 1] picks, by the parts' energies, and u rescaled
+    /// within it: `None` for the flux part, `Some(j)` for fluence lobe j.
+    fn pick(&self, u: f64) -> (Option<usize>, f64) {
+        let u = u.clamp(0.0, 1.0);
+        let Some(f) = &self.fluence else {
+            return (None, u);
+        };
+        let flux = self.flux_energy();
+        let total = flux + f.total();
+        let mut target = u * total;
+        if target < flux {
+            return (None, target / flux);
+        }
+        target -= flux;
+        for (j, &e) in f.energy.iter().enumerate() {
+            if target < e || j + 1 == FLUENCE_LOBES {
+                return (Some(j), (target / e).clamp(0.0, 1.0));
+            }
+            target -= e;
+        }
+        (Some(FLUENCE_LOBES - 1), 1.0)
+    }
+
+    /// The r ∈ [0, r_max] a radial uniform u ∈ [0, 1] gives (clamped into it): the part
+    /// [`Ridge::pick`] chooses, then the r whose share of that part's energy is the rescaled
+    /// u ([`invert_radial`]).
     pub fn sample_radius(&self, u: f64) -> f64 {
-        let (a, b) = (self.s + self.k, 3.0 * self.s + self.k);
-        let target = u.clamp(0.0, 1.0) * self.total;
-        if target <= 0.0 {
-            return 0.0;
-        }
-        if target >= self.total {
-            return self.r_max;
-        }
-        let (mut lo, mut hi) = (0.0, self.r_max);
-        // Near 0, G ≈ s r²
-        let mut r = (target / self.s).sqrt().min(0.5 * self.r_max);
-        for _ in 0..200 {
-            let f = radial_integral(a, b, r) - target;
-            if f == 0.0 {
-                return r;
-            }
-            if f > 0.0 {
-                hi = r;
-            } else {
-                lo = r;
-            }
-            let slope = (-a * r).exp() * -(-2.0 * self.s * r).exp_m1();
-            let newton = r - f / slope;
-            let next = if slope > 0.0 && (lo..=hi).contains(&newton) {
-                newton
-            } else {
-                0.5 * (lo + hi)
-            };
-            if (next - r).abs() <= 4.0 * f64::EPSILON * r || hi - lo <= f64::EPSILON * hi {
-                return next;
-            }
-            r = next;
-        }
-        r
+        let (part, u) = self.pick(u);
+        self.radius_of(part, u)
     }
 
-    /// The ridge's density in φ, pdf_WC(φ; κ).
-    pub fn pdf_phi(&self, phi: f64) -> f64 {
-        pdf_wc(phi, self.kappa)
+    fn radius_of(&self, part: Option<usize>, u: f64) -> f64 {
+        match (part, &self.fluence) {
+            (Some(j), Some(f)) => {
+                let a = f.alpha[j];
+                invert_radial(1, a, a + 2.0 * self.s, self.r_max, u)
+            }
+            _ => invert_radial(0, self.s + self.k, 3.0 * self.s + self.k, self.r_max, u),
+        }
     }
 
-    /// The φ whose wrapped Cauchy CDF is u.
-    pub fn sample_phi(&self, u: f64) -> f64 {
-        inv_cdf_wc(u, self.kappa)
+    /// (r, φ) from the uniforms (u_r, u_φ): r as [`Ridge::sample_radius`], φ from the wrapped
+    /// Cauchy lobe of the part that drew it.
+    pub fn sample(&self, u_r: f64, u_phi: f64) -> (f64, f64) {
+        let (part, u) = self.pick(u_r);
+        let r = self.radius_of(part, u);
+        let kappa = match (part, &self.fluence) {
+            (Some(j), Some(f)) => f.kappa[j],
+            _ => self.kappa,
+        };
+        (r, inv_cdf_wc(u_phi.clamp(0.0, 1.0), kappa))
     }
+}
+
+/// The r ∈ [0, r_max] with ∫₀^r x^p (e^{−ax} − e^{−bx}) dx = u times that integral up to r_max
+/// (p = 0 or 1, 0 < a < b; u clamped into [0, 1]), by Newton's method kept inside a shrinking
+/// bracket (the integral increases; its slope is 0 only at r = 0).
+fn invert_radial(p: i32, a: f64, b: f64, r_max: f64, u: f64) -> f64 {
+    let integral = |r: f64| {
+        if p == 0 {
+            radial_integral(a, b, r)
+        } else {
+            radial_moment(a, b, r)
+        }
+    };
+    let total = integral(r_max);
+    let target = u.clamp(0.0, 1.0) * total;
+    if target <= 0.0 {
+        return 0.0;
+    }
+    if target >= total {
+        return r_max;
+    }
+    let (mut lo, mut hi) = (0.0, r_max);
+    // Near 0 the integral is (b − a) r^{p+2}/(p + 2)
+    let start = (target * f64::from(p + 2) / (b - a)).powf(1.0 / f64::from(p + 2));
+    let mut r = start.min(0.5 * r_max);
+    for _ in 0..200 {
+        let f = integral(r) - target;
+        if f == 0.0 {
+            return r;
+        }
+        if f > 0.0 {
+            hi = r;
+        } else {
+            lo = r;
+        }
+        let slope = r.powi(p) * (-a * r).exp() * -(-(b - a) * r).exp_m1();
+        let newton = r - f / slope;
+        let next = if slope > 0.0 && (lo..=hi).contains(&newton) {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - r).abs() <= 4.0 * f64::EPSILON * r || hi - lo <= f64::EPSILON * hi {
+            return next;
+        }
+        r = next;
+    }
+    r
+}
+
+/// H(r) = ∫₀^r x (e^{−ax} − e^{−bx}) dx for 0 < a < b: Γ(a) − Γ(b) with
+/// Γ(c) = (1 − e^{−cr}(1 + cr))/c², by its Taylor series where br is small.
+fn radial_moment(a: f64, b: f64, r: f64) -> f64 {
+    if b * r < 0.1 {
+        // Σ_{n≥1} (−1)^{n+1} (bⁿ − aⁿ) r^{n+2}/(n! (n + 2)); terms fall by br/n at least
+        let (mut an, mut bn, mut rn, mut fact) = (1.0, 1.0, r * r, 1.0);
+        let mut sum = 0.0;
+        for n in 1..30 {
+            an *= a;
+            bn *= b;
+            rn *= r;
+            fact *= f64::from(n);
+            let term = (bn - an) * rn / (fact * f64::from(n + 2));
+            sum += if n % 2 == 1 { term } else { -term };
+            if term.abs() <= 1e-17 * sum.abs() {
+                break;
+            }
+        }
+        return sum;
+    }
+    let gamma = |c: f64| {
+        let x = c * r;
+        // 1 − e^{−x}(1 + x) = −expm1(−x) − x e^{−x}
+        (-(-x).exp_m1() - x * (-x).exp()) / (c * c)
+    };
+    gamma(a) - gamma(b)
 }
 
 /// G(r) = ∫₀^r (e^{−ax} − e^{−bx}) dx for 0 < a < b: (1 − e^{−ar})/a − (1 − e^{−br})/b, by its
@@ -222,7 +495,6 @@ fn radial_integral(a: f64, b: f64, r: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f64::consts::PI;
 
     /// Composite Simpson on n (even) intervals.
     fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
@@ -253,97 +525,181 @@ mod tests {
         assert!(reaches(1.0482) && !reaches(1.0484));
     }
 
+    use crate::fresnel::Moments;
+
+    fn ridge(kind: RidgeKind, eta: f64, rho: f64, theta_deg: f64, r_max: f64) -> Option<Ridge> {
+        let boundary = Boundary::new(eta, Moments::Exact).unwrap();
+        Ridge::at(kind, &boundary, rho, theta_deg.to_radians(), r_max)
+    }
+
+    const KINDS: [RidgeKind; 2] = [RidgeKind::Flux, RidgeKind::FluxAndFluence];
+
     #[test]
-    fn without_attenuation_it_carries_a_third_of_rho_squared_c_e() {
+    fn kinds_round_trip_through_their_codes() {
+        for kind in [RidgeKind::None, RidgeKind::Flux, RidgeKind::FluxAndFluence] {
+            assert_eq!(RidgeKind::from_code(kind.code()), Some(kind));
+        }
+        assert_eq!(RidgeKind::from_code(3), None);
+        assert!(!RidgeKind::None.is_some() && RidgeKind::NEWEST.is_some());
+        assert!(ridge(RidgeKind::None, 1.0, 0.9, 89.0, 50.0).is_none());
+    }
+
+    #[test]
+    fn without_attenuation_the_flux_part_carries_a_third_of_rho_squared_c_e() {
         // ρ′ = 1: σtr = 0, k = 0, and over the whole plane ρ′² C_E/3
-        let ridge = Ridge::at(1.0, 0.37, 1.0, 85f64.to_radians(), 1e4).unwrap();
-        assert_eq!(ridge.k, 0.0);
-        assert!((ridge.energy() / (0.37 / 3.0) - 1.0).abs() < 1e-14);
+        let r = ridge(RidgeKind::Flux, 1.0, 1.0, 85.0, 1e4).unwrap();
+        assert_eq!(r.k, 0.0);
+        let c_e = Boundary::new(1.0, Moments::Exact).unwrap().c_e();
+        assert!((r.energy() / (c_e / 3.0) - 1.0).abs() < 1e-14);
+        // and the fluence part adds its lobes' energies
+        let both = ridge(RidgeKind::FluxAndFluence, 1.0, 1.0, 85.0, 1e4).unwrap();
+        let lobes = both.fluence.unwrap().total();
+        assert!(lobes > 0.0 && (both.energy() - r.energy() - lobes).abs() < 1e-15);
     }
 
     #[test]
     fn its_energy_is_the_integral_of_its_values() {
         // ∫₀^{r_max} ∫ R r dφ dr by Simpson over r and φ against its energy, and the mean
-        // over φ against R's
-        for (eta, rho, theta_deg, r_max) in [
-            (1.0, 0.8, 89.0, 50.0),
-            (1.0, 0.3, 80.0, 3.0),
-            (0.9, 0.95, 60.0, 20.0),
-        ] {
-            let ridge = Ridge::at(eta, 0.37, rho, f64::to_radians(theta_deg), r_max).unwrap();
-            // φ on a grid that resolves the narrowest width (κ up to e^{−0.0175})
-            let over_phi = |r: f64| simpson(|p| ridge.eval(r, p), -PI, PI, 20_000);
-            let radial = |r: f64| r * over_phi(r);
-            let total: f64 = (0..40)
-                .map(|k| {
-                    let (a, b) = (r_max * k as f64 / 40.0, r_max * (k + 1) as f64 / 40.0);
-                    simpson(radial, a, b, 40)
-                })
-                .sum();
-            let want = ridge.energy();
-            assert!((total / want - 1.0).abs() < 1e-6, "{total} vs {want}");
-            for r in [0.0, 0.01, 1.0, r_max] {
-                let mean = over_phi(r) / TAU;
-                assert!((mean - ridge.mean(r)).abs() <= 1e-7 * ridge.mean(r) + 1e-300);
+        // over φ and the harmonics against R's
+        for kind in KINDS {
+            for (eta, rho, theta_deg, r_max) in [
+                (1.0, 0.8, 89.0, 50.0),
+                (1.0, 0.3, 80.0, 3.0),
+                (0.9, 0.95, 60.0, 20.0),
+            ] {
+                let ridge = ridge(kind, eta, rho, theta_deg, r_max).unwrap();
+                // φ on a grid that resolves the narrowest width (κ up to e^{−0.0175})
+                let over_phi = |r: f64, n: f64| {
+                    simpson(|p| ridge.eval(r, p) * (n * p).cos(), -PI, PI, 20_000)
+                };
+                let radial = |r: f64| r * over_phi(r, 0.0);
+                let total: f64 = (0..40)
+                    .map(|k| {
+                        let (a, b) = (r_max * k as f64 / 40.0, r_max * (k + 1) as f64 / 40.0);
+                        simpson(radial, a, b, 40)
+                    })
+                    .sum();
+                let want = ridge.energy();
+                assert!((total / want - 1.0).abs() < 1e-6, "{kind:?}: {total} vs {want}");
+                for r in [0.0, 0.01, 1.0, r_max] {
+                    let mean = over_phi(r, 0.0) / TAU;
+                    assert!((mean - ridge.mean(r)).abs() <= 1e-7 * ridge.mean(r) + 1e-300);
+                    let h = ridge.harmonics::<4>(r);
+                    for (n, hn) in h.iter().enumerate() {
+                        let want = over_phi(r, n as f64);
+                        assert!((hn - want).abs() <= 1e-7 * h[0] + 1e-300, "{n}: {hn} {want}");
+                    }
+                }
             }
         }
     }
 
     #[test]
     fn the_radial_sampler_inverts_its_distribution() {
-        for (rho, theta_deg) in [(0.9, 88.0), (0.05, 75.0), (1.0, 89.9)] {
-            let ridge = Ridge::at(1.0, 0.37, rho, f64::to_radians(theta_deg), 30.0).unwrap();
-            let (a, b) = (ridge.s + ridge.k, 3.0 * ridge.s + ridge.k);
-            let cdf = |r: f64| simpson(|x| ridge.pdf_radius(x), 0.0, r, 20_000);
-            assert!(
-                (cdf(30.0) - 1.0).abs() < 1e-9,
-                "{rho} {theta_deg}: {}",
-                cdf(30.0)
-            );
-            for u in [
-                1e-300, 1e-200, 1e-15, 1e-12, 1e-6, 0.01, 0.3, 0.5, 0.9, 0.999999, 1.0,
-            ] {
-                let r = ridge.sample_radius(u);
-                assert!((0.0..=30.0).contains(&r));
-                let got = radial_integral(a, b, r) / ridge.total;
-                assert!(
-                    (got - u).abs() <= 1e-12 * u.max(1e-3) && (got - u).abs() <= 1e-9 * u,
-                    "u {u}: {got}"
-                );
+        for kind in KINDS {
+            for (rho, theta_deg) in [(0.9, 88.0), (0.05, 75.0), (1.0, 89.9)] {
+                let ridge = ridge(kind, 1.0, rho, theta_deg, 30.0).unwrap();
+                // the CDF of pdf_radius, on panels that resolve its decay near 0
+                let cdf = |r: f64| {
+                    let edges: [f64; 8] = [0.0, 1e-3, 1e-2, 0.1, 1.0, 3.0, 10.0, 30.0];
+                    edges
+                        .windows(2)
+                        .map(|w| {
+                            let (a, b) = (w[0].min(r), w[1].min(r));
+                            simpson(|x| ridge.pdf_radius(x), a, b, 4_000)
+                        })
+                        .sum::<f64>()
+                };
+                assert!((cdf(30.0) - 1.0).abs() < 1e-9, "{rho} {theta_deg}: {}", cdf(30.0));
+                // stratified uniforms pushed through the sampler fill each bin as the
+                // density does (a mixture's draw need not be its CDF's inverse)
+                let n = 200_000;
+                let edges: Vec<f64> = std::iter::once(0.0)
+                    .chain((0..=24).map(|k| 30.0 * 10f64.powf(-6.0 + 0.25 * k as f64)))
+                    .collect();
+                let mut counts = vec![0usize; edges.len() - 1];
+                for k in 0..n {
+                    let r = ridge.sample_radius((k as f64 + 0.5) / n as f64);
+                    let bin = edges.partition_point(|&e| e <= r).clamp(1, edges.len() - 1);
+                    counts[bin - 1] += 1;
+                }
+                for (b, &count) in counts.iter().enumerate() {
+                    let want = cdf(edges[b + 1]) - cdf(edges[b]);
+                    let got = count as f64 / n as f64;
+                    assert!((got - want).abs() < 2e-5 + 2e-3 * want, "{kind:?} bin {b}: {got} vs {want}");
+                }
+                assert_eq!(ridge.sample_radius(0.0), 0.0);
+                assert!(ridge.sample_radius(5e-324) < 1e-100);
+                assert!(ridge.sample_radius(1.0) <= 30.0);
+                // and each part's own inversion to rounding, down to the least uniforms
+                for u in [1e-300, 1e-200, 1e-15, 1e-12, 1e-6, 0.3, 0.999999] {
+                    for (p, a, b) in [(0, 1.1, 3.1), (1, 1.3, 3.2)] {
+                        let r = invert_radial(p, a, b, 30.0, u);
+                        let f = |r| if p == 0 { radial_integral(a, b, r) } else { radial_moment(a, b, r) };
+                        let got = f(r) / f(30.0);
+                        assert!((got - u).abs() <= 1e-12 * u.max(1e-3) && (got - u).abs() <= 1e-9 * u, "{p} u {u}: {got}");
+                    }
+                }
             }
-            assert_eq!(ridge.sample_radius(0.0), 0.0);
-            // the least uniform draws within rounding of 0 (its target underflows or nearly)
-            assert!(ridge.sample_radius(5e-324) < 1e-150);
-            assert!((cdf(ridge.sample_radius(0.37)) - 0.37).abs() < 1e-8);
         }
     }
 
     #[test]
-    fn the_radial_integral_is_continuous_where_it_switches_to_its_series() {
+    fn the_radial_integrals_are_continuous_where_they_switch_to_their_series() {
         for (a, b) in [(1.0, 3.0), (1.7, 3.7), (0.02, 0.06)] {
             let r = 1e-3 / b;
             let below = radial_integral(a, b, r * (1.0 - 1e-12));
             let above = radial_integral(a, b, r * (1.0 + 1e-12));
-            assert!(
-                (above / below - 1.0).abs() < 1e-9,
-                "{a} {b}: {below} {above}"
-            );
+            assert!((above / below - 1.0).abs() < 1e-9, "{a} {b}: {below} {above}");
             // and the series against the closed form in f64 where both are accurate
             let r = 0.9e-3 / b;
             let closed = -(-a * r).exp_m1() / a + (-b * r).exp_m1() / b;
             assert!((radial_integral(a, b, r) / closed - 1.0).abs() < 1e-9);
+            // the first moment likewise, at its switch br = 0.1, and against Simpson
+            let r = 0.1 / b;
+            let below = radial_moment(a, b, r * (1.0 - 1e-12));
+            let above = radial_moment(a, b, r * (1.0 + 1e-12));
+            assert!((above / below - 1.0).abs() < 1e-10, "{a} {b}: {below} {above}");
+            for r in [1e-6 / b, 0.05 / b, 0.5 / b, 5.0 / b] {
+                let want = simpson(|x| x * ((-a * x).exp() - (-b * x).exp()), 0.0, r, 2_000);
+                assert!((radial_moment(a, b, r) / want - 1.0).abs() < 1e-11, "{r}");
+            }
+        }
+    }
+
+    #[test]
+    fn draws_come_from_the_part_their_uniform_picks() {
+        let ridge = ridge(RidgeKind::FluxAndFluence, 1.0, 0.9, 89.0, 30.0).unwrap();
+        let f = ridge.fluence.unwrap();
+        let total = ridge.energy();
+        // the uniforms at the middle of each part's share of the energy
+        let mut start = 0.0;
+        let shares = std::iter::once(ridge.flux_energy()).chain(f.energy);
+        for (part, e) in shares.enumerate() {
+            let u = (start + 0.5 * e) / total;
+            let (picked, rescaled) = ridge.pick(u);
+            assert_eq!(picked, part.checked_sub(1), "{part}");
+            assert!((rescaled - 0.5).abs() < 1e-9);
+            // φ at u_φ = 3/4 is its lobe's quartile: the wider the lobe, the wider the quartile
+            let (_, phi) = ridge.sample(u, 0.75);
+            let kappa = picked.map_or(ridge.kappa, |j| f.kappa[j]);
+            assert_eq!(phi, inv_cdf_wc(0.75, kappa));
+            start += e;
         }
     }
 
     #[test]
     fn no_ridge_where_it_has_no_weight_or_no_light_enters() {
-        assert!(Ridge::at(1.33, 0.4, 0.9, 89f64.to_radians(), 50.0).is_none());
-        assert!(Ridge::at(1.0, 0.4, 0.9, 0.0, 50.0).is_none());
-        assert!(Ridge::at(1.0, 0.4, 0.0, 89f64.to_radians(), 50.0).is_none());
-        assert!(Ridge::at(0.9, 0.4, 0.9, 70f64.to_radians(), 50.0).is_none());
-        assert!(Ridge::at(1.0, 0.4, 0.9, 89f64.to_radians(), 50.0).is_some());
-        // At θ′ = 90° the width stops at 10⁻⁵: finite everywhere
-        let at_90 = Ridge::at(1.0, 0.4, 0.9, FRAC_PI_2, 50.0).unwrap();
-        assert!(at_90.eval(1.0, 0.0).is_finite() && at_90.eval(0.0, 0.0) > 0.0);
+        for kind in KINDS {
+            assert!(ridge(kind, 1.33, 0.9, 89.0, 50.0).is_none());
+            assert!(ridge(kind, 1.0, 0.9, 0.0, 50.0).is_none());
+            assert!(ridge(kind, 1.0, 0.0, 89.0, 50.0).is_none());
+            assert!(ridge(kind, 0.9, 0.9, 70.0, 50.0).is_none());
+            assert!(ridge(kind, 1.0, 0.9, 89.0, 50.0).is_some());
+            // At θ′ = 90° the width stops at 10⁻⁵: finite everywhere
+            let at_90 = ridge(kind, 1.0, 0.9, 90.0, 50.0).unwrap();
+            assert!(at_90.eval(1.0, 0.0).is_finite() && at_90.eval(0.0, 0.0) > 0.0);
+            assert!(at_90.energy().is_finite() && at_90.pdf(1.0, 0.0).is_finite());
+        }
     }
 }

@@ -415,7 +415,7 @@ impl Baker {
                 "stored": "the limit theta' -> 90 deg by its harmonics: PBD with the beam in the surface, 8-point Gauss-Legendre panels [0, pi 1e-5] then a decade wide, plus the ridge rho'^2 C_E kappa e^-r/(2r) on phi = 0",
             });
         }
-        if tables.iter().any(|t| t.table.ridge()) {
+        if tables.iter().any(|t| t.table.ridge().is_some()) {
             settings["ridge"] = json!({
                 "weight_full_below_cos_refracted": table::ridge::FULL_WEIGHT_COS,
                 "weight_zero_from_cos_refracted": table::ridge::ZERO_WEIGHT_COS,

@@ -92,7 +92,7 @@ impl Baker {
             builder.add_table(TableData {
                 model: ModelKind::PbdAngular,
                 walk: None,
-                ridge: false,
+                ridge: crate::table::ridge::RidgeKind::None,
                 eta,
                 fresnel: self.moments.into(),
                 rho: axis(&grid.rho),

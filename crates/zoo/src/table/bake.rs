@@ -51,7 +51,7 @@ use crate::gwc::{
 };
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
-use crate::table::ridge::{self, Ridge};
+use crate::table::ridge::{self, Ridge, RidgeKind};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
@@ -338,7 +338,11 @@ pub fn bake_lobes(
         .flat_map(|i| (0..n_theta).map(move |j| (i, j)))
         .collect();
     // Two-lobe tables whose θ axis reaches the ridge's weight store S less it (`ridge`)
-    let with_ridge = lobes == Lobes::Two && ridge::reaches(eta);
+    let with_ridge = if lobes == Lobes::Two && ridge::reaches(eta) {
+        RidgeKind::NEWEST
+    } else {
+        RidgeKind::None
+    };
     let r_max = grid.r[n_r - 1];
     let baked: Vec<Result<BakedRow>> = rows
         .par_iter()
@@ -352,9 +356,8 @@ pub fn bake_lobes(
                 None if surface => Some(0.0),
                 c => c,
             };
-            let ridge = cos_t
-                .filter(|_| with_ridge)
-                .and_then(|c| Ridge::with_cos(boundary.c_e(), grid.rho[i], c, r_max));
+            let ridge =
+                cos_t.and_then(|c| Ridge::with_cos(with_ridge, &boundary, grid.rho[i], c, r_max));
             let mut row = Vec::with_capacity(n_r * PARAMS_PER_NODE);
             let mut second = Vec::new();
             let mut branches = Vec::with_capacity(n_r);
@@ -472,7 +475,7 @@ pub(super) fn assemble(
     axes: Axes,
     (mut params, mut harmonics): (Vec<f32>, Vec<f32>),
     theta_sampling: bool,
-    ridge: bool,
+    ridge: RidgeKind,
 ) -> Result<AngularTable> {
     let (n_rho, n_theta, n_r) = axes.dims();
     // Below η = 1, the nodes beyond a critical node (`Grid::below_critical`), where no light

@@ -234,7 +234,7 @@ pub fn bake_walk(
         axes,
         (params, second),
         config.theta_sampling,
-        false,
+        crate::table::ridge::RidgeKind::None,
     )?;
     rel_stderr.sort_by(f64::total_cmp);
     let quantile = |q: f64| -> f64 {

@@ -185,8 +185,8 @@ fn compare_table_fields(ta: &Table<'_>, tb: &Table<'_>, differences: &mut Vec<Di
     differ(Field::WalkComponent, component(ta), component(tb));
     differ(
         Field::Ridge,
-        MetaValue::Bool(ta.ridge()),
-        MetaValue::Bool(tb.ridge()),
+        MetaValue::Text(ta.ridge().name().to_owned()),
+        MetaValue::Text(tb.ridge().name().to_owned()),
     );
     differ(
         Field::FresnelMoments,

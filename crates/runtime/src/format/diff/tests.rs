@@ -29,7 +29,7 @@ fn table(eta: f64, rho: &[f32]) -> TableData {
     TableData {
         model: ModelKind::PbdAngular,
         walk: None,
-        ridge: false,
+        ridge: crate::table::RidgeKind::None,
         eta,
         fresnel: FresnelMoments::Exact,
         rho: rho.to_vec(),
@@ -547,7 +547,7 @@ fn the_model_and_the_walk_are_differences() {
 fn the_ridge_flag_is_a_difference() {
     let plain_table = table(1.3, &RHO);
     let ridge = TableData {
-        ridge: true,
+        ridge: crate::table::RidgeKind::Flux,
         ..plain_table.clone()
     };
     let report = compare(
@@ -559,8 +559,8 @@ fn the_ridge_flag_is_a_difference() {
         fields(&report),
         [(
             Field::Ridge,
-            &MetaValue::Bool(false),
-            &MetaValue::Bool(true)
+            &MetaValue::Text("none".into()),
+            &MetaValue::Text("flux".into())
         )]
     );
     assert!(!report.within_tolerance());

@@ -226,7 +226,7 @@ impl<'a> TableRef<'a> {
     fn log_slope(&self, rho: f64, theta: f64) -> f64 {
         let sin_t = theta.sin() / self.eta;
         let cos_t = (1.0 - sin_t * sin_t).max(0.0).sqrt();
-        rho * rho * self.c_e * cos_t / PI
+        rho * rho * self.boundary.c_e() * cos_t / PI
     }
 
     /// The GWC profile at (slice, r), from the radius and weights of [`TableRef::radius`], for
@@ -449,7 +449,7 @@ impl<'a> TableRef<'a> {
     /// (`lookup::ridged`).
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
         let nodes = self.eval_nodes(rho, theta, r, phi)?;
-        if self.ridge {
+        if self.ridge.is_some() {
             return Some(self.with_ridge_value(nodes, rho, theta, r, phi));
         }
         Some(nodes)

@@ -24,12 +24,12 @@ impl TableRef<'_> {
     /// weight). θ as the lookups take it ([`TableRef::snap_theta`], at most π/2).
     #[inline]
     pub(super) fn ridge_at(&self, rho: f64, theta: f64) -> Option<Ridge> {
-        if !self.ridge {
+        if !self.ridge.is_some() {
             return None;
         }
         let r_max = *self.axes.r().as_slice().last()?;
         let theta = self.snap_theta(theta).clamp(0.0, FRAC_PI_2);
-        Ridge::at(self.eta, self.c_e, rho, theta, r_max)
+        Ridge::at(self.ridge, &self.boundary, rho, theta, r_max)
     }
 
     /// The total a θ draw reads at node (i, j) of the albedo and θ axes: the row's radial CDF
@@ -39,7 +39,7 @@ impl TableRef<'_> {
     pub fn node_total(&self, i: usize, j: usize) -> f64 {
         let (_, n_theta, n_r) = self.axes.dims();
         let stored = f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]);
-        if !self.ridge {
+        if !self.ridge.is_some() {
             return stored;
         }
         let rho = self.axes.rho().as_slice()[i];
@@ -52,7 +52,8 @@ impl TableRef<'_> {
             None => return stored,
         };
         let r_max = self.axes.r().as_slice()[n_r - 1];
-        stored + Ridge::with_cos(self.c_e, rho, cos_t, r_max).map_or(0.0, |r| r.energy())
+        stored
+            + Ridge::with_cos(self.ridge, &self.boundary, rho, cos_t, r_max).map_or(0.0, |r| r.energy())
     }
 
     /// S at the point: the nodes' value `nodes` plus the ridge.
@@ -95,11 +96,10 @@ impl TableRef<'_> {
             (d.r, d.phi, d.pdf)
         } else {
             let u = ((u_r - share_d) / (1.0 - share_d)).min(1.0);
-            let r = ridge.sample_radius(u);
-            let phi = ridge.sample_phi(u_phi.clamp(0.0, 1.0));
+            let (r, phi) = ridge.sample(u, u_phi);
             (r, phi, self.pdf_slice(s, r, phi))
         };
-        let pdf = mixture(e_d, pdf_d, e_r, ridge_pdf(ridge, r, phi));
+        let pdf = mixture(e_d, pdf_d, e_r, ridge.pdf(r, phi));
         (r > 0.0 && pdf.is_finite() && pdf > 0.0).then_some(Sample { r, phi, pdf })
     }
 
@@ -113,7 +113,7 @@ impl TableRef<'_> {
             e_d,
             self.pdf_slice(s, r, phi),
             e_r,
-            ridge_pdf(ridge, r, wrap_phi(phi)),
+            ridge.pdf(r, wrap_phi(phi)),
         )
     }
 
@@ -150,13 +150,4 @@ impl TableRef<'_> {
 /// The mixture's density: the parts' densities weighted by their energies.
 fn mixture(e_d: f64, pdf_d: f64, e_r: f64, pdf_r: f64) -> f64 {
     (e_d * pdf_d + e_r * pdf_r) / (e_d + e_r)
-}
-
-/// The ridge's own density per unit area at (r, φ): its radial density times its density in
-/// φ, over r.
-fn ridge_pdf(ridge: &Ridge, r: f64, phi: f64) -> f64 {
-    if r <= 0.0 {
-        return 0.0;
-    }
-    ridge.pdf_radius(r) * ridge.pdf_phi(phi) / r
 }
