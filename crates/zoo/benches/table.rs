@@ -110,7 +110,10 @@ fn bench(c: &mut Criterion) {
     assert!(ridged.ridge().is_some());
     for (name, view) in [
         ("ridge", ridged.view()),
-        ("ridge_off_baseline", ridged.view().with_ridge(RidgeKind::None)),
+        (
+            "ridge_off_baseline",
+            ridged.view().with_ridge(RidgeKind::None),
+        ),
     ] {
         let mut group = c.benchmark_group(name);
         lookups(&mut group, &view, &points, &uniforms);

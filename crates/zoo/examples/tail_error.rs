@@ -5,7 +5,7 @@
 //! Run: `cargo run --release -p bssrdf-zoo --example tail_error -- [ETA [GRID [POINTS [SEED]]]]` (defaults
 //! 1.33, default, 20000, 1; GRID coarse, default or fine).
 //!
-//! Bakes the table and draws POINTS points weighted towards the ends of the albedo axis and
+//! Bakes the table `bssrdf bake --eta ETA --grid GRID` makes and draws POINTS points weighted towards the ends of the albedo axis and
 //! large r: ρ′ log-uniform over [10⁻³, 1] for half of them, 1 − ρ′ log-uniform over [10⁻⁷, 1]
 //! for a quarter and ρ′ uniform for the rest; θ uniform over the angles at which light enters;
 //! φ uniform over [0, π]; r log-uniform over [r₁, r_max] of the axis for a third, uniform over
@@ -20,7 +20,7 @@ use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
-use bssrdf_zoo::table::{bake, Grid, GridPreset};
+use bssrdf_zoo::table::{bake_lobes, GridPreset, Lobes};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 use std::io::Write as _;
@@ -70,7 +70,10 @@ fn main() {
     let n: usize = args.next().map_or(20_000, |s| s.parse().expect("POINTS"));
     let seed: u64 = args.next().map_or(1, |s| s.parse().expect("SEED"));
 
-    let (table, _) = bake(eta, Moments::Exact, &Grid::preset(preset), false).expect("bake");
+    // The grid `bssrdf bake --grid GRID` takes at this η (its θ nodes and radii)
+    let lobes = Lobes::for_eta(eta);
+    let grid = preset.grid(eta, lobes);
+    let (table, _) = bake_lobes(eta, Moments::Exact, &grid, false, lobes).expect("bake");
     let view = table.view();
     let boundary = Boundary::new(eta, Moments::Exact).expect("eta");
     let r_nodes = table.axes().r().as_slice();

@@ -187,7 +187,11 @@ impl Fluence {
         };
         for j in 0..FLUENCE_LOBES {
             let width = lo * (h * j as f64).exp();
-            let end = if j == 0 || j + 1 == FLUENCE_LOBES { 0.5 } else { 1.0 };
+            let end = if j == 0 || j + 1 == FLUENCE_LOBES {
+                0.5
+            } else {
+                1.0
+            };
             out.weight[j] = end * h * width;
             out.alpha[j] = s + lambda * width;
             out.kappa[j] = (-width).exp();
@@ -341,8 +345,14 @@ impl Ridge {
             // e^{−ar} − e^{−br} = e^{−ar}(1 − e^{−2sr}), exact near 0
             return (-r * (self.s + self.k)).exp() * -(-2.0 * r * self.s).exp_m1() / self.total;
         };
-        let flux = self.scale * 0.5 * self.s * (-r * (self.s + self.k)).exp() * -(-2.0 * r * self.s).exp_m1();
-        let fluence: f64 = (0..FLUENCE_LOBES).map(|j| TAU * r * f.lobe_mass(j, r, self.s)).sum();
+        let flux = self.scale
+            * 0.5
+            * self.s
+            * (-r * (self.s + self.k)).exp()
+            * -(-2.0 * r * self.s).exp_m1();
+        let fluence: f64 = (0..FLUENCE_LOBES)
+            .map(|j| TAU * r * f.lobe_mass(j, r, self.s))
+            .sum();
         (flux + fluence) / (self.flux_energy() + f.total())
     }
 
@@ -569,9 +579,8 @@ mod tests {
             ] {
                 let ridge = ridge(kind, eta, rho, theta_deg, r_max).unwrap();
                 // φ on a grid that resolves the narrowest width (κ up to e^{−0.0175})
-                let over_phi = |r: f64, n: f64| {
-                    simpson(|p| ridge.eval(r, p) * (n * p).cos(), -PI, PI, 20_000)
-                };
+                let over_phi =
+                    |r: f64, n: f64| simpson(|p| ridge.eval(r, p) * (n * p).cos(), -PI, PI, 20_000);
                 let radial = |r: f64| r * over_phi(r, 0.0);
                 let total: f64 = (0..40)
                     .map(|k| {
@@ -580,14 +589,20 @@ mod tests {
                     })
                     .sum();
                 let want = ridge.energy();
-                assert!((total / want - 1.0).abs() < 1e-6, "{kind:?}: {total} vs {want}");
+                assert!(
+                    (total / want - 1.0).abs() < 1e-6,
+                    "{kind:?}: {total} vs {want}"
+                );
                 for r in [0.0, 0.01, 1.0, r_max] {
                     let mean = over_phi(r, 0.0) / TAU;
                     assert!((mean - ridge.mean(r)).abs() <= 1e-7 * ridge.mean(r) + 1e-300);
                     let h = ridge.harmonics::<4>(r);
                     for (n, hn) in h.iter().enumerate() {
                         let want = over_phi(r, n as f64);
-                        assert!((hn - want).abs() <= 1e-7 * h[0] + 1e-300, "{n}: {hn} {want}");
+                        assert!(
+                            (hn - want).abs() <= 1e-7 * h[0] + 1e-300,
+                            "{n}: {hn} {want}"
+                        );
                     }
                 }
             }
@@ -610,7 +625,11 @@ mod tests {
                         })
                         .sum::<f64>()
                 };
-                assert!((cdf(30.0) - 1.0).abs() < 1e-9, "{rho} {theta_deg}: {}", cdf(30.0));
+                assert!(
+                    (cdf(30.0) - 1.0).abs() < 1e-9,
+                    "{rho} {theta_deg}: {}",
+                    cdf(30.0)
+                );
                 // stratified uniforms pushed through the sampler fill each bin as the
                 // density does (a mixture's draw need not be its CDF's inverse)
                 let n = 200_000;
@@ -626,7 +645,10 @@ mod tests {
                 for (b, &count) in counts.iter().enumerate() {
                     let want = cdf(edges[b + 1]) - cdf(edges[b]);
                     let got = count as f64 / n as f64;
-                    assert!((got - want).abs() < 2e-5 + 2e-3 * want, "{kind:?} bin {b}: {got} vs {want}");
+                    assert!(
+                        (got - want).abs() < 2e-5 + 2e-3 * want,
+                        "{kind:?} bin {b}: {got} vs {want}"
+                    );
                 }
                 assert_eq!(ridge.sample_radius(0.0), 0.0);
                 assert!(ridge.sample_radius(5e-324) < 1e-100);
@@ -635,9 +657,18 @@ mod tests {
                 for u in [1e-300, 1e-200, 1e-15, 1e-12, 1e-6, 0.3, 0.999999] {
                     for (p, a, b) in [(0, 1.1, 3.1), (1, 1.3, 3.2)] {
                         let r = invert_radial(p, a, b, 30.0, u);
-                        let f = |r| if p == 0 { radial_integral(a, b, r) } else { radial_moment(a, b, r) };
+                        let f = |r| {
+                            if p == 0 {
+                                radial_integral(a, b, r)
+                            } else {
+                                radial_moment(a, b, r)
+                            }
+                        };
                         let got = f(r) / f(30.0);
-                        assert!((got - u).abs() <= 1e-12 * u.max(1e-3) && (got - u).abs() <= 1e-9 * u, "{p} u {u}: {got}");
+                        assert!(
+                            (got - u).abs() <= 1e-12 * u.max(1e-3) && (got - u).abs() <= 1e-9 * u,
+                            "{p} u {u}: {got}"
+                        );
                     }
                 }
             }
@@ -650,7 +681,10 @@ mod tests {
             let r = 1e-3 / b;
             let below = radial_integral(a, b, r * (1.0 - 1e-12));
             let above = radial_integral(a, b, r * (1.0 + 1e-12));
-            assert!((above / below - 1.0).abs() < 1e-9, "{a} {b}: {below} {above}");
+            assert!(
+                (above / below - 1.0).abs() < 1e-9,
+                "{a} {b}: {below} {above}"
+            );
             // and the series against the closed form in f64 where both are accurate
             let r = 0.9e-3 / b;
             let closed = -(-a * r).exp_m1() / a + (-b * r).exp_m1() / b;
@@ -659,7 +693,10 @@ mod tests {
             let r = 0.1 / b;
             let below = radial_moment(a, b, r * (1.0 - 1e-12));
             let above = radial_moment(a, b, r * (1.0 + 1e-12));
-            assert!((above / below - 1.0).abs() < 1e-10, "{a} {b}: {below} {above}");
+            assert!(
+                (above / below - 1.0).abs() < 1e-10,
+                "{a} {b}: {below} {above}"
+            );
             for r in [1e-6 / b, 0.05 / b, 0.5 / b, 5.0 / b] {
                 let want = simpson(|x| x * ((-a * x).exp() - (-b * x).exp()), 0.0, r, 2_000);
                 assert!((radial_moment(a, b, r) / want - 1.0).abs() < 1e-11, "{r}");

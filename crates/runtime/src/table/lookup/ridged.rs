@@ -53,7 +53,8 @@ impl TableRef<'_> {
         };
         let r_max = self.axes.r().as_slice()[n_r - 1];
         stored
-            + Ridge::with_cos(self.ridge, &self.boundary, rho, cos_t, r_max).map_or(0.0, |r| r.energy())
+            + Ridge::with_cos(self.ridge, &self.boundary, rho, cos_t, r_max)
+                .map_or(0.0, |r| r.energy())
     }
 
     /// S at the point: the nodes' value `nodes` plus the ridge.
