@@ -6,7 +6,6 @@ use zerocopy::little_endian::{F64, U32};
 use zerocopy::IntoBytes;
 
 use super::error::{FormatError, FormatResult};
-use crate::table::RidgeKind;
 use super::spec::{
     required_features, AxisKind, FresnelMoments, ModelKind, RawMaterial, RawPbdFields, RawTable,
     RawWalkFields, SectionKind, WalkComponent, WalkSource, MATERIAL_HAS_ALBEDO_RANGE,
@@ -14,6 +13,7 @@ use super::spec::{
     PROFILE_ABS_SLACK, PROFILE_REL_SLACK, TABLE_BY_MODEL_LEN, TABLE_BY_MODEL_OFFSET,
     WALK_RESERVED_OFFSET,
 };
+use crate::table::RidgeKind;
 
 /// Names of the three colour channels, in storage order.
 pub const CHANNELS: [&str; 3] = ["r", "g", "b"];
@@ -463,7 +463,10 @@ impl TableHeader {
             ridge: ridge_code,
         })?;
         if ridge.is_some() && required & required_features::RIDGE == 0 {
-            return Err(FormatError::RidgeNotDeclared { table: index });
+            return Err(FormatError::RidgeNotDeclared {
+                table: index,
+                ridge: ridge_code,
+            });
         }
         let fresnel =
             FresnelMoments::from_code(raw.fresnel.get()).ok_or(FormatError::UnknownFresnel {
