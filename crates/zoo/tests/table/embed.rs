@@ -11,7 +11,7 @@ use bssrdf_zoo::embed::{bake_library, ChannelLookup, EmbedError, Library, TableL
 use bssrdf_zoo::format::{self, Verify};
 use bssrdf_zoo::materials::{self, Rgb};
 use bssrdf_zoo::rng::{RngCore, SeedableRng, SplitMix64, UnitF64};
-use bssrdf_zoo::table::{reduced_to_mm, FileTable, Grid, TableRef, World};
+use bssrdf_zoo::table::{reduced_to_mm, FileTable, Grid, RidgeKind, TableRef, World};
 
 /// Two materials on two η (two tables), baked on a small grid and written to a file.
 fn baked(dir: &std::path::Path) -> std::path::PathBuf {
@@ -205,13 +205,18 @@ fn table_views_equal_file_table_views_bit_for_bit() {
     }
 }
 
-/// A table whose record sets `ridge` (format 1.6) gives views that say so, however the library
-/// is opened and whichever handle makes them, as a `FileTable` of the record does; a table
-/// without it gives views without.
+/// A table whose record sets `ridge` (format 1.6: 1, or 2 with the fluence part) gives views
+/// of that kind, however the library is opened and whichever handle makes them, as a
+/// `FileTable` of the record does; a table without it gives views without.
 #[test]
 fn views_carry_the_ridge_flag_of_the_record() {
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/valid");
-    for (name, ridge) in [("ridge", true), ("tiny", false), ("walk-table", false)] {
+    for (name, ridge) in [
+        ("ridge", RidgeKind::Flux),
+        ("ridge-fluence", RidgeKind::FluxAndFluence),
+        ("tiny", RidgeKind::None),
+        ("walk-table", RidgeKind::None),
+    ] {
         let path = data.join(format!("{name}.bssrdf"));
         let header_only = format::Library::read(&path, Verify::HeaderOnly).unwrap();
         for library in [

@@ -10,7 +10,9 @@ use bssrdf_zoo::medium::Boundary;
 use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::quadrature::GaussLegendre;
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
-use bssrdf_zoo::table::{bake_lobes, check, AngularTable, GridPreset, Lobes, CHECK_BOUNDS};
+use bssrdf_zoo::table::{
+    bake_lobes, check, AngularTable, GridPreset, Lobes, RidgeKind, CHECK_BOUNDS,
+};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::OnceLock;
 
@@ -19,7 +21,7 @@ pub(crate) fn ridge_table() -> &'static AngularTable {
     static TABLE: OnceLock<AngularTable> = OnceLock::new();
     TABLE.get_or_init(|| {
         let table = default_at(1.0, true);
-        assert!(table.ridge());
+        assert_eq!(table.ridge(), RidgeKind::NEWEST);
         table
     })
 }
@@ -27,15 +29,15 @@ pub(crate) fn ridge_table() -> &'static AngularTable {
 #[test]
 fn two_lobe_bakes_below_eta_1_048_take_the_ridge() {
     for eta in [0.9, 1.0, 1.04] {
-        assert!(default_at(eta, false).ridge(), "{eta}");
+        assert_eq!(default_at(eta, false).ridge(), RidgeKind::NEWEST, "{eta}");
     }
     for eta in [1.05, 1.33] {
-        assert!(!default_at(eta, false).ridge(), "{eta}");
+        assert_eq!(default_at(eta, false).ridge(), RidgeKind::None, "{eta}");
     }
     // One lobe keeps S at the nodes
     let grid = GridPreset::Coarse.grid(1.0, Lobes::One);
     let (one, _) = bake_lobes(1.0, Moments::Exact, &grid, false, Lobes::One).unwrap();
-    assert!(!one.ridge());
+    assert_eq!(one.ridge(), RidgeKind::None);
 }
 
 #[test]
@@ -177,7 +179,10 @@ fn draws_follow_the_density_of_table_and_ridge() {
         // The ridge's share of the draws is its share of the energy
         let ridge_share = {
             let all = view.effective_albedo(rho, theta).unwrap();
-            let bare = view.with_ridge(false).effective_albedo(rho, theta).unwrap();
+            let bare = view
+                .with_ridge(RidgeKind::None)
+                .effective_albedo(rho, theta)
+                .unwrap();
             1.0 - bare / all
         };
         let share = from_ridge as f64 / n as f64;
@@ -222,7 +227,13 @@ fn the_effective_albedo_is_the_integral_of_the_value() {
             "{rho} {theta_deg}: {integral} vs {rho_eff}"
         );
         // and the ridge adds to the nodes' part
-        assert!(rho_eff > view.with_ridge(false).effective_albedo(rho, theta).unwrap());
+        assert!(
+            rho_eff
+                > view
+                    .with_ridge(RidgeKind::None)
+                    .effective_albedo(rho, theta)
+                    .unwrap()
+        );
     }
 }
 

@@ -6,7 +6,7 @@
 use bssrdf_zoo::fresnel::Moments;
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{
-    bake, bake_rows, kept_rows, rows_for, AngularTable, Grid, GridPreset, RhoInterval,
+    bake, bake_rows, kept_rows, rows_for, AngularTable, Grid, GridPreset, RhoInterval, RidgeKind,
 };
 use std::f64::consts::PI;
 use std::sync::OnceLock;
@@ -329,14 +329,17 @@ fn subsets_keep_the_ridge() {
         component: WalkComponent::Total,
     };
     for marked in [
-        full().clone().with_ridge(true),
-        full().clone().with_ridge(true).with_walk(walk),
+        full().clone().with_ridge(RidgeKind::Flux),
+        full().clone().with_ridge(RidgeKind::NEWEST).with_walk(walk),
     ] {
         for part in cut_three_ways(&marked) {
-            assert!(part.ridge() && part.view().ridge());
+            assert_eq!(
+                (part.ridge(), part.view().ridge()),
+                (marked.ridge(), marked.ridge())
+            );
             assert_eq!(part.walk(), marked.walk());
             let data = part.to_table_data();
-            assert!(data.ridge);
+            assert_eq!(data.ridge, marked.ridge());
             // A walk-angular table needs two lobes to be written; this one has one
             if part.walk().is_some() {
                 continue;
@@ -346,11 +349,11 @@ fn subsets_keep_the_ridge() {
             let bytes = builder.to_bytes(Compression::None).unwrap();
             let library = Library::from_bytes(&bytes, Verify::Full).unwrap();
             let read = FileTable::new(library.table(0).unwrap()).unwrap();
-            assert!(read.view().unwrap().ridge());
+            assert_eq!(read.view().unwrap().ridge(), marked.ridge());
             assert_eq!(read.to_owned_table().unwrap(), part);
         }
     }
-    let marked = full().clone().with_ridge(true);
+    let marked = full().clone().with_ridge(RidgeKind::NEWEST);
     let err = AngularTable::concat_rows(&[
         marked.subset_rows(0..n / 2).unwrap(),
         full().subset_rows(n / 2..n).unwrap(),
