@@ -22,7 +22,7 @@ doc: |
   What this description checks (`valid`, `contents`): the magic, the major version, the
   byte-order mark, `file_size` against the real size, and the values a single field of the
   header, of a directory entry or of a record may take on its own (alignment, dtype, codec,
-  ndim, model, a walk's component and g, a table's ridge flag, fresnel, η, table dimensions,
+  ndim, model, a walk's component and g, a table's ridge, fresnel, η, table dimensions,
   string lengths, material coefficients). A section whose `dims` ask for more bytes than it
   stores fails to parse.
 
@@ -97,8 +97,8 @@ types:
           less a broader one), bit 4 `merged-roots` (since 1.4: the two-lobe tables rebuild a
           merged pair where Prony's roots give no lobes), bit 5 `walk-tables` (since 1.5: some
           table is walk-angular, model 3), bit 6 `ridge` (since 1.6: some table's nodes hold
-          its profile less the analytic ridge, its record's `ridge` = 1). Bits 7 to 63 are
-          reserved for later minors. Not checked here.
+          its profile less the analytic ridge, its record's `ridge` = 1 or 2). Bits 7 to 63
+          are reserved for later minors. Not checked here.
       - id: optional_features
         type: u8
         doc: Feature bits a reader may ignore; none are defined in 1.0 to 1.6.
@@ -336,12 +336,13 @@ types:
       - id: ridge
         type: u4
         valid:
-          max: 1
+          max: 2
         doc: |
           Since 1.6 (required feature bit 6): 0 the nodes hold the profile S, 1 they hold
           S less the analytic ridge R of format-spec.md section 10, which every lookup adds
-          back. Bytes 28 to 31 of a pbd-angular record, 40 to 43 of a walk-angular one;
-          reserved zero, hence 0, in files of older minors.
+          back, 2 they hold the profile less the ridge with its fluence part (section 10),
+          which every lookup adds back. Bytes 28 to 31 of a pbd-angular record, 40 to 43 of
+          a walk-angular one; reserved zero, hence 0, in files of older minors.
       - id: reserved
         size: 'model == model::walk_angular ? 20 : 32'
         doc: Zero (not checked here); from byte 44 in a walk-angular record, else from byte 32.

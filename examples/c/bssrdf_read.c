@@ -21,10 +21,11 @@
  * format 1.4: how lookups rebuild two lobes from the harmonics), 5 (walk-tables, format
  * 1.5: a table record of model 3, walk-angular, whose arrays are stored as a two-lobe
  * table's) and 6 (ridge, format 1.6: a table record's `ridge` = 1, whose nodes hold the
- * profile less the analytic ridge of section 10, which lookups add back; the arrays are
- * stored as any table's). A file with a walk-angular record that does not set bit 5, or a
- * record with `ridge` = 1 that does not set bit 6, is rejected, and so is a `ridge` other
- * than 0 or 1 (at byte 28 of a pbd-angular record, byte 40 of a walk-angular one). It does
+ * profile less the analytic ridge of section 10, or 2, less the ridge with its fluence part,
+ * which lookups add back; the arrays are stored as any table's). A file with a walk-angular
+ * record that does not set bit 5, or a record with `ridge` = 1 or 2 that does not set bit 6,
+ * is rejected, and so is a `ridge` other than 0, 1 or 2 (at byte 28 of a pbd-angular record,
+ * byte 40 of a walk-angular one). It does
  * not check the values themselves (finite, node rules and signed nodes of section 10). Files
  * of any minor of major 1 are read, as section 4 requires of a reader that implements every
  * required bit the file sets.
@@ -65,6 +66,8 @@
 /* Offset of `ridge` (u32) within a table record, by model (section 9.1) */
 #define RIDGE_OFFSET_PBD 28u
 #define RIDGE_OFFSET_WALK 40u
+/* The largest known `ridge`: 0 none, 1 the flux ridge, 2 the ridge with its fluence part */
+#define RIDGE_MAX 2u
 
 static const unsigned char MAGIC[12] = {0x89, 'B', 'S', 'S', 'R', 'D',
                                         'F',  '\r', '\n', 0x1A, '\n', 0x00};
@@ -163,7 +166,8 @@ int main(int argc, char **argv) {
     if (le16(e + 10) != CODEC_NONE)
       return fail("compressed section without required feature bit 0 (zstd)");
     /* The tables section (kind 1, u8 records of dims[1] bytes, section 9): a walk-angular
-     * record (model 3 at byte 0) needs bit 5, and a record whose `ridge` is 1 needs bit 6 */
+     * record (model 3 at byte 0) needs bit 5, and a record whose `ridge` is 1 or 2 needs
+     * bit 6 */
     if (le32(e) == KIND_TABLES && le32(e + 4) == NO_TABLE && le16(e + 14) == 2) {
       uint64_t records = le32(e + 16), record_size = le32(e + 20);
       uint64_t offset = le64(e + 32), stored = le64(e + 40);
@@ -178,9 +182,9 @@ int main(int argc, char **argv) {
         if (model != MODEL_PBD_ANGULAR && model != MODEL_WALK_ANGULAR) continue;
         uint32_t ridge =
             le32(record + (model == MODEL_WALK_ANGULAR ? RIDGE_OFFSET_WALK : RIDGE_OFFSET_PBD));
-        if (ridge > 1u) return fail("table record with an unknown ridge code (0 or 1)");
-        if (ridge == 1u && (required & REQUIRED_RIDGE) == 0)
-          return fail("table with ridge = 1 without required feature bit 6 (ridge)");
+        if (ridge > RIDGE_MAX) return fail("table record with an unknown ridge code (0, 1 or 2)");
+        if (ridge != 0u && (required & REQUIRED_RIDGE) == 0)
+          return fail("table with ridge = 1 or 2 without required feature bit 6 (ridge)");
       }
     }
   }

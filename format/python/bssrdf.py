@@ -25,7 +25,7 @@ class Bssrdf(KaitaiStruct):
     What this description checks (`valid`, `contents`): the magic, the major version, the
     byte-order mark, `file_size` against the real size, and the values a single field of the
     header, of a directory entry or of a record may take on its own (alignment, dtype, codec,
-    ndim, model, a walk's component and g, a table's ridge flag, fresnel, η, table dimensions,
+    ndim, model, a walk's component and g, a table's ridge, fresnel, η, table dimensions,
     string lengths, material coefficients). A section whose `dims` ask for more bytes than it
     stores fails to parse.
     
@@ -774,8 +774,8 @@ class Bssrdf(KaitaiStruct):
                     raise kaitaistruct.ValidationExprError(self.g, self._io, u"/types/table_record/seq/7")
 
             self.ridge = self._io.read_u4le()
-            if not self.ridge <= 1:
-                raise kaitaistruct.ValidationGreaterThanError(1, self.ridge, self._io, u"/types/table_record/seq/8")
+            if not self.ridge <= 2:
+                raise kaitaistruct.ValidationGreaterThanError(2, self.ridge, self._io, u"/types/table_record/seq/8")
             self.reserved = self._io.read_bytes((20 if self.model == Bssrdf.Model.walk_angular else 32))
 
 

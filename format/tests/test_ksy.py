@@ -48,7 +48,7 @@ TINY = {
     "albedo_ranges": 1,
     "table_record_size": 64,
     "table_walks": [("pbd-angular", None, None)],
-    "table_ridges": [False],
+    "table_ridges": ["none"],
 }
 
 # tests/data/README.md, table "valid/", one line per vector; section 16 of format-spec.md for
@@ -104,7 +104,12 @@ MANIFEST = {
     "ridge": {
         **TINY,
         "required_features": 1 << 6,
-        "table_ridges": [True],
+        "table_ridges": ["flux"],
+    },
+    "ridge-fluence": {
+        **TINY,
+        "required_features": 1 << 6,
+        "table_ridges": ["flux+fluence"],
     },
     "aligned-4096": {
         "alignment": 4096,
@@ -148,6 +153,10 @@ def records(lib, kind):
     return section.records if section is not None else []
 
 
+# A table record's `ridge` code by the name `bssrdf inspect` gives it (`ridge_kind`).
+RIDGE_KINDS = {0: "none", 1: "flux", 2: "flux+fluence"}
+
+
 def walk_of(record):
     """A table record's model, and its walk's component and g (None but for walk-angular)."""
     model = record.model.name.replace("_", "-")
@@ -177,7 +186,7 @@ def facts(lib):
         ),
         "table_dims": [(t.n_rho, t.n_theta, t.n_r) for t in tables],
         "table_walks": [walk_of(t) for t in tables],
-        "table_ridges": [t.ridge == 1 for t in tables],
+        "table_ridges": [RIDGE_KINDS[t.ridge] for t in tables],
         "n_rho": [t.n_rho for t in tables],
         "table_record_size": tables_entry.dims[1],
         "materials": len(mats),
@@ -266,7 +275,8 @@ def kaitai_view(lib):
             "model": walk_of(rec)[0],
             "walk_component": walk_of(rec)[1],
             "walk_g": walk_of(rec)[2],
-            "ridge": rec.ridge == 1,
+            "ridge": rec.ridge != 0,
+            "ridge_kind": RIDGE_KINDS[rec.ridge],
             "fresnel_moments": rec.fresnel.name,
             "eta": rec.eta,
             "dims": [rec.n_rho, rec.n_theta, rec.n_r],

@@ -47,6 +47,7 @@ VALID_DESCRIPTIONS = {
     "newer-minor": f"{NAME}, format 1.7, 1 table",
     "older-minor": f"{NAME}, format 1.0, 1 table",
     "ridge": f"{NAME}, format 1.6, 1 table",
+    "ridge-fluence": f"{NAME}, format 1.6, 1 table",
     "signed-lobes": f"{NAME}, format 1.3, 1 table",
     "spec-example": f"{NAME}, format 1.6, 1 table",
     "tiny": f"{NAME}, format 1.6, 1 table",

@@ -23,8 +23,8 @@ const TABLE_RECORD: usize = 64;
 const MATERIAL_RECORD: usize = 512;
 
 /// (offset, width) of the integer fields of a table record: model, fresnel, nρ, nθ, nr, the
-/// u32 at 28 (a pbd-angular record's ridge flag, a walk-angular one's component), the one at 40
-/// (a walk-angular record's ridge flag), and a reserved byte; its η (f64) is at 8.
+/// u32 at 28 (a pbd-angular record's `ridge`, a walk-angular one's component), the one at 40
+/// (a walk-angular record's `ridge`), and a reserved byte; its η (f64) is at 8.
 const TABLE_INTS: [(usize, usize); 8] = [
     (0, 4),
     (4, 4),

@@ -92,11 +92,13 @@ def test_a_walk_angular_table_names_its_model_and_walk(data_dir, table):
 
 
 def test_a_table_says_whether_its_nodes_hold_the_profile_less_the_ridge(data_dir, table):
-    # Format 1.6: the record's ridge flag; False for tables of files without it
-    (ridge,) = bz.Library.open(data_dir / "valid" / "ridge.bssrdf").tables
-    assert ridge.ridge is True and ridge.eta == 1.0
-    assert ", ridge" in repr(ridge)
-    assert ridge.eval(0.6, 0.5, 0.05, 0.0) > 0
-    assert table.ridge is False and "ridge" not in repr(table)
+    # Format 1.6: the record's ridge, 1 (flux) or 2 (flux and fluence); False and "none" for
+    # tables of files without it
+    for name, kind in [("ridge", "flux"), ("ridge-fluence", "flux+fluence")]:
+        (ridge,) = bz.Library.open(data_dir / "valid" / f"{name}.bssrdf").tables
+        assert ridge.ridge is True and ridge.ridge_kind == kind and ridge.eta == 1.0
+        assert ", ridge" in repr(ridge)
+        assert ridge.eval(0.6, 0.5, 0.05, 0.0) > 0
+    assert table.ridge is False and table.ridge_kind == "none" and "ridge" not in repr(table)
     (walk,) = bz.Library.open(data_dir / "valid" / "walk-table.bssrdf").tables
-    assert walk.ridge is False
+    assert walk.ridge is False and walk.ridge_kind == "none"

@@ -26,7 +26,7 @@ fn default_table() -> TableData {
     TableData {
         model: ModelKind::PbdAngular,
         walk: None,
-        ridge: false,
+        ridge: bssrdf_zoo::table::RidgeKind::None,
         eta: 1.33,
         fresnel: FresnelMoments::Exact,
         gwc: (0..n).flat_map(gwc_node).collect(),

@@ -95,7 +95,7 @@ fn made_up(eta: f64, theta_sampling: bool) -> TableData {
     TableData {
         model: format::ModelKind::PbdAngular,
         walk: None,
-        ridge: false,
+        ridge: bssrdf_zoo::table::RidgeKind::None,
         eta,
         fresnel: FresnelMoments::Exact,
         rho: rho.to_vec(),

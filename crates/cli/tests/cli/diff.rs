@@ -23,7 +23,8 @@ const THETA: usize = 3;
 const R: usize = 10;
 
 /// `a.bssrdf`, and `b.bssrdf` with one value (c of one node) multiplied by 1 + 1e-4;
-/// `ridge.bssrdf`, a.bssrdf's table marked as holding the profile less the ridge (format 1.6).
+/// `ridge.bssrdf`, a.bssrdf's table marked as holding the profile less the ridge (format 1.6),
+/// and `ridge-fluence.bssrdf` less the ridge with its fluence part.
 fn pair() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let (table, _) = bake(
@@ -58,6 +59,7 @@ fn pair() -> tempfile::TempDir {
     write("a.bssrdf", 1.0, RidgeKind::None);
     write("b.bssrdf", 1.0 + 1e-4, RidgeKind::None);
     write("ridge.bssrdf", 1.0, RidgeKind::Flux);
+    write("ridge-fluence.bssrdf", 1.0, RidgeKind::FluxAndFluence);
     dir
 }
 
@@ -165,8 +167,9 @@ fn one_changed_value_is_found_and_located() {
     assert!(human.contains("DIFFERENT"), "{human}");
 }
 
-/// Tables that differ only in their ridge flag hold the same numbers for different profiles:
-/// the flag is a difference, and the files differ.
+/// Tables that differ only in their ridge field hold the same numbers for different profiles:
+/// the field is a difference, shown by the kind's name (quoted, as every text is), and the
+/// files differ; so do the two kinds of ridge.
 #[test]
 fn tables_that_differ_only_in_the_ridge_flag_differ() {
     let dir = pair();
@@ -182,8 +185,19 @@ fn tables_that_differ_only_in_the_ridge_flag_differ() {
         assert_eq!(s["max_abs"], 0.0, "{s}");
     }
     let human = text(&bssrdf(d, &["diff", "a.bssrdf", "ridge.bssrdf"]).stdout);
-    assert!(human.contains("ridge: none vs flux"), "{human}");
+    assert!(human.contains(r#"ridge: "none" vs "flux""#), "{human}");
     assert!(human.contains("DIFFERENT"), "{human}");
+    let o = bssrdf(
+        d,
+        &["diff", "ridge.bssrdf", "ridge-fluence.bssrdf", "--json"],
+    );
+    assert_eq!(code(&o), Some(1));
+    assert_eq!(
+        json(&o)["differences"],
+        serde_json::json!([
+            {"item": "table 0 / 0", "field": "ridge", "a": "flux", "b": "flux+fluence"}
+        ])
+    );
 }
 
 #[test]

@@ -244,22 +244,27 @@ fn inspect_shows_the_model_and_the_walk() {
     assert!(value.trim().parse::<f64>().unwrap() > 0.0, "{value}");
 }
 
-/// A table whose nodes hold the profile less the ridge (format 1.6) says so, in the report and
-/// in `--json`, with the file's required feature bit 6 by name; a table without it says no.
+/// A table whose nodes hold the profile less the ridge (format 1.6; `ridge` = 1, or 2 with its
+/// fluence part) says which, in the report and in `--json` (`ridge` and `ridge_kind`), with the
+/// file's required feature bit 6 by name; a table without it says no.
 #[test]
-fn inspect_shows_the_ridge_flag() {
+fn inspect_shows_the_ridge_kind() {
     let dir = tempfile::tempdir().unwrap();
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/valid");
-    for (name, ridge) in [("ridge.bssrdf", true), ("tiny.bssrdf", false)] {
+    for (name, shown, kind) in [
+        ("ridge.bssrdf", "flux", "flux"),
+        ("ridge-fluence.bssrdf", "flux+fluence", "flux+fluence"),
+        ("tiny.bssrdf", "no", "none"),
+    ] {
         std::fs::copy(data.join(name), dir.path().join(name)).unwrap();
         let human = ok(&bssrdf(dir.path(), &["inspect", name]));
-        let flag = if ridge { "yes" } else { "no" };
         assert!(
             human.contains(&format!(
-                "dims [2, 2, 4] lobes 1 theta-sampling yes ridge {flag}\n"
+                "dims [2, 2, 4] lobes 1 theta-sampling yes ridge {shown}\n"
             )),
             "{human}"
         );
+        let ridge = kind != "none";
         let features = if ridge {
             "0x40 (ridge)"
         } else {
@@ -272,6 +277,7 @@ fn inspect_shows_the_ridge_flag() {
         let json: serde_json::Value =
             serde_json::from_str(&ok(&bssrdf(dir.path(), &["inspect", name, "--json"]))).unwrap();
         assert_eq!(json["tables"][0]["ridge"], ridge, "{name}");
+        assert_eq!(json["tables"][0]["ridge_kind"], kind, "{name}");
     }
 }
 

@@ -254,13 +254,13 @@ pub enum FormatError {
     /// A walk-angular table's component code is unknown.
     #[error("table {table}: unknown walk component code {component} (0 multiple, 1 total)")]
     UnknownComponent { table: usize, component: u32 },
-    /// A table record's `ridge` is neither 0 nor 1.
-    #[error("table {table}: unknown ridge code {ridge} (0 the nodes hold the profile, 1 the profile less the ridge)")]
+    /// A table record's `ridge` is not 0, 1 or 2.
+    #[error("table {table}: unknown ridge code {ridge} (0 the nodes hold the profile, 1 the profile less the ridge, 2 less the ridge with its fluence part)")]
     UnknownRidge { table: usize, ridge: u32 },
-    /// A table whose nodes hold the profile less the ridge (`ridge` = 1) in a file that does
-    /// not set required feature bit 6.
-    #[error("table {table}: ridge = 1 in a file without required feature bit 6 (ridge)")]
-    RidgeNotDeclared { table: usize },
+    /// A table whose nodes hold the profile less the ridge (`ridge` = 1 or 2) in a file that
+    /// does not set required feature bit 6.
+    #[error("table {table}: ridge = {ridge} in a file without required feature bit 6 (ridge)")]
+    RidgeNotDeclared { table: usize, ridge: u32 },
     /// A table's Fresnel-moments code is unknown.
     #[error("table {table}: unknown fresnel-moments code {fresnel}")]
     UnknownFresnel { table: usize, fresnel: u32 },

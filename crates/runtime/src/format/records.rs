@@ -463,7 +463,10 @@ impl TableHeader {
             ridge: ridge_code,
         })?;
         if ridge.is_some() && required & required_features::RIDGE == 0 {
-            return Err(FormatError::RidgeNotDeclared { table: index });
+            return Err(FormatError::RidgeNotDeclared {
+                table: index,
+                ridge: ridge_code,
+            });
         }
         let fresnel =
             FresnelMoments::from_code(raw.fresnel.get()).ok_or(FormatError::UnknownFresnel {

@@ -490,7 +490,8 @@ pub(crate) struct RawTable {
     pub by_model: [u8; TABLE_BY_MODEL_LEN],
 }
 
-/// Bytes 28..63 of a pbd-angular record (model 1): the ridge flag (format 1.6), then reserved.
+/// Bytes 28..63 of a pbd-angular record (model 1): `ridge` (format 1.6: 0, 1 or 2,
+/// `table::RidgeKind`), then reserved.
 #[derive(Debug, Clone, Copy, FromBytes, IntoBytes, KnownLayout, Immutable)]
 #[repr(C)]
 pub(crate) struct RawPbdFields {
@@ -499,7 +500,7 @@ pub(crate) struct RawPbdFields {
 }
 
 /// Bytes 28..63 of a walk-angular record (model 3): the walk's component and g (format 1.5),
-/// the ridge flag (format 1.6), then reserved.
+/// `ridge` (format 1.6: 0, 1 or 2, `table::RidgeKind`), then reserved.
 #[derive(Debug, Clone, Copy, FromBytes, IntoBytes, KnownLayout, Immutable)]
 #[repr(C)]
 pub(crate) struct RawWalkFields {

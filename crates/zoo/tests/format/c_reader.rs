@@ -159,7 +159,7 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
             "a walk-angular table without bit 5",
         ),
         ("invalid/ridge-not-declared", "ridge = 1 without bit 6"),
-        ("invalid/unknown-ridge", "ridge = 2"),
+        ("invalid/unknown-ridge", "ridge = 3"),
     ] {
         let (code, _) = run(&exe, &data.join(format!("{file}.bssrdf")), 0, gwc, 0);
         assert_eq!(code, 3, "{file} should be rejected ({why})");
@@ -170,31 +170,39 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
     assert_eq!(code, 3, "harmonics-not-declared: its harmonics were read");
 }
 
-/// Format 1.6: the C reader reads a table whose record sets `ridge` where the file sets bit 6,
-/// at byte 28 of a pbd-angular record and byte 40 of a walk-angular one (whose byte 28 is the
-/// walk's component), and rejects it without the bit or with a `ridge` other than 0 and 1.
+/// Format 1.6: the C reader reads a table whose record sets `ridge` (1 or 2) where the file
+/// sets bit 6, at byte 28 of a pbd-angular record and byte 40 of a walk-angular one (whose
+/// byte 28 is the walk's component), and rejects it without the bit or with a `ridge` other
+/// than 0, 1 and 2.
 #[test]
-fn c_reader_reads_the_ridge_flag_by_model() {
+fn c_reader_reads_the_ridge_field_by_model() {
     use bssrdf_testkit::files::{as_walk_table, kind, Raw};
     use bssrdf_zoo::format::spec::required_features::RIDGE;
     use bssrdf_zoo::format::{TableData, WalkComponent};
+    use bssrdf_zoo::table::RidgeKind;
     let dir = tempfile::tempdir().unwrap();
     let Some(exe) = compile(dir.path()) else {
         return;
     };
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data");
     let gwc = SectionKind::GwcParams.code();
-    // The ridge vector: the values the Rust reader reads
-    let path = data.join("valid/ridge.bssrdf");
-    let library = Library::read(&path, Verify::Full).unwrap();
-    let expected = library.table(0).unwrap().gwc_params()[7];
-    let (code, stdout) = run(&exe, &path, 0, gwc, 7);
-    assert_eq!(code, 0, "{stdout}");
-    let bits = stdout.split_whitespace().next().unwrap();
-    assert_eq!(u32::from_str_radix(bits, 16).unwrap(), expected.to_bits());
+    // The ridge vectors, `ridge` = 1 and 2: the values the Rust reader reads
+    for file in ["ridge", "ridge-fluence"] {
+        let path = data.join(format!("valid/{file}.bssrdf"));
+        let library = Library::read(&path, Verify::Full).unwrap();
+        let expected = library.table(0).unwrap().gwc_params()[7];
+        let (code, stdout) = run(&exe, &path, 0, gwc, 7);
+        assert_eq!(code, 0, "{file}: {stdout}");
+        let bits = stdout.split_whitespace().next().unwrap();
+        assert_eq!(
+            u32::from_str_radix(bits, 16).unwrap(),
+            expected.to_bits(),
+            "{file}"
+        );
+    }
     // A walk-angular table with the ridge (component total = 1 at byte 28, ridge at byte 40)
     let table = TableData {
-        ridge: true,
+        ridge: RidgeKind::Flux,
         ..synthetic_table(1.0, 2, 2, 4, true)
     };
     let mut builder = LibraryBuilder::new();
@@ -219,7 +227,18 @@ fn c_reader_reads_the_ridge_flag_by_model() {
         "ridge = 1 without bit 6"
     );
     let two = |r: &mut Raw| r.set_u32(record + 40, 2);
-    assert_eq!(edited("two.bssrdf", &two), 3, "ridge = 2");
+    assert_eq!(edited("two.bssrdf", &two), 0, "ridge = 2");
+    let two_no_bit = |r: &mut Raw| {
+        two(r);
+        no_bit(r);
+    };
+    assert_eq!(
+        edited("two-no-bit.bssrdf", &two_no_bit),
+        3,
+        "ridge = 2 without bit 6"
+    );
+    let three = |r: &mut Raw| r.set_u32(record + 40, 3);
+    assert_eq!(edited("three.bssrdf", &three), 3, "ridge = 3");
     // Without the ridge and without the bit: the component at byte 28 is no ridge flag
     let without = |r: &mut Raw| {
         no_bit(r);

@@ -16,6 +16,7 @@ use bssrdf_zoo::format::spec::VERSION_MINOR;
 use bssrdf_zoo::format::{
     pack, AxisKind, Compression, Library, LibraryBuilder, SectionKind, Verify,
 };
+use bssrdf_zoo::table::RidgeKind;
 
 use super::ridge::{ridge_vectors, tiny_ridge};
 use super::walk::{tiny_walk, walk_vectors};
@@ -481,7 +482,7 @@ fn packed_vectors() -> Vec<(&'static str, Raw)> {
     out.push(("signed-lobes-not-declared", signed_lobes(false)));
     // The walk-angular record's: bit 5 not set, an unknown component, g outside (-1, 1).
     out.extend(walk_vectors());
-    // The ridge flag's: bit 6 not set, a value other than 0 and 1.
+    // The ridge field's: bit 6 not set, a value other than 0, 1 and 2.
     out.extend(ridge_vectors());
     out
 }
@@ -527,8 +528,10 @@ fn valid_vectors() -> Vec<(&'static str, Vec<u8>)> {
     ));
     // A walk-angular table (g = 0.75, total), required feature bits 2, 4 and 5.
     out.push(("walk-table", tiny_walk().bytes));
-    // A table at eta = 1 whose nodes hold the profile less the ridge, required feature bit 6.
-    out.push(("ridge", tiny_ridge().bytes));
+    // A table at eta = 1 whose nodes hold the profile less the ridge (`ridge` = 1), required
+    // feature bit 6; and the same less the ridge with its fluence part (`ridge` = 2).
+    out.push(("ridge", tiny_ridge(RidgeKind::Flux).bytes));
+    out.push(("ridge-fluence", tiny_ridge(RidgeKind::FluxAndFluence).bytes));
     // Page alignment, one albedo row, no materials, no provenance, no θ CDF.
     let mut b = LibraryBuilder::new();
     b.set_alignment(4096).unwrap();

@@ -205,14 +205,15 @@ fn table_views_equal_file_table_views_bit_for_bit() {
     }
 }
 
-/// A table whose record sets `ridge` (format 1.6) gives views that say so, however the library
-/// is opened and whichever handle makes them, as a `FileTable` of the record does; a table
-/// without it gives views without.
+/// A table whose record sets `ridge` (format 1.6: 1, or 2 with the fluence part) gives views
+/// of that kind, however the library is opened and whichever handle makes them, as a
+/// `FileTable` of the record does; a table without it gives views without.
 #[test]
 fn views_carry_the_ridge_flag_of_the_record() {
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/valid");
     for (name, ridge) in [
         ("ridge", RidgeKind::Flux),
+        ("ridge-fluence", RidgeKind::FluxAndFluence),
         ("tiny", RidgeKind::None),
         ("walk-table", RidgeKind::None),
     ] {
