@@ -32,7 +32,7 @@
 //! That is the ridge of a table whose record says `ridge` = 1 ([`RidgeKind::Flux`]). A record
 //! with `ridge` = 2 ([`RidgeKind::FluxAndFluence`]) adds the fluence term's part L of the same
 //! near field. Each beam point's fluence C_φ e^{−σtr d}/(4πD d) integrates along the beam to
-//! about −ln(φ² + c²) times ρ′² C_φ κ e^{−t}/(4πD) near φ = 0: a logarithmic cusp of width c
+//! about −ln(φ² + c²) times ρ′² C_φ (1 − e^{−2t}) e^{−t}/(4πD) near φ = 0: a logarithmic cusp of width c
 //! that no lobe over the nodes follows either (the nodes' fit missed PBD by up to 6 % at
 //! φ = 0.02–0.2 without it, θ = 89°, η = 1). Since −ln(φ² + c²) = ∫_c^∞ 2w/(φ² + w²) dw up to
 //! a constant, L is a sum of wrapped Cauchy lobes whose widths w_j run from c to W = 2,
@@ -163,6 +163,8 @@ struct Fluence {
     weight: [f64; FLUENCE_LOBES],
     alpha: [f64; FLUENCE_LOBES],
     kappa: [f64; FLUENCE_LOBES],
+    /// 1 − κ_j, without cancellation for the narrow lobes.
+    gap: [f64; FLUENCE_LOBES],
     /// Each lobe's energy up to r_max.
     energy: [f64; FLUENCE_LOBES],
 }
@@ -183,6 +185,7 @@ impl Fluence {
             weight: [0.0; FLUENCE_LOBES],
             alpha: [0.0; FLUENCE_LOBES],
             kappa: [0.0; FLUENCE_LOBES],
+            gap: [0.0; FLUENCE_LOBES],
             energy: [0.0; FLUENCE_LOBES],
         };
         for j in 0..FLUENCE_LOBES {
@@ -195,6 +198,7 @@ impl Fluence {
             out.weight[j] = end * h * width;
             out.alpha[j] = s + lambda * width;
             out.kappa[j] = (-width).exp();
+            out.gap[j] = -(-width).exp_m1();
             out.energy[j] = TAU
                 * scale
                 * out.weight[j]
@@ -203,9 +207,10 @@ impl Fluence {
         (scale > 0.0 && out.energy.iter().all(|e| e.is_finite())).then_some(out)
     }
 
-    /// Lobe j's mass over φ at r: ω_j (e^{−α_j r} − e^{−β_j r}) times the scale.
-    fn lobe_mass(&self, j: usize, r: f64, s: f64) -> f64 {
-        self.scale * self.weight[j] * (-self.alpha[j] * r).exp() * -(-2.0 * s * r).exp_m1()
+    /// The lobes' masses over φ at r: ω_j (e^{−α_j r} − e^{−β_j r}) times the scale.
+    fn masses(&self, r: f64, s: f64) -> [f64; FLUENCE_LOBES] {
+        let front = self.scale * -(-2.0 * s * r).exp_m1();
+        std::array::from_fn(|j| front * self.weight[j] * (-self.alpha[j] * r).exp())
     }
 
     fn total(&self) -> f64 {
@@ -280,9 +285,10 @@ impl Ridge {
         if !(0.0..=self.r_max).contains(&r) {
             return 0.0;
         }
-        let fluence = self.fluence.as_ref().map_or(0.0, |f| {
-            (0..FLUENCE_LOBES).map(|j| f.lobe_mass(j, r, self.s)).sum()
-        });
+        let fluence = self
+            .fluence
+            .as_ref()
+            .map_or(0.0, |f| f.masses(r, self.s).iter().sum());
         self.scale * self.radial(r) / TAU + fluence
     }
 
@@ -294,11 +300,19 @@ impl Ridge {
         }
         let flux = self.scale * self.radial(r) * pdf_wc(phi, self.kappa);
         match &self.fluence {
-            Some(f) => {
+            Some(f) if (-PI..=PI).contains(&phi) => {
+                // 2π pdf_WC(φ; κ) = (1 − κ²)/((1 − κ)² + 4κ sin²(φ/2)), one sine for all lobes
+                let half = (0.5 * phi).sin();
+                let q = 4.0 * half * half;
+                let masses = f.masses(r, self.s);
                 flux + (0..FLUENCE_LOBES)
-                    .map(|j| f.lobe_mass(j, r, self.s) * TAU * pdf_wc(phi, f.kappa[j]))
+                    .map(|j| {
+                        let (k, gap) = (f.kappa[j], f.gap[j]);
+                        masses[j] * gap * (2.0 - gap) / (gap * gap + k * q)
+                    })
                     .sum::<f64>()
             }
+            Some(_) => flux,
             None => flux,
         }
     }
@@ -310,12 +324,14 @@ impl Ridge {
             return [0.0; N];
         }
         let flux = self.scale * self.radial(r);
+        let masses = self.fluence.as_ref().map(|f| f.masses(r, self.s));
         std::array::from_fn(|n| {
-            let fluence = self.fluence.as_ref().map_or(0.0, |f| {
-                (0..FLUENCE_LOBES)
-                    .map(|j| TAU * f.lobe_mass(j, r, self.s) * f.kappa[j].powi(n as i32))
-                    .sum()
-            });
+            let fluence = match (&self.fluence, &masses) {
+                (Some(f), Some(m)) => (0..FLUENCE_LOBES)
+                    .map(|j| TAU * m[j] * f.kappa[j].powi(n as i32))
+                    .sum(),
+                _ => 0.0,
+            };
             flux * self.kappa.powi(n as i32) + fluence
         })
     }
@@ -350,9 +366,7 @@ impl Ridge {
             * self.s
             * (-r * (self.s + self.k)).exp()
             * -(-2.0 * r * self.s).exp_m1();
-        let fluence: f64 = (0..FLUENCE_LOBES)
-            .map(|j| TAU * r * f.lobe_mass(j, r, self.s))
-            .sum();
+        let fluence = TAU * r * f.masses(r, self.s).iter().sum::<f64>();
         (flux + fluence) / (self.flux_energy() + f.total())
     }
 
@@ -700,6 +714,32 @@ mod tests {
             for r in [1e-6 / b, 0.05 / b, 0.5 / b, 5.0 / b] {
                 let want = simpson(|x| x * ((-a * x).exp() - (-b * x).exp()), 0.0, r, 2_000);
                 assert!((radial_moment(a, b, r) / want - 1.0).abs() < 1e-11, "{r}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_fluence_lobes_are_wrapped_cauchy_densities() {
+        // eval's one-sine form of each lobe against the gwc module's density, over φ and
+        // widths down to the floor (θ′ = 90°)
+        for theta_deg in [75.0, 89.0, 90.0] {
+            let both = ridge(RidgeKind::FluxAndFluence, 1.0, 0.7, theta_deg, 30.0).unwrap();
+            let flux = ridge(RidgeKind::Flux, 1.0, 0.7, theta_deg, 30.0).unwrap();
+            let f = both.fluence.unwrap();
+            for r in [1e-3, 0.5, 7.0] {
+                let m = f.masses(r, both.s);
+                for phi in [-PI, -2.0, -1e-3, 0.0, 1e-6, 1e-4, 0.02, 0.3, 3.0, PI] {
+                    let want = flux.eval(r, phi)
+                        + (0..FLUENCE_LOBES)
+                            .map(|j| m[j] * TAU * pdf_wc(phi, f.kappa[j]))
+                            .sum::<f64>();
+                    let got = both.eval(r, phi);
+                    assert!(
+                        (got / want - 1.0).abs() < 1e-12,
+                        "{theta_deg} {r} {phi}: {got} {want}"
+                    );
+                }
+                assert_eq!(both.eval(r, 3.2), flux.eval(r, 3.2));
             }
         }
     }

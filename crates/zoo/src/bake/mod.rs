@@ -420,7 +420,9 @@ impl Baker {
                 "weight_full_below_cos_refracted": table::ridge::FULL_WEIGHT_COS,
                 "weight_zero_from_cos_refracted": table::ridge::ZERO_WEIGHT_COS,
                 "width_floor_cos_refracted": table::ridge::MIN_WIDTH_COS,
-                "stored": "the profile less the analytic ridge (format-spec.md section 10, The ridge), which lookups add back; where the beam runs in the surface, the limit's harmonics less the ridge's",
+                "fluence_lobes": table::ridge::FLUENCE_LOBES,
+                "fluence_widest_lobe": table::ridge::FLUENCE_MAX_WIDTH,
+                "stored": "the profile less the analytic ridge with its fluence part (format-spec.md section 10, The ridge), which lookups add back; where the beam runs in the surface, the limit's harmonics less the ridge's",
             });
         }
         if let (Some(grazing), true) = (grazing, near_eta_1) {
