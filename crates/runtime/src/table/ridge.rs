@@ -52,6 +52,7 @@
 
 use crate::gwc::{inv_cdf_wc, pdf_wc};
 use crate::medium::Boundary;
+use std::cell::OnceCell;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// cos θ′ up to which the ridge has its full weight.
@@ -142,7 +143,7 @@ pub const FLUENCE_MAX_WIDTH: f64 = 2.0;
 /// The ridge at one (ρ′, θ) of a table: the flux part R(r, φ) = scale · m̂(r) · pdf_WC(φ; κ)
 /// with m̂ = s e^{−r(s+k)}(1 − e^{−2rs})/(2r), scale = w ρ′² C_E, on r ∈ [0, r_max], and for
 /// [`RidgeKind::FluxAndFluence`] the fluence part L (module docs).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Ridge {
     scale: f64,
     s: f64,
@@ -157,16 +158,20 @@ pub struct Ridge {
 
 /// The fluence part L of a ridge: lobe j carries scale · ω_j (e^{−α_j r} − e^{−β_j r}) ·
 /// 2π pdf_WC(φ; κ_j).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 struct Fluence {
     scale: f64,
+    /// sin θ′ and the table's last radius, for the lobes' energies.
+    s: f64,
+    r_max: f64,
     weight: [f64; FLUENCE_LOBES],
     alpha: [f64; FLUENCE_LOBES],
     kappa: [f64; FLUENCE_LOBES],
     /// 1 − κ_j, without cancellation for the narrow lobes.
     gap: [f64; FLUENCE_LOBES],
-    /// Each lobe's energy up to r_max.
-    energy: [f64; FLUENCE_LOBES],
+    /// Each lobe's energy up to r_max, computed when a draw or a density first needs it (a
+    /// value does not).
+    energy: OnceCell<[f64; FLUENCE_LOBES]>,
 }
 
 impl Fluence {
@@ -180,16 +185,20 @@ impl Fluence {
         let scale = w * rho * rho * boundary.c_phi() / (4.0 * PI * d);
         let lo = c.max(MIN_WIDTH_COS);
         let h = (FLUENCE_MAX_WIDTH / lo).ln() / (FLUENCE_LOBES - 1) as f64;
+        // w_j = lo·e^{jh} = lo·qʲ
+        let q = h.exp();
         let mut out = Self {
             scale,
+            s,
+            r_max,
             weight: [0.0; FLUENCE_LOBES],
             alpha: [0.0; FLUENCE_LOBES],
             kappa: [0.0; FLUENCE_LOBES],
             gap: [0.0; FLUENCE_LOBES],
-            energy: [0.0; FLUENCE_LOBES],
+            energy: OnceCell::new(),
         };
         for j in 0..FLUENCE_LOBES {
-            let width = lo * (h * j as f64).exp();
+            let width = lo * q.powi(j as i32);
             let end = if j == 0 || j + 1 == FLUENCE_LOBES {
                 0.5
             } else {
@@ -197,14 +206,10 @@ impl Fluence {
             };
             out.weight[j] = end * h * width;
             out.alpha[j] = s + lambda * width;
-            out.kappa[j] = (-width).exp();
             out.gap[j] = -(-width).exp_m1();
-            out.energy[j] = TAU
-                * scale
-                * out.weight[j]
-                * radial_moment(out.alpha[j], out.alpha[j] + 2.0 * s, r_max);
+            out.kappa[j] = 1.0 - out.gap[j];
         }
-        (scale > 0.0 && out.energy.iter().all(|e| e.is_finite())).then_some(out)
+        (scale > 0.0 && scale.is_finite() && lambda.is_finite()).then_some(out)
     }
 
     /// The lobes' masses over φ at r: ω_j (e^{−α_j r} − e^{−β_j r}) times the scale.
@@ -213,8 +218,18 @@ impl Fluence {
         std::array::from_fn(|j| front * self.weight[j] * (-self.alpha[j] * r).exp())
     }
 
+    /// Each lobe's energy up to r_max: 2π scale ω_j H_j(r_max).
+    fn energy(&self) -> &[f64; FLUENCE_LOBES] {
+        self.energy.get_or_init(|| {
+            std::array::from_fn(|j| {
+                let a = self.alpha[j];
+                TAU * self.scale * self.weight[j] * radial_moment(a, a + 2.0 * self.s, self.r_max)
+            })
+        })
+    }
+
     fn total(&self) -> f64 {
-        self.energy.iter().sum()
+        self.energy().iter().sum()
     }
 }
 
@@ -384,7 +399,7 @@ impl Ridge {
             return (None, target / flux);
         }
         target -= flux;
-        for (j, &e) in f.energy.iter().enumerate() {
+        for (j, &e) in f.energy().iter().enumerate() {
             if target < e || j + 1 == FLUENCE_LOBES {
                 return (Some(j), (target / e).clamp(0.0, 1.0));
             }
@@ -577,7 +592,7 @@ mod tests {
         assert!((r.energy() / (c_e / 3.0) - 1.0).abs() < 1e-14);
         // and the fluence part adds its lobes' energies
         let both = ridge(RidgeKind::FluxAndFluence, 1.0, 1.0, 85.0, 1e4).unwrap();
-        let lobes = both.fluence.unwrap().total();
+        let lobes = both.fluence.as_ref().unwrap().total();
         assert!(lobes > 0.0 && (both.energy() - r.energy() - lobes).abs() < 1e-15);
     }
 
@@ -725,7 +740,7 @@ mod tests {
         for theta_deg in [75.0, 89.0, 90.0] {
             let both = ridge(RidgeKind::FluxAndFluence, 1.0, 0.7, theta_deg, 30.0).unwrap();
             let flux = ridge(RidgeKind::Flux, 1.0, 0.7, theta_deg, 30.0).unwrap();
-            let f = both.fluence.unwrap();
+            let f = both.fluence.as_ref().unwrap();
             for r in [1e-3, 0.5, 7.0] {
                 let m = f.masses(r, both.s);
                 for phi in [-PI, -2.0, -1e-3, 0.0, 1e-6, 1e-4, 0.02, 0.3, 3.0, PI] {
@@ -747,11 +762,11 @@ mod tests {
     #[test]
     fn draws_come_from_the_part_their_uniform_picks() {
         let ridge = ridge(RidgeKind::FluxAndFluence, 1.0, 0.9, 89.0, 30.0).unwrap();
-        let f = ridge.fluence.unwrap();
+        let f = ridge.fluence.as_ref().unwrap();
         let total = ridge.energy();
         // the uniforms at the middle of each part's share of the energy
         let mut start = 0.0;
-        let shares = std::iter::once(ridge.flux_energy()).chain(f.energy);
+        let shares = std::iter::once(ridge.flux_energy()).chain(*f.energy());
         for (part, e) in shares.enumerate() {
             let u = (start + 0.5 * e) / total;
             let (picked, rescaled) = ridge.pick(u);

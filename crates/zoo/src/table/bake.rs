@@ -380,7 +380,7 @@ pub fn bake_lobes(
                     let [e, e_beta, c, m3, m4] = match crate::fresnel::refracted_cos(theta, eta) {
                         Some(cos_t) if cos_t < RESCALE_BELOW_COS && e > 0.0 => {
                             // The fit's shape with the profile's own energy (less the ridge's)
-                            let ridge_mass = ridge.map_or(0.0, |g| g.harmonics::<1>(r)[0]);
+                            let ridge_mass = ridge.as_ref().map_or(0.0, |g| g.harmonics::<1>(r)[0]);
                             let mass = surface_harmonics::<5>(&pbd, r, Some(theta))[0];
                             let k = r * (mass - ridge_mass).max(0.0) / e;
                             [e * k, e_beta * k, c, m3 * k, m4 * k]

@@ -223,7 +223,7 @@ impl TableRef<'_> {
             let u_r = self.axes.r().cdf(e, cdf, r)?;
             let g = self.profile_at(s, r, None)?;
             // The nodes' part takes the radial uniforms below E_D/(E_D + E_R)
-            let share = ridge.map_or(1.0, |ridge| {
+            let share = ridge.as_ref().map_or(1.0, |ridge| {
                 let e_d = self.total(s);
                 e_d / (e_d + ridge.energy())
             });
