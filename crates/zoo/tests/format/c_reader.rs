@@ -53,6 +53,20 @@ fn run(exe: &Path, file: &Path, table: i64, kind: u32, index: usize) -> (i32, St
     (code, String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
+/// The C reader prints value `index` of section `kind` of table 0 of `file` with the bits of
+/// `expected`, the value the Rust reader reads there.
+fn prints_bits(exe: &Path, file: &Path, kind: u32, index: usize, expected: f32) {
+    let (code, stdout) = run(exe, file, 0, kind, index);
+    assert_eq!(code, 0, "{}: {stdout}", file.display());
+    let bits = stdout.split_whitespace().next().unwrap();
+    assert_eq!(
+        u32::from_str_radix(bits, 16).unwrap(),
+        expected.to_bits(),
+        "{}",
+        file.display()
+    );
+}
+
 #[test]
 fn c_reader_reads_the_same_values_as_the_rust_reader() {
     let dir = tempfile::tempdir().unwrap();
@@ -118,14 +132,7 @@ fn c_reader_reads_the_spec_example_and_rejects_damaged_files() {
         let path = data.join(format!("valid/{file}.bssrdf"));
         let library = Library::read(&path, Verify::Full).unwrap();
         let expected = library.table(0).unwrap().harmonics().unwrap()[index];
-        let (code, stdout) = run(&exe, &path, 0, harmonics, index);
-        assert_eq!(code, 0, "{file}: {stdout}");
-        let bits = stdout.split_whitespace().next().unwrap();
-        assert_eq!(
-            u32::from_str_radix(bits, 16).unwrap(),
-            expected.to_bits(),
-            "{file}"
-        );
+        prints_bits(&exe, &path, harmonics, index, expected);
     };
     // Format 1.2 with required feature bit 2: the harmonics of a two-lobe table.
     same_harmonic("two-lobes", 3);
@@ -191,14 +198,7 @@ fn c_reader_reads_the_ridge_field_by_model() {
         let path = data.join(format!("valid/{file}.bssrdf"));
         let library = Library::read(&path, Verify::Full).unwrap();
         let expected = library.table(0).unwrap().gwc_params()[7];
-        let (code, stdout) = run(&exe, &path, 0, gwc, 7);
-        assert_eq!(code, 0, "{file}: {stdout}");
-        let bits = stdout.split_whitespace().next().unwrap();
-        assert_eq!(
-            u32::from_str_radix(bits, 16).unwrap(),
-            expected.to_bits(),
-            "{file}"
-        );
+        prints_bits(&exe, &path, gwc, 7, expected);
     }
     // A walk-angular table with the ridge (component total = 1 at byte 28, ridge at byte 40)
     let table = TableData {
