@@ -3,7 +3,7 @@
 
 use bssrdf_zoo::embed::{self, TableLookup};
 use bssrdf_zoo::error::in_range;
-use bssrdf_zoo::table::{PathSample, Sample, TableRef, World};
+use bssrdf_zoo::table::{PathSample, RidgeKind, Sample, TableRef, World};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyFloat;
@@ -573,10 +573,10 @@ impl Table {
             } else {
                 ""
             },
-            if record.ridge().is_some() {
-                ", ridge"
-            } else {
-                ""
+            match record.ridge() {
+                RidgeKind::None => "",
+                RidgeKind::Flux => ", ridge flux",
+                RidgeKind::FluxAndFluence => ", ridge flux+fluence",
             },
             if self.lookup.is_none() {
                 ", no lookups"

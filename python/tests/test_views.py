@@ -97,7 +97,7 @@ def test_a_table_says_whether_its_nodes_hold_the_profile_less_the_ridge(data_dir
     for name, kind in [("ridge", "flux"), ("ridge-fluence", "flux+fluence")]:
         (ridge,) = bz.Library.open(data_dir / "valid" / f"{name}.bssrdf").tables
         assert ridge.ridge is True and ridge.ridge_kind == kind and ridge.eta == 1.0
-        assert ", ridge" in repr(ridge)
+        assert f", ridge {kind}" in repr(ridge)
         assert ridge.eval(0.6, 0.5, 0.05, 0.0) > 0
     assert table.ridge is False and table.ridge_kind == "none" and "ridge" not in repr(table)
     (walk,) = bz.Library.open(data_dir / "valid" / "walk-table.bssrdf").tables

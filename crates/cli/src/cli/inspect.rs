@@ -1,7 +1,8 @@
 //! `bssrdf inspect FILE`: version, sizes, required features by name (`zstd-sections`,
 //! `signed-floor`), sections with their checksums (verified), materials, tables with their
-//! model (and a walk-angular table's g and component), axes and ridge flag (whether the nodes
-//! hold the profile less the analytic ridge, format 1.6), provenance. Names from the file are
+//! model (and a walk-angular table's g and component), axes and ridge kind (what the nodes
+//! hold the profile less: no ridge, its flux part or the ridge with its fluence part),
+//! provenance. Names from the file are
 //! printed with control characters escaped.
 
 use super::CliError;

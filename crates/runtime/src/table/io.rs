@@ -91,7 +91,7 @@ impl<'a> FileTable<'a> {
         Ok(file_table)
     }
 
-    /// The lookup view (cheap: borrows the file's arrays), with the record's ridge flag.
+    /// The lookup view (cheap: borrows the file's arrays), with the record's ridge kind.
     pub fn view(&self) -> Result<TableRef<'_>, TableError> {
         let view = TableRef::new(
             self.table.eta(),
@@ -120,7 +120,7 @@ impl<'a> FileTable<'a> {
         self.moments
     }
 
-    /// Copies the table into memory, with its walk if it is walk-angular and its ridge flag.
+    /// Copies the table into memory, with its walk if it is walk-angular and its ridge kind.
     pub fn to_owned_table(&self) -> Result<AngularTable, TableError> {
         let view = self.view()?;
         let table = AngularTable::from_parts(

@@ -143,9 +143,12 @@ pub const FLUENCE_MAX_WIDTH: f64 = 2.0;
 /// The ridge at one (ρ′, θ) of a table: the flux part R(r, φ) = scale · m̂(r) · pdf_WC(φ; κ)
 /// with m̂ = s e^{−r(s+k)}(1 − e^{−2rs})/(2r), scale = w ρ′² C_E, on r ∈ [0, r_max], and for
 /// [`RidgeKind::FluxAndFluence`] the fluence part L (module docs).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Ridge {
     scale: f64,
+    /// C_E: the flux part's scale over its amplitude w ρ′², for the densities, which do not
+    /// depend on the amplitude (and must not underflow with it at tiny ρ′).
+    c_e: f64,
     s: f64,
     /// The attenuation σtr c/s over the source's depth, per unit r.
     k: f64,
@@ -158,9 +161,13 @@ pub struct Ridge {
 
 /// The fluence part L of a ridge: lobe j carries scale · ω_j (e^{−α_j r} − e^{−β_j r}) ·
 /// 2π pdf_WC(φ; κ_j).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 struct Fluence {
     scale: f64,
+    /// C_φ/(4πD): the scale over the ridge's amplitude w ρ′².
+    unit: f64,
+    /// The ridge's amplitude w ρ′².
+    amp: f64,
     /// sin θ′ and the table's last radius, for the lobes' energies.
     s: f64,
     r_max: f64,
@@ -182,13 +189,17 @@ impl Fluence {
         let sigma_tr = ((1.0 - rho) / d).max(0.0).sqrt();
         let z_b = 2.0 * boundary.a() * d;
         let lambda = sigma_tr + 0.25 / z_b;
-        let scale = w * rho * rho * boundary.c_phi() / (4.0 * PI * d);
+        let unit = boundary.c_phi() / (4.0 * PI * d);
+        let amp = w * rho * rho;
+        let scale = amp * unit;
         let lo = c.max(MIN_WIDTH_COS);
         let h = (FLUENCE_MAX_WIDTH / lo).ln() / (FLUENCE_LOBES - 1) as f64;
         // w_j = lo·e^{jh} = lo·qʲ
         let q = h.exp();
         let mut out = Self {
             scale,
+            unit,
+            amp,
             s,
             r_max,
             weight: [0.0; FLUENCE_LOBES],
@@ -209,27 +220,28 @@ impl Fluence {
             out.gap[j] = -(-width).exp_m1();
             out.kappa[j] = 1.0 - out.gap[j];
         }
-        (scale > 0.0 && scale.is_finite() && lambda.is_finite()).then_some(out)
+        (unit > 0.0 && unit.is_finite() && lambda.is_finite()).then_some(out)
     }
 
-    /// The lobes' masses over φ at r: ω_j (e^{−α_j r} − e^{−β_j r}) times the scale.
-    fn masses(&self, r: f64, s: f64) -> [f64; FLUENCE_LOBES] {
-        let front = self.scale * -(-2.0 * s * r).exp_m1();
+    /// The lobes' masses over φ at r: ω_j (e^{−α_j r} − e^{−β_j r}) times `scale` (the
+    /// part's, or its `unit`).
+    fn masses(&self, r: f64, scale: f64) -> [f64; FLUENCE_LOBES] {
+        let front = scale * -(-2.0 * self.s * r).exp_m1();
         std::array::from_fn(|j| front * self.weight[j] * (-self.alpha[j] * r).exp())
     }
 
-    /// Each lobe's energy up to r_max: 2π scale ω_j H_j(r_max).
-    fn energy(&self) -> &[f64; FLUENCE_LOBES] {
+    /// Each lobe's energy up to r_max over the amplitude: 2π unit ω_j H_j(r_max).
+    fn unit_energy(&self) -> &[f64; FLUENCE_LOBES] {
         self.energy.get_or_init(|| {
             std::array::from_fn(|j| {
                 let a = self.alpha[j];
-                TAU * self.scale * self.weight[j] * radial_moment(a, a + 2.0 * self.s, self.r_max)
+                TAU * self.unit * self.weight[j] * radial_moment(a, a + 2.0 * self.s, self.r_max)
             })
         })
     }
 
-    fn total(&self) -> f64 {
-        self.energy().iter().sum()
+    fn unit_total(&self) -> f64 {
+        self.unit_energy().iter().sum()
     }
 }
 
@@ -262,9 +274,12 @@ impl Ridge {
             return None;
         }
         let w = weight(cos_t);
-        let scale = w * rho * rho * boundary.c_e();
+        // The amplitude w ρ′² may be subnormal and the values with it: the densities, of the
+        // shape alone, are not
+        let amp = w * rho * rho;
+        let scale = amp * boundary.c_e();
         let s = (1.0 - cos_t * cos_t).sqrt();
-        if !(scale > 0.0 && s > 0.0 && r_max > 0.0) {
+        if !(amp > 0.0 && s > 0.0 && r_max > 0.0) {
             return None;
         }
         let sigma_tr = (3.0 * (1.0 - rho) / (2.0 - rho)).max(0.0).sqrt();
@@ -276,6 +291,7 @@ impl Ridge {
         };
         (total > 0.0).then_some(Self {
             scale,
+            c_e: boundary.c_e(),
             s,
             k,
             kappa: (-cos_t.max(MIN_WIDTH_COS)).exp(),
@@ -288,11 +304,20 @@ impl Ridge {
     /// Its energy up to r_max: ∫∫ R r dr dφ = w ρ′² C_E (s/2) G(r_max), plus the fluence
     /// lobes'.
     pub fn energy(&self) -> f64 {
-        self.flux_energy() + self.fluence.as_ref().map_or(0.0, Fluence::total)
+        self.flux_energy()
+            + self
+                .fluence
+                .as_ref()
+                .map_or(0.0, |f| f.amp * f.unit_total())
     }
 
     fn flux_energy(&self) -> f64 {
         self.scale * 0.5 * self.s * self.total
+    }
+
+    /// The flux part's energy over the amplitude w ρ′².
+    fn flux_unit_energy(&self) -> f64 {
+        self.c_e * 0.5 * self.s * self.total
     }
 
     /// Its mean over φ, (1/2π) ∫ R dφ, per unit area; 0 outside [0, r_max].
@@ -303,23 +328,34 @@ impl Ridge {
         let fluence = self
             .fluence
             .as_ref()
-            .map_or(0.0, |f| f.masses(r, self.s).iter().sum());
+            .map_or(0.0, |f| f.masses(r, f.scale).iter().sum());
         self.scale * self.radial(r) / TAU + fluence
     }
 
     /// The ridge at (r, φ) per unit area; 0 outside [0, r_max] or for φ outside [−π, π]
     /// (wrapped by the caller) or NaN.
     pub fn eval(&self, r: f64, phi: f64) -> f64 {
+        self.value(
+            r,
+            phi,
+            self.scale,
+            self.fluence.as_ref().map_or(0.0, |f| f.scale),
+        )
+    }
+
+    /// [`Ridge::eval`] with the flux part's scale `flux_scale` and the fluence part's
+    /// `fluence_scale` (theirs, or their units).
+    fn value(&self, r: f64, phi: f64, flux_scale: f64, fluence_scale: f64) -> f64 {
         if !(0.0..=self.r_max).contains(&r) {
             return 0.0;
         }
-        let flux = self.scale * self.radial(r) * pdf_wc(phi, self.kappa);
+        let flux = flux_scale * self.radial(r) * pdf_wc(phi, self.kappa);
         match &self.fluence {
             Some(f) if (-PI..=PI).contains(&phi) => {
                 // 2π pdf_WC(φ; κ) = (1 − κ²)/((1 − κ)² + 4κ sin²(φ/2)), one sine for all lobes
                 let half = (0.5 * phi).sin();
                 let q = 4.0 * half * half;
-                let masses = f.masses(r, self.s);
+                let masses = f.masses(r, fluence_scale);
                 flux + (0..FLUENCE_LOBES)
                     .map(|j| {
                         let (k, gap) = (f.kappa[j], f.gap[j]);
@@ -339,7 +375,7 @@ impl Ridge {
             return [0.0; N];
         }
         let flux = self.scale * self.radial(r);
-        let masses = self.fluence.as_ref().map(|f| f.masses(r, self.s));
+        let masses = self.fluence.as_ref().map(|f| f.masses(r, f.scale));
         std::array::from_fn(|n| {
             let fluence = match (&self.fluence, &masses) {
                 (Some(f), Some(m)) => (0..FLUENCE_LOBES)
@@ -358,12 +394,19 @@ impl Ridge {
         self.s * self.s * (-r * (self.s + self.k)).exp() * front
     }
 
-    /// Density per unit area of [`Ridge::sample`] at (r, φ): the ridge over its energy.
+    /// Density per unit area of [`Ridge::sample`] at (r, φ): the ridge over its energy, both
+    /// over the amplitude w ρ′² (for the flux part alone, its radial density times its
+    /// density in φ, over r).
     pub fn pdf(&self, r: f64, phi: f64) -> f64 {
         if r <= 0.0 {
             return 0.0;
         }
-        self.eval(r, phi) / self.energy()
+        match &self.fluence {
+            Some(f) => {
+                self.value(r, phi, self.c_e, f.unit) / (self.flux_unit_energy() + f.unit_total())
+            }
+            None => self.pdf_radius(r) * pdf_wc(phi, self.kappa) / r,
+        }
     }
 
     /// Density per unit r of [`Ridge::sample_radius`]: 2πr times the mean over φ, over the
@@ -376,13 +419,13 @@ impl Ridge {
             // e^{−ar} − e^{−br} = e^{−ar}(1 − e^{−2sr}), exact near 0
             return (-r * (self.s + self.k)).exp() * -(-2.0 * r * self.s).exp_m1() / self.total;
         };
-        let flux = self.scale
+        let flux = self.c_e
             * 0.5
             * self.s
             * (-r * (self.s + self.k)).exp()
             * -(-2.0 * r * self.s).exp_m1();
-        let fluence = TAU * r * f.masses(r, self.s).iter().sum::<f64>();
-        (flux + fluence) / (self.flux_energy() + f.total())
+        let fluence = TAU * r * f.masses(r, f.unit).iter().sum::<f64>();
+        (flux + fluence) / (self.flux_unit_energy() + f.unit_total())
     }
 
     /// The part a radial uniform u ∈ [0, 1] picks, by the parts' energies, and u rescaled
@@ -392,14 +435,14 @@ impl Ridge {
         let Some(f) = &self.fluence else {
             return (None, u);
         };
-        let flux = self.flux_energy();
-        let total = flux + f.total();
+        let flux = self.flux_unit_energy();
+        let total = flux + f.unit_total();
         let mut target = u * total;
         if target < flux {
             return (None, target / flux);
         }
         target -= flux;
-        for (j, &e) in f.energy().iter().enumerate() {
+        for (j, &e) in f.unit_energy().iter().enumerate() {
             if target < e || j + 1 == FLUENCE_LOBES {
                 return (Some(j), (target / e).clamp(0.0, 1.0));
             }
@@ -408,9 +451,9 @@ impl Ridge {
         (Some(FLUENCE_LOBES - 1), 1.0)
     }
 
-    /// The r ∈ [0, r_max] a radial uniform u ∈ [0, 1] gives (clamped into it): the part
-    /// [`Ridge::pick`] chooses, then the r whose share of that part's energy is the rescaled
-    /// u ([`invert_radial`]).
+    /// The r ∈ [0, r_max] a radial uniform u ∈ [0, 1] gives (clamped into it): u picks the
+    /// flux part or a fluence lobe by their energies, then, rescaled, the r whose share of that
+    /// part's energy it is (a safeguarded Newton inversion of its closed-form CDF).
     pub fn sample_radius(&self, u: f64) -> f64 {
         let (part, u) = self.pick(u);
         self.radius_of(part, u)
@@ -420,9 +463,12 @@ impl Ridge {
         match (part, &self.fluence) {
             (Some(j), Some(f)) => {
                 let a = f.alpha[j];
-                invert_radial(1, a, a + 2.0 * self.s, self.r_max, u)
+                invert_radial(1, a, a + 2.0 * self.s, self.s, self.r_max, u)
             }
-            _ => invert_radial(0, self.s + self.k, 3.0 * self.s + self.k, self.r_max, u),
+            _ => {
+                let (a, b) = (self.s + self.k, 3.0 * self.s + self.k);
+                invert_radial(0, a, b, self.s, self.r_max, u)
+            }
         }
     }
 
@@ -440,9 +486,9 @@ impl Ridge {
 }
 
 /// The r ∈ [0, r_max] with ∫₀^r x^p (e^{−ax} − e^{−bx}) dx = u times that integral up to r_max
-/// (p = 0 or 1, 0 < a < b; u clamped into [0, 1]), by Newton's method kept inside a shrinking
-/// bracket (the integral increases; its slope is 0 only at r = 0).
-fn invert_radial(p: i32, a: f64, b: f64, r_max: f64, u: f64) -> f64 {
+/// (p = 0 or 1, b = a + 2s, s > 0; u clamped into [0, 1]), by Newton's method kept inside a
+/// shrinking bracket (the integral increases; its slope is 0 only at r = 0).
+fn invert_radial(p: i32, a: f64, b: f64, s: f64, r_max: f64, u: f64) -> f64 {
     let integral = |r: f64| {
         if p == 0 {
             radial_integral(a, b, r)
@@ -459,8 +505,12 @@ fn invert_radial(p: i32, a: f64, b: f64, r_max: f64, u: f64) -> f64 {
         return r_max;
     }
     let (mut lo, mut hi) = (0.0, r_max);
-    // Near 0 the integral is (b − a) r^{p+2}/(p + 2)
-    let start = (target * f64::from(p + 2) / (b - a)).powf(1.0 / f64::from(p + 2));
+    // Near 0 the integral is 2s r^{p+2}/(p + 2)
+    let start = if p == 0 {
+        (target / s).sqrt()
+    } else {
+        (1.5 * target / s).cbrt()
+    };
     let mut r = start.min(0.5 * r_max);
     for _ in 0..200 {
         let f = integral(r) - target;
@@ -472,7 +522,7 @@ fn invert_radial(p: i32, a: f64, b: f64, r_max: f64, u: f64) -> f64 {
         } else {
             lo = r;
         }
-        let slope = r.powi(p) * (-a * r).exp() * -(-(b - a) * r).exp_m1();
+        let slope = r.powi(p) * (-a * r).exp() * -(-2.0 * s * r).exp_m1();
         let newton = r - f / slope;
         let next = if slope > 0.0 && (lo..=hi).contains(&newton) {
             newton
@@ -592,7 +642,8 @@ mod tests {
         assert!((r.energy() / (c_e / 3.0) - 1.0).abs() < 1e-14);
         // and the fluence part adds its lobes' energies
         let both = ridge(RidgeKind::FluxAndFluence, 1.0, 1.0, 85.0, 1e4).unwrap();
-        let lobes = both.fluence.as_ref().unwrap().total();
+        let f = both.fluence.as_ref().unwrap();
+        let lobes = f.amp * f.unit_total();
         assert!(lobes > 0.0 && (both.energy() - r.energy() - lobes).abs() < 1e-15);
     }
 
@@ -684,8 +735,8 @@ mod tests {
                 assert!(ridge.sample_radius(1.0) <= 30.0);
                 // and each part's own inversion to rounding, down to the least uniforms
                 for u in [1e-300, 1e-200, 1e-15, 1e-12, 1e-6, 0.3, 0.999999] {
-                    for (p, a, b) in [(0, 1.1, 3.1), (1, 1.3, 3.2)] {
-                        let r = invert_radial(p, a, b, 30.0, u);
+                    for (p, a, b) in [(0, 1.1, 3.1), (1, 1.3, 3.3)] {
+                        let r = invert_radial(p, a, b, 0.5 * (b - a), 30.0, u);
                         let f = |r| {
                             if p == 0 {
                                 radial_integral(a, b, r)
@@ -742,7 +793,7 @@ mod tests {
             let flux = ridge(RidgeKind::Flux, 1.0, 0.7, theta_deg, 30.0).unwrap();
             let f = both.fluence.as_ref().unwrap();
             for r in [1e-3, 0.5, 7.0] {
-                let m = f.masses(r, both.s);
+                let m = f.masses(r, f.scale);
                 for phi in [-PI, -2.0, -1e-3, 0.0, 1e-6, 1e-4, 0.02, 0.3, 3.0, PI] {
                     let want = flux.eval(r, phi)
                         + (0..FLUENCE_LOBES)
@@ -760,13 +811,90 @@ mod tests {
     }
 
     #[test]
+    fn the_fluence_part_is_the_spec_s() {
+        // format-spec.md §10 "The fluence part", written out afresh: L at a few points of
+        // η = 1 and 0.9 against what eval adds to the flux part
+        for (eta, rho, theta_deg) in [
+            (1.0f64, 0.8f64, 89.0f64),
+            (1.0, 0.3, 80.0),
+            (0.9, 0.95, 63.0),
+        ] {
+            let boundary = Boundary::new(eta, Moments::Exact).unwrap();
+            let theta = f64::to_radians(theta_deg);
+            let c = crate::fresnel::refracted_cos(theta, eta).unwrap();
+            let s = (1.0 - c * c).sqrt();
+            let d = (2.0 - rho) / 3.0;
+            let sigma_tr = (3.0 * (1.0 - rho) / (2.0 - rho)).sqrt();
+            let lambda = sigma_tr + 1.0 / (4.0 * 2.0 * boundary.a() * d);
+            let c_w = c.max(1e-5);
+            let h = (2.0 / c_w).ln() / 11.0;
+            let spec = |r: f64, phi: f64| -> f64 {
+                (0..12)
+                    .map(|j| {
+                        let w_j = c_w * (j as f64 * h).exp();
+                        let omega = h * w_j * if j == 0 || j == 11 { 0.5 } else { 1.0 };
+                        let alpha = s + lambda * w_j;
+                        let beta = alpha + 2.0 * s;
+                        let k = (-w_j).exp();
+                        let wc = (1.0 - k * k) / (1.0 + k * k - 2.0 * k * phi.cos());
+                        omega * ((-alpha * r).exp() - (-beta * r).exp()) * wc
+                    })
+                    .sum::<f64>()
+                    * weight(c)
+                    * rho
+                    * rho
+                    * boundary.c_phi()
+                    / (4.0 * PI * d)
+            };
+            let both = Ridge::at(RidgeKind::FluxAndFluence, &boundary, rho, theta, 40.0).unwrap();
+            let flux = Ridge::at(RidgeKind::Flux, &boundary, rho, theta, 40.0).unwrap();
+            for r in [0.01, 0.3, 2.0, 15.0] {
+                for phi in [0.0, 0.01, 0.2, 1.0, 3.0] {
+                    let got = both.eval(r, phi) - flux.eval(r, phi);
+                    let want = spec(r, phi);
+                    // the spec's 1 − κ² and 1 + κ² − 2κ cos φ cancel where κ → 1
+                    assert!(
+                        (got / want - 1.0).abs() < 1e-9,
+                        "{eta} {rho} {theta_deg} {r} {phi}: {got} {want}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn densities_stay_exact_where_the_amplitude_underflows() {
+        // ρ′² ~ 1e-323: the ridge's values underflow, its densities do not (they are of the
+        // shape alone, the same at every ρ′ of the same σtr, here ≈ √(3/2))
+        let kind = RidgeKind::FluxAndFluence;
+        let tiny = ridge(kind, 1.0, 3.3e-162, 89.0, 30.0).unwrap();
+        let small = ridge(kind, 1.0, 1e-12, 89.0, 30.0).unwrap();
+        for (r, phi) in [(0.1, 0.0), (1.0, 0.01), (5.0, 2.0)] {
+            let (a, b) = (tiny.pdf(r, phi), small.pdf(r, phi));
+            assert!(
+                a.is_finite() && (a / b - 1.0).abs() < 1e-6,
+                "{r} {phi}: {a} {b}"
+            );
+            let (a, b) = (tiny.pdf_radius(r), small.pdf_radius(r));
+            assert!(a.is_finite() && (a / b - 1.0).abs() < 1e-9, "{r}: {a} {b}");
+        }
+        for u in [0.01, 0.5, 0.99] {
+            let (a, b) = (tiny.sample(u, 0.3), small.sample(u, 0.3));
+            assert!(
+                (a.0 / b.0 - 1.0).abs() < 1e-9 && (a.1 / b.1 - 1.0).abs() < 1e-9,
+                "{u}: {a:?} {b:?}"
+            );
+        }
+    }
+
+    #[test]
     fn draws_come_from_the_part_their_uniform_picks() {
         let ridge = ridge(RidgeKind::FluxAndFluence, 1.0, 0.9, 89.0, 30.0).unwrap();
         let f = ridge.fluence.as_ref().unwrap();
-        let total = ridge.energy();
+        let total = ridge.flux_unit_energy() + f.unit_total();
         // the uniforms at the middle of each part's share of the energy
         let mut start = 0.0;
-        let shares = std::iter::once(ridge.flux_energy()).chain(*f.energy());
+        let shares = std::iter::once(ridge.flux_unit_energy()).chain(*f.unit_energy());
         for (part, e) in shares.enumerate() {
             let u = (start + 0.5 * e) / total;
             let (picked, rescaled) = ridge.pick(u);

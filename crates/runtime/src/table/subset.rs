@@ -230,7 +230,7 @@ impl AngularTable {
     }
 
     /// Joins tables holding consecutive albedo rows of the same bake (same η, moments, θ and r
-    /// axes, walk, ridge flag, increasing ρ′, all with or all without the θ CDF) into one.
+    /// axes, walk, ridge kind, increasing ρ′, all with or all without the θ CDF) into one.
     pub fn concat_rows(parts: &[AngularTable]) -> Result<AngularTable, SubsetError> {
         let first = parts.first().ok_or(SubsetError::Mismatch("no tables"))?;
         let mut rho: Vec<f64> = Vec::new();
@@ -256,7 +256,9 @@ impl AngularTable {
                 return Err(SubsetError::Mismatch("model or walk (g, component)"));
             }
             if p.ridge() != first.ridge() {
-                return Err(SubsetError::Mismatch("ridge"));
+                return Err(SubsetError::Mismatch(
+                    "ridge kind (none, flux, flux+fluence)",
+                ));
             }
             rho.extend_from_slice(p.axes().rho().as_slice());
             params.extend_from_slice(p.params());

@@ -239,7 +239,7 @@ fn c_reader_reads_the_ridge_field_by_model() {
     );
     let three = |r: &mut Raw| r.set_u32(record + 40, 3);
     assert_eq!(edited("three.bssrdf", &three), 3, "ridge = 3");
-    // Without the ridge and without the bit: the component at byte 28 is no ridge flag
+    // Without the ridge and without the bit: the component at byte 28 is no ridge code
     let without = |r: &mut Raw| {
         no_bit(r);
         r.set_u32(record + 40, 0);

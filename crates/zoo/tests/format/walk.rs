@@ -1,6 +1,6 @@
 //! Every rule of format-spec.md for a walk-angular table (model 3, format 1.5): the record's
 //! `component` at byte 28 and `g` at byte 32, its reserved bytes from byte 44 (byte 40 holds
-//! the ridge flag of format 1.6, tested in `ridge.rs`), required feature
+//! the ridge code of format 1.6, tested in `ridge.rs`), required feature
 //! bit 5 (`walk-tables`) and its required `gwc-harmonics` section, each broken by a file that
 //! must be rejected with the error code §14 names, next to the accept paths. The conformance
 //! vectors of the new codes are made here ([`walk_vectors`]); errors that other vectors
@@ -309,7 +309,7 @@ fn a_walk_record_is_reserved_from_byte_44() {
     }
 }
 
-/// §9.1: in a pbd-angular record bytes 32 to 63 stay reserved (byte 28 is its ridge flag),
+/// §9.1: in a pbd-angular record bytes 32 to 63 stay reserved (byte 28 is its ridge code),
 /// those of a walk's fields too.
 #[test]
 fn a_pbd_record_is_reserved_from_byte_32() {

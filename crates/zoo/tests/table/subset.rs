@@ -353,13 +353,19 @@ fn subsets_keep_the_ridge() {
             assert_eq!(read.to_owned_table().unwrap(), part);
         }
     }
-    let marked = full().clone().with_ridge(RidgeKind::NEWEST);
-    let err = AngularTable::concat_rows(&[
-        marked.subset_rows(0..n / 2).unwrap(),
-        full().subset_rows(n / 2..n).unwrap(),
-    ])
-    .unwrap_err();
-    assert!(err.to_string().contains("ridge"), "{err}");
+    // Parts of different kinds do not join: not with and without, nor the flux part with the
+    // ridge with its fluence part
+    for (a, b) in [
+        (RidgeKind::NEWEST, RidgeKind::None),
+        (RidgeKind::Flux, RidgeKind::FluxAndFluence),
+    ] {
+        let err = AngularTable::concat_rows(&[
+            full().clone().with_ridge(a).subset_rows(0..n / 2).unwrap(),
+            full().clone().with_ridge(b).subset_rows(n / 2..n).unwrap(),
+        ])
+        .unwrap_err();
+        assert!(err.to_string().contains("ridge kind"), "{err}");
+    }
 }
 
 /// The tables cut from `table` by each subset operation: its first half of the albedo rows,

@@ -2,11 +2,11 @@
 //! print or test.
 //!
 //! [`compare`] pairs each table of A with a table of B of the same η and Fresnel moments (one
-//! of the same model, walk and ridge flag if there is one, then the same index if possible,
+//! of the same model, walk and ridge kind if there is one, then the same index if possible,
 //! else the one sharing the most albedo nodes, so several tables of a scene bake may pair with
 //! one full table), and reports
 //! - the metadata differences ([`Difference`]): tables without a counterpart, the table count,
-//!   per pair its model, the walk's g and component, the ridge flag, Fresnel moments, dims,
+//!   per pair its model, the walk's g and component, the ridge kind, Fresnel moments, dims,
 //!   each axis, the θ-sampling section and the number of lobes; per material its presence and
 //!   every field;
 //! - per pair of tables ([`TableDiff`]), for each compared quantity ([`Quantity`]: E, E_β and c
@@ -115,7 +115,7 @@ fn common(a: &[f32], b: &[f32]) -> Vec<(usize, usize)> {
 }
 
 /// Pairs each table of A with a table of B of the same η and Fresnel moments, among those of
-/// the same model, walk (g, component) and ridge flag if there are any: the same index if they
+/// the same model, walk (g, component) and ridge kind if there are any: the same index if they
 /// share an albedo node, else the one sharing the most albedo nodes (the lowest index among
 /// equals).
 /// Returns the pairs, the tables of A without a counterpart and the tables of B no table of A
@@ -153,7 +153,7 @@ fn pair_tables(a: &Library, b: &Library) -> (Vec<(usize, usize)>, Vec<usize>, Ve
 }
 
 /// Appends the metadata differences of a pair of tables: model, the walk's g and component,
-/// the ridge flag, Fresnel moments, dims, each axis (when its node count, first or last node
+/// the ridge kind, Fresnel moments, dims, each axis (when its node count, first or last node
 /// differ), θ-sampling and lobes.
 fn compare_table_fields(ta: &Table<'_>, tb: &Table<'_>, differences: &mut Vec<Difference>) {
     let item = Item::Tables {

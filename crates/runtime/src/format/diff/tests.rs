@@ -541,7 +541,7 @@ fn the_model_and_the_walk_are_differences() {
     assert_eq!(differences, ["table 0 of B counterpart", "file tables"]);
 }
 
-/// Tables that differ only in their ridge flag (format 1.6) are told apart: their values are
+/// Tables that differ only in their ridge kind (format 1.6) are told apart: their values are
 /// the same numbers, which mean different profiles. A table pairs first with one of its flag.
 #[test]
 fn the_ridge_flag_is_a_difference() {

@@ -148,7 +148,13 @@ impl TableRef<'_> {
     }
 }
 
-/// The mixture's density: the parts' densities weighted by their energies.
+/// The mixture's density: the parts' densities weighted by their energies; 0 where neither
+/// holds any (both underflow at ρ′ ≲ 10⁻¹⁶¹).
 fn mixture(e_d: f64, pdf_d: f64, e_r: f64, pdf_r: f64) -> f64 {
-    (e_d * pdf_d + e_r * pdf_r) / (e_d + e_r)
+    let total = e_d + e_r;
+    if total > 0.0 {
+        (e_d * pdf_d + e_r * pdf_r) / total
+    } else {
+        0.0
+    }
 }
