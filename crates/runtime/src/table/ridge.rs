@@ -363,8 +363,7 @@ impl Ridge {
                     })
                     .sum::<f64>()
             }
-            Some(_) => flux,
-            None => flux,
+            _ => flux,
         }
     }
 

@@ -8,7 +8,7 @@
 //! 2×2×4 table, the last of its ten sections (entry 9), changed in one field and, where the
 //! check comes after them, with the CRCs recomputed.
 
-use crate::assert_accepted;
+use crate::{assert_accepted, assert_rejected_by};
 use bssrdf_testkit::files::{
     kind, synthetic_table, tiny_builder, tiny_two_lobes_sections, Raw, Sec,
 };
@@ -66,16 +66,7 @@ const DEFERRED: [&str; 3] = ["section-crc", "non-finite", "negative-lobe"];
 /// Asserts that `raw` is rejected with `code` at a full open, and with a header-only open
 /// either at open or (for the deferred checks) by `verify`; the message must contain `needle`.
 fn assert_rejected(case: &str, raw: &Raw, code: &str, needle: &str) {
-    let err = match Library::from_bytes(&raw.bytes, Verify::Full) {
-        Ok(_) => panic!("{case}: accepted, expected {code}"),
-        Err(e) => e,
-    };
-    assert_eq!(err.code(), code, "{case}: {err}");
-    let message = err.to_string();
-    assert!(
-        message.contains(needle),
-        "{case}: {message:?} lacks {needle:?}"
-    );
+    assert_rejected_by(case, raw, Verify::Full, code, needle);
     match Library::from_bytes(&raw.bytes, Verify::HeaderOnly) {
         Err(e) => {
             assert!(!DEFERRED.contains(&code), "{case}: {code} not deferred");

@@ -18,17 +18,22 @@ use bssrdf_zoo::format::{Compression, Library, LibraryBuilder, Verify};
 /// by a header-only one (record checks are never deferred).
 pub(crate) fn assert_rejected(case: &str, raw: &Raw, code: &str, needle: &str) {
     for verify in [Verify::Full, Verify::HeaderOnly] {
-        let err = match Library::from_bytes(&raw.bytes, verify) {
-            Ok(_) => panic!("{case}: accepted, expected {code}"),
-            Err(e) => e,
-        };
-        assert_eq!(err.code(), code, "{case}: {err}");
-        let message = err.to_string();
-        assert!(
-            message.contains(needle),
-            "{case}: {message:?} lacks {needle:?}"
-        );
+        assert_rejected_by(case, raw, verify, code, needle);
     }
+}
+
+/// A file an open with `verify` rejects with `code`, its message naming `needle`.
+pub(crate) fn assert_rejected_by(case: &str, raw: &Raw, verify: Verify, code: &str, needle: &str) {
+    let err = match Library::from_bytes(&raw.bytes, verify) {
+        Ok(_) => panic!("{case}: accepted, expected {code}"),
+        Err(e) => e,
+    };
+    assert_eq!(err.code(), code, "{case}: {err}");
+    let message = err.to_string();
+    assert!(
+        message.contains(needle),
+        "{case}: {message:?} lacks {needle:?}"
+    );
 }
 
 /// A file every reader must accept, verified in full.

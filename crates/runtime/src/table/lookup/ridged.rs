@@ -17,14 +17,14 @@
 //!   one through the nodes' part.
 
 use super::*;
-use crate::table::ridge::Ridge;
+use crate::table::ridge::{Ridge, RidgeKind};
 
 impl TableRef<'_> {
     /// The ridge at (ρ′, θ) of this table, `None` for a table without (or where it has no
     /// weight). θ as the lookups take it ([`TableRef::snap_theta`], at most π/2).
     #[inline]
     pub(super) fn ridge_at(&self, rho: f64, theta: f64) -> Option<Ridge> {
-        if !self.ridge.is_some() {
+        if self.ridge == RidgeKind::None {
             return None;
         }
         let r_max = *self.axes.r().as_slice().last()?;
@@ -39,7 +39,7 @@ impl TableRef<'_> {
     pub fn node_total(&self, i: usize, j: usize) -> f64 {
         let (_, n_theta, n_r) = self.axes.dims();
         let stored = f64::from(self.radial_cdf[((i * n_theta + j) * n_r) + n_r - 1]);
-        if !self.ridge.is_some() {
+        if self.ridge == RidgeKind::None {
             return stored;
         }
         let rho = self.axes.rho().as_slice()[i];
