@@ -229,6 +229,16 @@ pub fn critical_node(eta: f64) -> f64 {
 /// through a few azimuths resolves, and within 0.01 % of the limit in energy.
 pub const SURFACE_BEAM_COS: f64 = 1e-3;
 
+/// Above this cos θ′ (θ′ below 25.8°) a two-lobe table's nodes take one lobe, the node of a
+/// one-lobe table (three PBD values, one more closed-form fit, [`node_cell`]), stored with the
+/// lobe's own r·μ₃ = E_β c³ and r·μ₄ = E_β c⁴, which the lookups rebuild into that one lobe.
+/// Near normal incidence one lobe holds the profile as well as two: at η = 1 the protocol's
+/// mean errors at 15° and 25° move by at most 0.007 % (`examples/protocol_sweep.rs`,
+/// docs/performance.md, "Baking"), for a fraction of a two-lobe node's cost. From
+/// cos θ′ = 0.75 (θ′ up to 41°, the nodes 10°–40° at η = 1) one lobe costs too much: 35° went
+/// from 0.020 to 0.139 % at ρ′ = 0.9.
+pub const ONE_LOBE_ABOVE_COS: f64 = 0.9;
+
 /// Below this cos θ′ (and from [`SURFACE_BEAM_COS`]) a two-lobe node keeps the shape of its
 /// fit through azimuths but takes the profile's own energy, μ₀ integrated over φ as for a
 /// surface-beam node (48 evaluations of PBD instead of none): the forward ridge is then
@@ -358,6 +368,8 @@ pub fn bake_lobes(
             };
             let ridge =
                 cos_t.and_then(|c| Ridge::with_cos(with_ridge, &boundary, grid.rho[i], c, r_max));
+            // Near normal incidence a two-lobe table's nodes take one lobe
+            let one_lobe_node = cos_t.is_some_and(|c| c > ONE_LOBE_ABOVE_COS);
             let mut row = Vec::with_capacity(n_r * PARAMS_PER_NODE);
             let mut second = Vec::new();
             let mut branches = Vec::with_capacity(n_r);
@@ -373,7 +385,7 @@ pub fn bake_lobes(
                     branches.push(NodeKind::SurfaceBeam);
                     continue;
                 }
-                if lobes == Lobes::Two && theta > 0.0 && r > 0.0 {
+                if lobes == Lobes::Two && theta > 0.0 && r > 0.0 && !one_lobe_node {
                     let ([e, e_beta, c, m3, m4], fitted) =
                         two_lobe_node(&pbd, theta, r, hint, ridge.as_ref());
                     hint = fitted;
@@ -396,7 +408,8 @@ pub fn bake_lobes(
                 let [e, e_beta, c] = node.cell;
                 row.extend([to_f32(e), to_f32(e_beta), c as f32]);
                 if lobes == Lobes::Two {
-                    second.extend([0.0, 0.0]);
+                    // The one lobe's own r·μ₃, r·μ₄ (0 at θ = 0, where c = 0, and at r = 0)
+                    second.extend([to_f32(e_beta * c.powi(3)), to_f32(e_beta * c.powi(4))]);
                 }
                 branches.push(NodeKind::Fit(node.branch));
                 refined += usize::from(node.refined);

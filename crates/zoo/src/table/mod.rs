@@ -10,7 +10,8 @@ mod walk_bake;
 pub use bake::{
     bake, bake_lobes, bake_rows, bake_rows_lobes, beam_in_surface, critical_node, node_cell,
     two_lobe_azimuths, BakeReport, Grid, GridPreset, Lobes, NodeCell, GRAZING_NODES_BELOW_ETA,
-    REFINE_PHI_DEG, REFINE_THETA_MIN_DEG, RESCALE_BELOW_COS, SURFACE_BEAM_COS, TWO_LOBES_BELOW_ETA,
+    ONE_LOBE_ABOVE_COS, REFINE_PHI_DEG, REFINE_THETA_MIN_DEG, RESCALE_BELOW_COS, SURFACE_BEAM_COS,
+    TWO_LOBES_BELOW_ETA,
 };
 pub use bssrdf_runtime::table::*;
 pub use check::{

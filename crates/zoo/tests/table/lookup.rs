@@ -10,7 +10,8 @@ use bssrdf_zoo::pbd::{Pbd, Rule};
 use bssrdf_zoo::quadrature::GaussLegendre;
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use bssrdf_zoo::table::{
-    bake, node_cell, validate, AngularTable, Grid, GridPreset, World, REPORT_TABLE_2,
+    bake, node_cell, validate, AngularTable, Grid, GridPreset, World, ONE_LOBE_ABOVE_COS,
+    REPORT_TABLE_2,
 };
 use std::f64::consts::PI;
 use std::sync::OnceLock;
@@ -385,6 +386,59 @@ fn stored_nodes_are_the_node_cells_and_r0_extends_c() {
             assert_eq!(row[2], 0.0);
         }
     }
+}
+
+#[test]
+fn two_lobe_tables_take_one_lobe_near_normal_incidence() {
+    // At η = 1.2 the nodes 10°, 20° and 30° have cos θ′ > ONE_LOBE_ABOVE_COS: each stores the
+    // one-lobe node (`node_cell` rounded to f32) with that lobe's r·μ₃ = E_β c³, r·μ₄ = E_β c⁴,
+    // and a lookup there is that lobe over its floor; 40° keeps two lobes
+    let table = two_lobe_table();
+    let view = table.view();
+    let axes = table.axes();
+    let (_, n_theta, n_r) = axes.dims();
+    let (rho_axis, theta_axis, r) = (
+        axes.rho().as_slice(),
+        axes.theta().as_slice(),
+        axes.r().as_slice(),
+    );
+    let harmonics = table.harmonics().unwrap();
+    let cos_refracted = |theta: f64| (1.0 - (theta.sin() / 1.2).powi(2)).sqrt();
+    let boundary = Boundary::new(1.2, Moments::Exact).unwrap();
+    let mut two_lobe_nodes = 0;
+    for i in [5, 40, 90] {
+        let pbd = Pbd::new(rho_axis[i], boundary).unwrap();
+        for (j, &theta) in theta_axis.iter().enumerate().take(5).skip(1) {
+            let node = (i * n_theta + j) * n_r;
+            for k in [1, 20, 40, 63] {
+                let stored = &table.params()[3 * (node + k)..][..3];
+                let second = &harmonics[2 * (node + k)..][..2];
+                if cos_refracted(theta) <= ONE_LOBE_ABOVE_COS {
+                    if stored[0] > 0.0 {
+                        two_lobe_nodes += 1;
+                        assert_ne!(second[0], stored[1] * stored[2].powi(3), "{i} {j} {k}");
+                    }
+                    continue;
+                }
+                let [e, e_beta, c] = node_cell(&pbd, theta, r[k]).unwrap().cell;
+                // (the bake stores f32 subnormals as 0)
+                let want = [e, e_beta, c, e_beta * c.powi(3), e_beta * c.powi(4)];
+                for (s, w) in stored.iter().chain(second).zip(want) {
+                    let same = *s == w as f32 || (*s == 0.0 && w.abs() < 1e-37);
+                    assert!(same, "{i} {j} {k}: {stored:?} {second:?} against {want:?}");
+                }
+                let [e, e_beta, c] = [0, 1, 2].map(|n| f64::from(stored[n]));
+                for phi in [0.0, 0.3, 1.0, 2.0, PI] {
+                    let lobe = (e - e_beta) / (2.0 * PI) + e_beta * bssrdf_zoo::gwc::pdf_wc(phi, c);
+                    let want = lobe / r[k];
+                    let got = view.eval(rho_axis[i], theta, r[k], phi).unwrap();
+                    let close = got == want || (got / want - 1.0).abs() < 1e-5;
+                    assert!(close, "{i} {j} {k} {phi}: {got} {want}");
+                }
+            }
+        }
+    }
+    assert!(two_lobe_nodes >= 9, "the 40° node has two lobes");
 }
 
 #[test]
