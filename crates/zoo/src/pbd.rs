@@ -258,6 +258,26 @@ impl Pbd {
         rho * rho * self.boundary.c_e() * -(-2.0 * r).exp_m1() * (-r).exp() / (2.0 * r)
     }
 
+    /// The coefficient a of ln(1/φ) in [`Pbd::eval_surface_beam`] as φ → 0 at radius r > 0
+    /// (reduced units): S = a·ln(1/φ) + O(1), a = 2ρ′² C_φ κ e^{−r}/(4πD), κ = 1 − e^{−2r}. The
+    /// fluence's 1/d_r at the beam point under the exit point, t* = r cos φ → r, integrates to
+    /// 2 ln(1/h) with h = r sin φ times the rest of the integrand there; the flux terms stay
+    /// finite (z_r = 0). 0 for r ≤ 0 or not finite.
+    pub fn surface_log_coefficient(&self, r: f64) -> f64 {
+        if !(r > 0.0 && r.is_finite()) {
+            return 0.0;
+        }
+        let ReducedDiffusion { rho_prime, d, .. } = self.diffusion;
+        2.0 * rho_prime * rho_prime * self.boundary.c_phi() / (4.0 * PI * d)
+            * one_minus_exp_neg(2.0 * r)
+            * (-r).exp()
+    }
+
+    /// σtr, per reduced mean free path: the rate at which S falls far from the sources.
+    pub fn sigma_tr(&self) -> f64 {
+        self.diffusion.sigma_tr
+    }
+
     /// ln S_p^MS, accurate where S itself underflows (−∞ where S = 0).
     pub fn ln_eval(&self, theta: f64, r: f64, phi: f64, rule: Rule) -> f64 {
         self.evaluate(theta, r, phi, rule).ln_value()

@@ -51,6 +51,7 @@ use crate::gwc::{
 };
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
+use crate::quadrature::GaussLegendre;
 use crate::table::ridge::{self, Ridge, RidgeKind};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -803,39 +804,62 @@ pub(super) fn within_floor(beta: f64, c: f64, e: f64) -> f64 {
     }
 }
 
-/// The harmonics μₙ = ∫ S cos nφ dφ over [−π, π], n = 0 … N − 1 (0 … 4 for the bake), at radius r > 0 of PBD at
-/// incidence `theta`, or (`None`) of the limit θ′ → 90°: PBD with the beam in the surface
-/// ([`Pbd::eval_surface_beam`]) plus its ridge. Integrated by 8-point
-/// Gauss-Legendre panels [0, π·10⁻⁵], then a decade wide up to π (it grows like ln(1/φ)
-/// towards 0, which a panel a decade wide follows, as it does the ridge of width cos θ′ of a
-/// beam just under the surface), within 10⁻⁴ of μ₀ (2·10⁻⁴ under the surface; tested); the
-/// limit's ridge on φ = 0 ([`Pbd::surface_ridge`]) is a lobe of concentration 1 whose every
-/// harmonic is its mass. 48 evaluations of PBD.
+/// The harmonics μₙ = ∫ S cos nφ dφ over [−π, π], n = 0 … N − 1 (0 … 4 for the bake), at
+/// radius r > 0 of PBD at incidence `theta`, or (`None`) of the limit θ′ → 90°: PBD with the
+/// beam in the surface ([`Pbd::eval_surface_beam`]) plus its ridge. By 8-point Gauss-Legendre
+/// panels a decade wide in φ up to π, which follow the ridge of width cos θ′ of a beam just
+/// under the surface and, in the limit, S's growth like ln(1/φ) towards 0:
+/// - at `theta`, the panels start at π·10⁻⁵ after a first one [0, π·10⁻⁵] (48 evaluations of
+///   PBD, within 2·10⁻⁴ of μ₀; tested);
+/// - in the limit, the first panel is [0, φ₀] with φ₀ = min(π·10⁻², 0.3/(σtr r)), where
+///   S = a ln(1/φ) + g(φ) with a known ([`Pbd::surface_log_coefficient`]) and g nearly
+///   constant (it departs from its limit like x² ln x, x = σtr r φ ≤ 0.3): 4 points integrate
+///   S cos nφ − a ln(1/φ) there and a·φ₀(1 + ln(1/φ₀)) adds the rest; then the decades from φ₀
+///   (20 evaluations at r ≲ 3, up to 36 at the grid's largest radii; within 10⁻⁴ of μ₀,
+///   tested). The limit's ridge on φ = 0 ([`Pbd::surface_ridge`]) is a lobe of concentration
+///   1 whose every harmonic is its mass.
 pub(super) fn surface_harmonics<const N: usize>(pbd: &Pbd, r: f64, theta: Option<f64>) -> [f64; N] {
-    let rule = crate::quadrature::GaussLegendre::new(8);
-    let ridge = if theta.is_some() {
-        0.0
-    } else {
-        pbd.surface_ridge(r)
+    let (eight, four) = (GaussLegendre::new(8), GaussLegendre::new(4));
+    let value = |phi: f64| match theta {
+        Some(theta) => pbd.eval(theta, r, phi, Rule::Fast),
+        None => pbd.eval_surface_beam(r, phi, Rule::Fast),
     };
-    let mut m = [ridge; N];
-    let mut a = 0.0;
-    for k in (0..6).rev() {
-        let b = PI * 10f64.powi(-k);
+    // ∫ over [−π, π] of an even profile: twice the one over [0, π]
+    let mut m = [0.0; N];
+    let add = |m: &mut [f64; N], rule: &GaussLegendre, a: f64, b: f64, log: f64| {
         let (half, mid) = (0.5 * (b - a), 0.5 * (a + b));
         for (x, w) in rule.nodes().iter().zip(rule.weights()) {
             let phi = mid + half * x;
-            // ∫ over [−π, π] of an even profile: twice the one over [0, π]
-            let value = match theta {
-                Some(theta) => pbd.eval(theta, r, phi, Rule::Fast),
-                None => pbd.eval_surface_beam(r, phi, Rule::Fast),
-            };
-            let s = 2.0 * w * half * value;
+            let v = value(phi);
             for (n, mn) in m.iter_mut().enumerate() {
-                *mn += s * (n as f64 * phi).cos();
+                *mn += 2.0 * w * half * (v * (n as f64 * phi).cos() - log * (1.0 / phi).ln());
             }
         }
-        a = b;
+    };
+    let first = match theta {
+        Some(_) => {
+            let first = PI * 1e-5;
+            add(&mut m, &eight, 0.0, first, 0.0);
+            first
+        }
+        None => {
+            let first = (PI * 1e-2).min(0.3 / (pbd.sigma_tr() * r));
+            let log = pbd.surface_log_coefficient(r);
+            add(&mut m, &four, 0.0, first, log);
+            let rest = 2.0 * log * first * (1.0 + (1.0 / first).ln()) + pbd.surface_ridge(r);
+            for mn in &mut m {
+                *mn += rest;
+            }
+            first
+        }
+    };
+    // Then up to each of π·10⁻⁴, …, π·10⁻¹, π that lies beyond twice the last edge
+    let mut a = first;
+    for b in (0..5).rev().map(|k| PI * 10f64.powi(-k)) {
+        if b > 2.0 * a || b == PI {
+            add(&mut m, &eight, a, b, 0.0);
+            a = b;
+        }
     }
     m
 }
@@ -1026,8 +1050,9 @@ mod tests {
     fn the_harmonics_of_a_beam_in_the_surface_match_an_adaptive_quadrature() {
         // The fixed panels of `surface_harmonics` against adaptive Gauss-Kronrod to 1e-12 over
         // breaks down to 10⁻¹², the ridge added alike, relative to μ₀: within 10⁻⁴ (measured
-        // 5e-5, at r = 200, where the panel [0, π·10⁻⁵] holds the most; a panel less, 1.6e-4;
-        // 6 points a panel, 8.5e-5)
+        // 3.7e-5, at r = 200; the first panel [0, φ₀] with a ln(1/φ) taken out; the earlier
+        // rule of 48 points, a panel [0, π·10⁻⁵] and then decades, 5e-5, and 3.2e-4 with 6
+        // points a panel)
         let breaks: Vec<f64> = std::iter::once(0.0)
             .chain((0..=12).rev().map(|k| PI * 10f64.powi(-k)))
             .collect();
