@@ -108,14 +108,23 @@ impl Nodes {
             return None;
         }
         let share = ((goal - piece.c0) / piece.dc).clamp(0.0, 1.0);
-        let t = positive.solve(share * positive.mass);
+        let segment = &positive.segment;
+        let mut t = positive.solve(share * positive.mass);
+        let mut x = segment.at(t);
+        if x >= segment.x1 && k + 2 < self.x.len() {
+            // On the next node [`Nodes::pdf_with`] reads the next segment, whose density may
+            // differ (0 where C stops rising, as u → 1 at a tail that underflows): the draw
+            // stays in its own segment, a step of one f64 below the node
+            x = crate::float::next_down(segment.x1);
+            t = segment.t_at(x);
+        }
         let pdf = piece.pdf(t);
         if pdf <= 0.0 {
             return None;
         }
         Some(Sample {
-            x: positive.segment.at(t),
-            value: positive.segment.value(t),
+            x,
+            value: segment.value(t),
             pdf,
         })
     }
@@ -314,6 +323,30 @@ impl Piece {
 #[cfg(test)]
 mod tests {
     use super::Nodes;
+
+    /// Where C stops rising before the last node (a tail's increments below the f32 rounding
+    /// of a table's total), draws with u next to 1 reach the end of the last segment that
+    /// holds mass: they stay below its right node, whose own segment has density 0, and their
+    /// density is `pdf`'s there. (u = 1 itself finds the flat last segment and draws nothing.)
+    #[test]
+    fn draws_at_the_end_of_the_mass_have_pdf_s_density() {
+        let nodes = Nodes::new(vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0]).expect("increasing nodes");
+        let values = [0.0, 0.0, 1e-3, 1.0, 1.0, 0.0];
+        let mut c = [0.0; 6];
+        nodes
+            .integrate_positive(|k| values[k], &mut c)
+            .expect("a positive total");
+        (c[4], c[5]) = (c[3], c[3]);
+        for u in [1.0 - f64::EPSILON / 2.0, 1.0 - f64::EPSILON, 1.0 - 1e-12] {
+            let s = nodes.sample(|k| values[k], |k| c[k], u).expect("a draw");
+            let pdf = nodes.pdf(|k| values[k], |k| c[k], s.x);
+            assert!(s.x < 3.0 && s.pdf > 0.0, "u = {u}: {s:?}");
+            assert!(
+                (s.pdf / pdf - 1.0).abs() < 1e-9,
+                "u = {u}: {s:?}, pdf {pdf}"
+            );
+        }
+    }
 
     /// The hinted search returns the bisection's segment and cumulative values for every hint
     /// and every goal, node values and the ends included, where C increases.
