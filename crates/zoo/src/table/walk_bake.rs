@@ -51,14 +51,18 @@ use super::bake::{
     assemble, beam_in_surface, checked_grid, node_cell, r0_concentration, surface_harmonics,
     to_f32, two_lobe_azimuths, two_lobe_node_of, within_floor,
 };
+use super::walk_single::{total_azimuths, SingleNode, SinglePart};
 use super::{AngularTable, Grid, PARAMS_PER_NODE};
 use crate::error::{Error, Result};
+use crate::format::WalkComponent;
 use crate::fresnel::Moments;
 use crate::gwc::one_lobe_of;
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
 use crate::quadrature::GaussLegendre;
-use crate::walk::harmonics::{harmonics, kernels, HarmonicsConfig, WalkHarmonics, HARMONICS};
+use crate::walk::harmonics::{
+    harmonics, kernels, unreduced_albedo, HarmonicsConfig, WalkHarmonics, HARMONICS,
+};
 use crate::walk::Component;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -88,6 +92,9 @@ pub struct WalkBake {
     pub seed: u64,
     /// Whether to keep the CDF over θ for path tracing.
     pub theta_sampling: bool,
+    /// What the table holds: the walk's multiple scattering, or the total with single
+    /// scattering added by quadrature (module docs).
+    pub component: WalkComponent,
 }
 
 /// What a walk bake did.
@@ -166,6 +173,13 @@ pub fn bake_walk(
         } else {
             theta
         };
+        let in_surface = beam_in_surface(eta, theta);
+        let single = match config.component {
+            WalkComponent::Multiple => None,
+            WalkComponent::Total => Some(SinglePart::new(
+                config.g, eta, walk_theta, in_surface, &grid.r,
+            )?),
+        };
         for (group, (rows, share)) in groups.iter().enumerate() {
             if rows.is_empty() {
                 continue;
@@ -192,11 +206,13 @@ pub fn bake_walk(
                     let pbd = Pbd::new(grid.rho[i], boundary)?;
                     let control = Control {
                         pbd: &pbd,
-                        theta: (!beam_in_surface(eta, theta)).then_some(theta),
+                        theta: (!in_surface).then_some(theta),
                         rules: &rules,
                     };
                     let (tilts, rel, measured) = row_tilts(&h, k, &grid.r, &control);
-                    let out = row_cells(&tilts, &grid.r, &control)?;
+                    let albedo = unreduced_albedo(grid.rho[i], config.g);
+                    let single = single.as_ref().map(|part| (part, albedo));
+                    let out = row_cells(&tilts, &grid.r, &control, single)?;
                     let noise = if grid.rho[i] >= 0.1 {
                         (0..n_r)
                             .filter(|&node| (0.01..=20.0).contains(&grid.r[node]))
@@ -474,9 +490,19 @@ fn row_tilts(
 /// The cells (E, E_β, c, r·μ₃, r·μ₄) of a row from its nodes' tilts (module docs): at r = 0
 /// zeros (the bake then extends c); at θ = 0 PBD's isotropic node scaled to the walk's energy;
 /// for a beam in the surface the harmonics of the tilted limit; elsewhere the two lobes fitted
-/// to the tilted PBD at the azimuths of the PBD bake, scaled to the walk's energy.
-fn row_cells(tilts: &[Option<NodeTilt>], r: &[f64], control: &Control) -> Result<Vec<[f64; 5]>> {
+/// to the tilted PBD at the azimuths of the PBD bake, scaled to the walk's energy. With
+/// `single` (the θ node's single scattering and the row's unreduced albedo: a `total` table)
+/// each node's profile is the tilted PBD plus the exact single scattering: its energy is the
+/// sum's, its lobes are fitted to the sum at the same azimuths, its harmonics at a beam in the
+/// surface are the sum's, and at θ = 0 the lobe keeps the multiple scattering's share of E.
+fn row_cells(
+    tilts: &[Option<NodeTilt>],
+    r: &[f64],
+    control: &Control,
+    single: Option<(&SinglePart, f64)>,
+) -> Result<Vec<[f64; 5]>> {
     let azimuths = two_lobe_azimuths();
+    let total = total_azimuths();
     let mut hint = None;
     let mut cells = Vec::with_capacity(r.len());
     for (node, tilt) in tilts.iter().enumerate() {
@@ -485,13 +511,15 @@ fn row_cells(tilts: &[Option<NodeTilt>], r: &[f64], control: &Control) -> Result
             continue;
         };
         let r = r[node];
+        let one = single.map_or(SingleNode::ZERO, |(part, albedo)| part.node(albedo, node, r));
         let m = tilted(at_node, *tilt);
-        let energy = r * m[0];
+        let energy = r * (m[0] + one.harmonics[0]);
         let cell = match control.theta {
             None => {
                 // The stored shape is the limit's own, by the bake's accurate rule (the
                 // control's coarse one only enters ratios of nearby radii)
                 let m = tilted(&surface_harmonics(control.pbd, r, None), *tilt);
+                let m: [f64; HARMONICS] = std::array::from_fn(|n| m[n] + one.harmonics[n]);
                 let energy = r * m[0];
                 let (beta, c) = one_lobe_of(m[1], m[2]);
                 [
@@ -508,12 +536,18 @@ fn row_cells(tilts: &[Option<NodeTilt>], r: &[f64], control: &Control) -> Result
             }
             Some(theta) => {
                 let [ln_k, a1, a2] = *tilt;
-                let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
+                // A total node is fitted at more azimuths (`total_azimuths`)
+                let (at, s1): (&[f64], &[f64]) = match single {
+                    Some(_) => (&total, &one.at_azimuths),
+                    None => (&azimuths, &[0.0; 8]),
+                };
+                let (phi, y): (Vec<f64>, Vec<f64>) = at
                     .iter()
-                    .map(|&p| {
+                    .zip(s1)
+                    .map(|(&p, &s1)| {
                         let pbd = control.pbd.eval(theta, r, p, Rule::Fast);
                         let factor = 1.0 + a1 * p.cos() + a2 * (2.0 * p).cos();
-                        (p, ln_k.exp() * pbd * factor)
+                        (p, ln_k.exp() * pbd * factor + s1)
                     })
                     .filter(|(_, v)| v.is_finite())
                     .unzip();

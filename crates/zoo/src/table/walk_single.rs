@@ -1,0 +1,109 @@
+//! The single scattering a `total` walk table adds to the walk's multiple scattering at each
+//! node: exact, by quadrature along the refracted beam ([`crate::walk::single`]), in each row's
+//! reduced units.
+//!
+//! At a node (ρ′, θ, r > 0) it gives the harmonics μ₀ … μ₄ and the values at the two-lobe
+//! azimuths ([`super::two_lobe_azimuths`]) of a · S₁(r/k, φ)/k², a the row's unreduced albedo
+//! and k = 1 − g a; for a beam in the surface ([`super::beam_in_surface`]) the limit, a ridge
+//! on φ = 0 of energy a·e^{−r/k}·K/k per unit reduced r ([`surface_ridge_weight`]), whose every
+//! harmonic is its mass. With g = 0 every row is the albedo times one profile (k = 1), computed
+//! once per θ node; with g ≠ 0 each row has its own radii and is integrated on its own
+//! (about a millisecond per node on one core).
+
+use crate::error::Result;
+use crate::walk::single::{surface_ridge_weight, SingleScattering, SINGLE_HARMONICS};
+use rayon::prelude::*;
+
+/// Azimuths at which a total node's two lobes are fitted ([`total_azimuths`]).
+pub(super) const AZIMUTHS: usize = 8;
+
+/// The azimuths at which the two lobes of a total node are fitted: φₖ = π(k/24)², k = 0 … 24,
+/// denser forward like the PBD bake's eight ([`super::two_lobe_azimuths`]), but three times as
+/// many: single scattering's profile is flat-topped forward and falls steeply towards φ = 90°
+/// near grazing incidence, which eight points leave the fit free to miss between them.
+pub(super) fn total_azimuths() -> [f64; AZIMUTHS] {
+    std::array::from_fn(|k| std::f64::consts::PI * (k as f64 / (AZIMUTHS - 1) as f64).powi(2))
+}
+
+/// The single scattering at one node, per unit power entering, reduced units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct SingleNode {
+    /// μ₀ … μ₄ (μₙ = ∫ S₁ cos nφ dφ over [−π, π]).
+    pub harmonics: [f64; SINGLE_HARMONICS],
+    /// S₁ at [`total_azimuths`]; 0 for a beam in the surface (all of it on the ridge).
+    pub at_azimuths: [f64; AZIMUTHS],
+}
+
+impl SingleNode {
+    pub(super) const ZERO: SingleNode = SingleNode {
+        harmonics: [0.0; SINGLE_HARMONICS],
+        at_azimuths: [0.0; AZIMUTHS],
+    };
+
+    fn scaled(&self, factor: f64) -> SingleNode {
+        SingleNode {
+            harmonics: self.harmonics.map(|m| m * factor),
+            at_azimuths: self.at_azimuths.map(|v| v * factor),
+        }
+    }
+}
+
+/// Single scattering at one θ node of a walk bake.
+pub(super) struct SinglePart {
+    g: f64,
+    exact: SingleScattering,
+    /// K of a beam in the surface, `None` where the beam is refracted into the medium.
+    ridge: Option<f64>,
+    /// With g = 0, the profile per unit albedo at every radius node.
+    per_albedo: Option<Vec<SingleNode>>,
+}
+
+impl SinglePart {
+    /// The single scattering of the beam at `theta` (radians, within the walk's domain) into
+    /// (η, g), at the radius nodes `r`; `in_surface` for a node baked as the limit of a beam in
+    /// the surface.
+    pub(super) fn new(g: f64, eta: f64, theta: f64, in_surface: bool, r: &[f64]) -> Result<Self> {
+        let exact = SingleScattering::new(g, eta, theta)?;
+        let mut part = SinglePart {
+            g,
+            exact,
+            ridge: in_surface.then(|| surface_ridge_weight(g, eta)),
+            per_albedo: None,
+        };
+        if g == 0.0 {
+            let nodes = r.par_iter().map(|&x| part.compute(1.0, x)).collect();
+            part.per_albedo = Some(nodes);
+        }
+        Ok(part)
+    }
+
+    /// The single scattering of the row of unreduced albedo `albedo` at its radius node
+    /// `node` (reduced radius `r`).
+    pub(super) fn node(&self, albedo: f64, node: usize, r: f64) -> SingleNode {
+        match &self.per_albedo {
+            Some(nodes) => nodes.get(node).map_or(SingleNode::ZERO, |n| n.scaled(albedo)),
+            None => self.compute(albedo, r),
+        }
+    }
+
+    fn compute(&self, albedo: f64, r: f64) -> SingleNode {
+        if r <= 0.0 || albedo <= 0.0 {
+            return SingleNode::ZERO;
+        }
+        let k = 1.0 - self.g * albedo;
+        match self.ridge {
+            Some(weight) => {
+                // Energy a e^{−r/k} K/k per unit reduced r: every harmonic is it over r
+                let m = albedo * (-r / k).exp() * weight / (k * r);
+                SingleNode {
+                    harmonics: [m; SINGLE_HARMONICS],
+                    at_azimuths: [0.0; AZIMUTHS],
+                }
+            }
+            None => SingleNode {
+                harmonics: self.exact.reduced_harmonics(albedo, r),
+                at_azimuths: total_azimuths().map(|phi| self.exact.reduced(albedo, r, phi)),
+            },
+        }
+    }
+}
