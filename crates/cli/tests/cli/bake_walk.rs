@@ -78,8 +78,20 @@ fn a_walk_bake_refuses_what_it_would_not_use() {
 /// component with `component` `None`, as `file`.
 fn walk_table(d: &std::path::Path, g: &str, component: Option<&str>, file: &str) {
     let mut args = vec![
-        "bake", "--source", "walk", "--eta", "1.33", "--g", g, "--grid", "coarse", "--photons",
-        "131072", "-q", "-o", file,
+        "bake",
+        "--source",
+        "walk",
+        "--eta",
+        "1.33",
+        "--g",
+        g,
+        "--grid",
+        "coarse",
+        "--photons",
+        "131072",
+        "-q",
+        "-o",
+        file,
     ];
     if let Some(c) = component {
         args.extend(["--component", c]);
@@ -235,7 +247,8 @@ fn a_walk_table_goes_through_every_command() {
         "walk table {walk}, pbd {pbd}"
     );
     let rows = zoo["rows"].as_array().unwrap();
-    let component = |model: &str| rows.iter().find(|r| r["model"] == model).unwrap()["component"].clone();
+    let component =
+        |model: &str| rows.iter().find(|r| r["model"] == model).unwrap()["component"].clone();
     assert_eq!(component("walk-table"), "total");
     assert_eq!(component("pbd"), "multiple");
     fails_with(

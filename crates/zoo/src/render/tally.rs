@@ -402,7 +402,10 @@ impl Serialize for Stats {
         map.serialize_entry("reflected_at_entry", &self.reflected)?;
         map.serialize_entry("expected", &self.expected)?;
         map.serialize_entry("in_picture", &self.in_picture)?;
-        for part in Part::ALL.into_iter().filter(|&p| self.split || p == Part::Total) {
+        for part in Part::ALL
+            .into_iter()
+            .filter(|&p| self.split || p == Part::Total)
+        {
             let bands: std::collections::BTreeMap<&str, BandStats> = Band::ALL
                 .iter()
                 .map(|&b| (band_name(b), self.get(part, b)))

@@ -511,7 +511,9 @@ fn row_cells(
             continue;
         };
         let r = r[node];
-        let one = single.map_or(SingleNode::ZERO, |(part, albedo)| part.node(albedo, node, r));
+        let one = single.map_or(SingleNode::ZERO, |(part, albedo)| {
+            part.node(albedo, node, r)
+        });
         let m = tilted(at_node, *tilt);
         let energy = r * (m[0] + one.harmonics[0]);
         let cell = match control.theta {

@@ -238,8 +238,7 @@ impl SingleScattering {
     /// [`SingleScattering::reduced`]).
     pub fn reduced_harmonics(&self, albedo: f64, r_reduced: f64) -> [f64; SINGLE_HARMONICS] {
         let k = 1.0 - self.g * albedo;
-        self.harmonics(r_reduced / k)
-            .map(|m| albedo * m / (k * k))
+        self.harmonics(r_reduced / k).map(|m| albedo * m / (k * k))
     }
 }
 

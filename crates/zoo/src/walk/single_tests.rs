@@ -147,7 +147,7 @@ fn a_beam_in_the_surface_leaves_the_limit_of_grazing_refraction() {
         let s = SingleScattering::new(g, 1.0, 0.5 * PI - 1e-6).unwrap();
         for r in [0.3, 1.0, 3.0] {
             let e = r * s.harmonics(r)[0];
-            let limit = (-r as f64).exp() * k;
+            let limit = (-r).exp() * k;
             assert!(
                 (e - limit).abs() <= 2e-4 * limit,
                 "g {g}, r {r}: {e} vs {limit}"

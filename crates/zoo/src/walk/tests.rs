@@ -746,7 +746,13 @@ pub(super) fn harmonics_radii() -> Vec<f64> {
         .collect()
 }
 
-pub(super) fn walk_harmonics(rho: &[f64], g: f64, theta_deg: f64, photons: u64, seed: u64) -> WalkHarmonics {
+pub(super) fn walk_harmonics(
+    rho: &[f64],
+    g: f64,
+    theta_deg: f64,
+    photons: u64,
+    seed: u64,
+) -> WalkHarmonics {
     let config = HarmonicsConfig {
         rho: rho.to_vec(),
         g,
