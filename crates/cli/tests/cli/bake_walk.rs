@@ -100,6 +100,7 @@ fn walk_table(d: &std::path::Path, g: &str, component: Option<&str>, file: &str)
 }
 
 #[test]
+#[ignore = "a second walk bake, about a minute of CPU; the default suite checks the multiple component through the library (crates/zoo/tests/table/walk.rs, the_walk_library_records_its_component)"]
 fn a_multiple_walk_table_says_so_everywhere() {
     // `--component multiple`: the walk's multiple scattering alone, and every command knows it
     let dir = tempfile::tempdir().unwrap();

@@ -329,3 +329,47 @@ fn total_nodes_at_index_matching_and_strong_forward_scattering() {
         }
     }
 }
+
+#[test]
+fn the_walk_library_records_its_component() {
+    // `bake::bake_walk_library` on a tiny grid, both components: the table's record and the
+    // provenance say which, and a total's provenance says how single scattering was added and
+    // what it assumes of exit directions (the CLI's end-to-end tests bake the total; the
+    // multiple's, a second walk bake, is `--ignored` there)
+    use bssrdf_zoo::bake::{bake_walk_library, BakeGrid, WalkSettings};
+    use bssrdf_zoo::format::{Compression, Library, Verify};
+    let default = GridPreset::Default.grid(1.33, Lobes::Two);
+    for component in [WalkComponent::Multiple, WalkComponent::Total] {
+        let settings = WalkSettings {
+            grid: BakeGrid::Custom(Grid {
+                rho: vec![0.0, 0.5, 0.9],
+                theta: vec![0.0, 1.0],
+                r: default.r.clone(),
+            }),
+            eta: 1.33,
+            g: 0.3,
+            photons: bssrdf_zoo::table::MIN_HARMONICS_PHOTONS,
+            seed: 2,
+            theta_sampling: true,
+            bake_time: false,
+            component,
+        };
+        let baked = bake_walk_library(&settings, &|_| {}).unwrap();
+        assert_eq!(baked.table().walk().unwrap().component, component);
+        let bytes = baked.builder().to_bytes(Compression::None).unwrap();
+        let library = Library::from_bytes(&bytes, Verify::Full).unwrap();
+        let read = library.table(0).unwrap();
+        assert_eq!(read.walk().unwrap().component, component);
+        let settings = library.provenance().unwrap().get("settings").unwrap();
+        assert_eq!(settings["component"], component.name());
+        let single = &settings["single_scattering"];
+        assert_eq!(
+            single.is_object(),
+            component == WalkComponent::Total,
+            "{settings}"
+        );
+        if component == WalkComponent::Total {
+            assert!(single["exit_directions"].is_string(), "{settings}");
+        }
+    }
+}
