@@ -8,6 +8,7 @@ use std::sync::OnceLock;
 
 use bssrdf_testkit::lookups::{check_view, inputs};
 use bssrdf_zoo::format::WalkComponent;
+use bssrdf_zoo::quadrature::adaptive;
 use bssrdf_zoo::rng::{RngCore, SeedableRng, SplitMix64};
 use bssrdf_zoo::table::{bake_walk, AngularTable, Grid, GridPreset, Lobes, WalkBake};
 use bssrdf_zoo::walk::single::SingleScattering;
@@ -137,8 +138,8 @@ fn walk_bake_is_bit_identical_on_any_thread_count() {
 fn total_walk_table_reflectance_is_an_independent_walks_total() {
     // As `walk_table_reflectance_is_an_independent_walks` for the total; and the total less the
     // multiple table (the same walks) against the walk's single-scattering reflectance, within
-    // 4 σ and 0.3 % of it (what the first radius interval, E from 0 at r = 0 to r₁·μ₀(r₁) at
-    // r₁ = 0.003, misses of single scattering's r·μ₀, bounded as r → 0)
+    // 4 σ and 1 % of it (the table's first radius interval misses up to 0.8 % of it:
+    // `total_less_multiple_holds_the_single_scattering_reflectance`)
     let (total, multiple) = (total_table().view(), table().view());
     for (rho, theta_deg) in [
         (0.5, 0.0),
@@ -166,7 +167,7 @@ fn total_walk_table_reflectance_is_an_independent_walks_total() {
         );
         let s = run.single_reflectance();
         assert!(
-            (single - s.value).abs() <= 4.0 * s.stderr + 0.003 * s.value,
+            (single - s.value).abs() <= 4.0 * s.stderr + 0.01 * s.value,
             "{rho} {theta_deg}°: single {single}, walk {} ± {}",
             s.value,
             s.stderr
@@ -371,5 +372,58 @@ fn the_walk_library_records_its_component() {
         if component == WalkComponent::Total {
             assert!(single["exit_directions"].is_string(), "{settings}");
         }
+    }
+}
+
+#[test]
+fn total_less_multiple_holds_the_single_scattering_reflectance() {
+    // ρ_eff of the total table less the multiple table's (the same walks) against single
+    // scattering's own reflectance ∫ r μ₀ dr by the quadrature the bake used. The table
+    // integrates the spline of E through its radius nodes, with E = 0 at the node r = 0,
+    // while single scattering's E = r μ₀ tends to a constant as r → 0: the first interval
+    // [0, r₁ = 0.003] holds about half of what it should, 0.4–0.8 % of the single scattering's
+    // reflectance (measured: 0.48–0.95 % low in all, 0.46–0.80 % for the spline through the
+    // exact E at the nodes; the rest is the interpolation along ρ′ and θ)
+    let (total, multiple) = (total_table().view(), table().view());
+    let nodes = total_table().axes().r();
+    let r_nodes = nodes.as_slice();
+    for (rho, theta_deg) in [
+        (0.3, 0.0),
+        (0.5, 60.0),
+        (0.9, 30.0),
+        (0.3, 89.0),
+        (0.99, 80.0),
+    ] {
+        let theta = f64::to_radians(theta_deg);
+        let table = total.effective_albedo(rho, theta).unwrap()
+            - multiple.effective_albedo(rho, theta).unwrap();
+        let single = SingleScattering::new(0.0, 1.33, theta).unwrap();
+        let energy = |r: f64| r * single.reduced_harmonics(rho, r)[0];
+        let breaks: Vec<f64> = [1e-9, 1e-3, 0.1, 1.0, 5.0, 20.0, 80.0]
+            .iter()
+            .map(|x: &f64| x.ln())
+            .collect();
+        // ∫ E dr = ∫ r E d(ln r)
+        let exact = adaptive(|u: f64| u.exp() * energy(u.exp()), &breaks, 1e-7, 0.0, 400).value;
+        let e: Vec<f64> = r_nodes
+            .iter()
+            .map(|&r| if r > 0.0 { energy(r) } else { 0.0 })
+            .collect();
+        let mut cumulative = vec![0.0; r_nodes.len()];
+        nodes.integrate_positive(|k| e[k], &mut cumulative);
+        let spline = cumulative[r_nodes.len() - 1];
+        println!(
+            "({rho}, {theta_deg}°): table {table:.6}, exact {exact:.6} ({:+.4}), spline through the exact nodes {spline:.6} ({:+.4})",
+            table / exact - 1.0,
+            spline / exact - 1.0
+        );
+        assert!(
+            (-0.012..0.002).contains(&(table / exact - 1.0)),
+            "({rho}, {theta_deg}°): {table} vs {exact}"
+        );
+        assert!(
+            (table / spline - 1.0).abs() < 0.003,
+            "({rho}, {theta_deg}°): {table} vs the spline's {spline}"
+        );
     }
 }
