@@ -51,7 +51,7 @@ use super::bake::{
     assemble, beam_in_surface, checked_grid, node_cell, r0_concentration, surface_harmonics,
     to_f32, two_lobe_azimuths, two_lobe_node_of, within_floor,
 };
-use super::walk_single::{total_azimuths, SingleNode, SinglePart};
+use super::walk_single::{SingleNode, SinglePart};
 use super::{AngularTable, Grid, PARAMS_PER_NODE};
 use crate::error::{Error, Result};
 use crate::format::WalkComponent;
@@ -502,7 +502,6 @@ fn row_cells(
     single: Option<(&SinglePart, f64)>,
 ) -> Result<Vec<[f64; 5]>> {
     let azimuths = two_lobe_azimuths();
-    let total = total_azimuths();
     let mut hint = None;
     let mut cells = Vec::with_capacity(r.len());
     for (node, tilt) in tilts.iter().enumerate() {
@@ -538,15 +537,11 @@ fn row_cells(
             }
             Some(theta) => {
                 let [ln_k, a1, a2] = *tilt;
-                // A total node is fitted at more azimuths (`total_azimuths`)
-                let (at, s1): (&[f64], &[f64]) = match single {
-                    Some(_) => (&total, &one.at_azimuths),
-                    None => (&azimuths, &[0.0; 8]),
-                };
-                let (phi, y): (Vec<f64>, Vec<f64>) = at
+                // The sum with single scattering (0 for a multiple table) at each azimuth
+                let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
                     .iter()
-                    .zip(s1)
-                    .map(|(&p, &s1)| {
+                    .zip(one.at_azimuths)
+                    .map(|(&p, s1)| {
                         let pbd = control.pbd.eval(theta, r, p, Rule::Fast);
                         let factor = 1.0 + a1 * p.cos() + a2 * (2.0 * p).cos();
                         (p, ln_k.exp() * pbd * factor + s1)

@@ -3,7 +3,7 @@
 //! reduced units.
 //!
 //! At a node (ρ′, θ, r > 0) it gives the harmonics μ₀ … μ₄ and the values at the two-lobe
-//! azimuths ([`super::two_lobe_azimuths`]) of a · S₁(r/k, φ)/k², a the row's unreduced albedo
+//! azimuths ([`two_lobe_azimuths`]) of a · S₁(r/k, φ)/k², a the row's unreduced albedo
 //! and k = 1 − g a; for a beam in the surface ([`super::beam_in_surface`]) the limit, a ridge
 //! on φ = 0 of energy a·e^{−r/k}·K/k per unit reduced r ([`surface_ridge_weight`]), whose every
 //! harmonic is its mass. With g = 0 every row is the albedo times one profile (k = 1), computed
@@ -12,27 +12,22 @@
 //! about a minute of one core for the 42,000 nodes of the default grid, against the tens of
 //! minutes its walks take at g = 0.9.
 
+use super::two_lobe_azimuths;
 use crate::error::Result;
 use crate::walk::single::{surface_ridge_weight, SingleScattering, SINGLE_HARMONICS};
 use rayon::prelude::*;
 
-/// Azimuths at which a total node's two lobes are fitted ([`total_azimuths`]).
-pub(super) const AZIMUTHS: usize = 8;
-
-/// The azimuths at which the two lobes of a total node are fitted: φₖ = π(k/24)², k = 0 … 24,
-/// denser forward like the PBD bake's eight ([`super::two_lobe_azimuths`]), but three times as
-/// many: single scattering's profile is flat-topped forward and falls steeply towards φ = 90°
-/// near grazing incidence, which eight points leave the fit free to miss between them.
-pub(super) fn total_azimuths() -> [f64; AZIMUTHS] {
-    std::array::from_fn(|k| std::f64::consts::PI * (k as f64 / (AZIMUTHS - 1) as f64).powi(2))
-}
+/// Azimuths of a two-lobe node ([`two_lobe_azimuths`]): a total node is fitted at the same
+/// eight as a multiple one (25 changed its error by under half a point of L1 except at
+/// (η, θ) = (1.33, 90°), 14 → 11 %: docs/walk-table.md).
+const AZIMUTHS: usize = 8;
 
 /// The single scattering at one node, per unit power entering, reduced units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct SingleNode {
     /// μ₀ … μ₄ (μₙ = ∫ S₁ cos nφ dφ over [−π, π]).
     pub harmonics: [f64; SINGLE_HARMONICS],
-    /// S₁ at [`total_azimuths`]; 0 for a beam in the surface (all of it on the ridge).
+    /// S₁ at [`two_lobe_azimuths`]; 0 for a beam in the surface (all of it on the ridge).
     pub at_azimuths: [f64; AZIMUTHS],
 }
 
@@ -106,7 +101,7 @@ impl SinglePart {
             }
             None => SingleNode {
                 harmonics: self.exact.reduced_harmonics(albedo, r),
-                at_azimuths: total_azimuths().map(|phi| self.exact.reduced(albedo, r, phi)),
+                at_azimuths: two_lobe_azimuths().map(|phi| self.exact.reduced(albedo, r, phi)),
             },
         }
     }
