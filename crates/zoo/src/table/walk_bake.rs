@@ -9,8 +9,8 @@
 //! | `photons` | – | per θ node and row group, at least [`MIN_HARMONICS_PHOTONS`] |
 //!
 //! # What a node stores
-//! The walk's multiple scattering (two or more vertices, the part PBD models) per unit power
-//! entering, in reduced units, described as a **tilt of PBD**: at each node the profile is
+//! The walk's multiple scattering (two or more vertices, the part PBD models; for a total
+//! table, single scattering is added after, below) per unit power entering, in reduced units, described as a **tilt of PBD**: at each node the profile is
 //! k · P(φ) · (1 + a₁ cos φ + a₂ cos 2φ), P PBD's profile at (ρ′, θ, r), with the walk's scale k
 //! and tilt (a₁, a₂). PBD is smooth, shaped like the walk, and without noise; the walk only has
 //! to tell how far off it is, which changes slowly along r. The steps, per θ node and row:
@@ -40,6 +40,15 @@
 //!    node is PBD's isotropic node scaled to the walk's energy; for a beam in the surface
 //!    (below η = 1, the critical node) the harmonics of the tilted limit; r = 0 and the nodes
 //!    beyond the critical angle as in the PBD bake.
+//!
+//! # The total
+//! With [`WalkComponent::Total`] each node's profile is the tilted PBD plus the exact single
+//! scattering of its row ([`crate::walk::single`], by quadrature, noise-free): the energy is the
+//! sum's, the two lobes are fitted to the sum at the same azimuths, a beam in the surface adds
+//! single scattering's ridge to the harmonics, and at θ = 0 the lobe keeps the multiple
+//! scattering's share of E. The table is exitance integrated over exit directions, single
+//! scattering included; near grazing incidence two lobes do not hold single scattering's shape
+//! (docs/walk-table.md, "The total").
 //!
 //! # Row groups
 //! A walk's cost per photon grows with its largest albedo (scattering events per photon at
