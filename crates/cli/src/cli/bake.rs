@@ -5,7 +5,7 @@
 use super::eval::MomentsArg;
 use super::CliError;
 use bssrdf_zoo::bake::{BakeError, BakedLibrary, Baker, MaterialSpec, OnProgress, Progress};
-use bssrdf_zoo::format::{Compression, LibraryBuilder};
+use bssrdf_zoo::format::{Compression, LibraryBuilder, WalkComponent};
 use bssrdf_zoo::materials::{Library as MaterialLibrary, Material, Origin};
 use bssrdf_zoo::scene::artist::{self, ReflectanceCurve};
 use bssrdf_zoo::scene::DEFAULT_ETA;
@@ -56,15 +56,35 @@ pub(super) enum LobesArg {
 pub(super) enum SourceArg {
     /// Photon beam diffusion (PBD), the report's model.
     Pbd,
-    /// The Monte Carlo walk's multiple scattering, for one --eta and --g.
+    /// The Monte Carlo walk, for one --eta and --g.
     Walk,
+}
+
+/// `--component` of a walk bake.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(super) enum ComponentArg {
+    /// Everything that leaves: the walk's multiple scattering plus single scattering computed
+    /// exactly by quadrature (what a renderer needs).
+    Total,
+    /// The walk's multiple scattering alone (two or more vertices: the part PBD models).
+    Multiple,
+}
+
+impl ComponentArg {
+    /// The component of the table's record.
+    pub(super) fn component(self) -> WalkComponent {
+        match self {
+            ComponentArg::Total => WalkComponent::Total,
+            ComponentArg::Multiple => WalkComponent::Multiple,
+        }
+    }
 }
 
 #[derive(Debug, Args)]
 pub struct BakeArgs {
     /// Where the table's numbers come from: photon beam diffusion, or the Monte Carlo random
-    /// walk's multiple scattering for one --eta and --g (a walk-angular table: a few minutes on
-    /// two cores at g = 0 and the default --photons, about 5.8 times as long at g = 0.9;
+    /// walk for one --eta and --g (a walk-angular table, of --component: a few minutes on two
+    /// cores at g = 0 and the default --photons, about 5.8 times as long at g = 0.9;
     /// docs/walk-table.md).
     #[arg(long, value_enum, default_value = "pbd")]
     pub(super) source: SourceArg,
@@ -76,6 +96,12 @@ pub struct BakeArgs {
     /// thread count).
     #[arg(long, value_parser = super::values::whole::<u64>)]
     pub(super) seed: Option<u64>,
+    /// What a --source walk table holds: total (default), the walk's multiple scattering plus
+    /// single scattering computed exactly by quadrature, integrated over exit directions like
+    /// the rest; or multiple, the walk's multiple scattering alone, the part PBD models
+    /// (docs/walk-table.md).
+    #[arg(long, value_enum)]
+    pub(super) component: Option<ComponentArg>,
     /// Named materials to bake (see `bssrdf materials`); their tables are shared by η.
     #[arg(value_name = "MATERIAL")]
     pub(super) materials_named: Vec<String>,
@@ -448,6 +474,12 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
                 "{flag} sets the walk of --source walk; a PBD bake has no walk"
             )));
         }
+    }
+    if let Some(component) = args.component {
+        return Err(CliError::input(format!(
+            "--component {} chooses what a --source walk table holds; a PBD bake holds PBD's multiple scattering: add --source walk or drop --component",
+            component.component().name(),
+        )));
     }
     let baker = baker(&args);
     let session = Session::new(&args);

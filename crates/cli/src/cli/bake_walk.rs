@@ -1,7 +1,9 @@
 //! `bssrdf bake --source walk`: one walk-angular table for one (η, g), measured from the Monte
-//! Carlo walk (`bssrdf_zoo::bake::bake_walk_library`), written atomically with its provenance.
+//! Carlo walk (`bssrdf_zoo::bake::bake_walk_library`), written atomically with its provenance:
+//! `--component total` (the default) adds single scattering by quadrature to the walk's
+//! multiple scattering, `--component multiple` keeps the latter alone.
 
-use super::bake::{table_summary, BakeArgs, LobesArg, Summary};
+use super::bake::{table_summary, BakeArgs, ComponentArg, LobesArg, Summary};
 use super::eval::MomentsArg;
 use super::CliError;
 use bssrdf_zoo::bake::{bake_walk_library, BakeError, BakeGrid, WalkSettings};
@@ -96,6 +98,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
         )));
     }
     let preset = GridPreset::from(args.grid);
+    let component = args.component.unwrap_or(ComponentArg::Total).component();
     let settings = WalkSettings {
         grid: BakeGrid::Preset(preset),
         eta,
@@ -104,6 +107,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
         seed: args.seed.unwrap_or(DEFAULT_WALK_SEED),
         theta_sampling: !args.no_theta_sampling,
         bake_time: args.record_bake_time,
+        component,
     };
     let output = args.output.clone().unwrap_or_else(|| {
         PathBuf::from(format!(
@@ -156,7 +160,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
     let mut summary = table_summary(0, table, 0..table.axes().dims().0);
     summary["source"] = json!("walk");
     summary["g"] = json!(g);
-    summary["component"] = json!("multiple");
+    summary["component"] = json!(component.name());
     summary["photons"] = json!(report.photons);
     summary["median_rel_stderr"] = json!(report.median_rel_stderr);
     summary["p90_rel_stderr"] = json!(report.p90_rel_stderr);

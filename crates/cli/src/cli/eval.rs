@@ -366,7 +366,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
             },
             "quadrature": (model == ModelKind::Pbd).then_some(rule_name(rule)),
             "g": (model == ModelKind::MonteCarlo).then(|| walk.map_or(0.0, |w| w.g)),
-            "component": (model == ModelKind::MonteCarlo).then(|| {
+            "component": matches!(model, ModelKind::MonteCarlo | ModelKind::WalkTable).then(|| {
                 walk.map_or(WalkComponent::Total, |w| w.component).name()
             }),
             "rho": p.rho,

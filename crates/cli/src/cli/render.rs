@@ -510,7 +510,10 @@ fn print_summary(out: &mut impl Write, timed: &Timed, files: &[PathBuf]) -> std:
         "{:<19} {:>22} {:>10} {:>10} {:>24} {:>24}",
         "exits per unit", "power", "expected", "in picture", "centroid x (mm)", "centroid y (mm)"
     )?;
-    let parts: &[Part] = if s.get(Part::Single, Band::Luminance).power.value > 0.0 {
+    // A total walk table's exits are single and multiple scattering together
+    let parts: &[Part] = if !s.split {
+        &[Part::Total]
+    } else if s.get(Part::Single, Band::Luminance).power.value > 0.0 {
         &[Part::Single, Part::Multiple, Part::Total]
     } else {
         &[Part::Multiple]
@@ -519,8 +522,8 @@ fn print_summary(out: &mut impl Write, timed: &Timed, files: &[PathBuf]) -> std:
         for (i, band) in Band::ALL.into_iter().enumerate() {
             let b = s.get(part, band);
             let expected = match (part, s.expected) {
-                (Part::Multiple, Some(e)) if i < 3 => format!("{:.6}", e[i]),
-                (Part::Multiple, Some(e)) => format!("{:.6}", e.iter().sum::<f64>()),
+                (Part::Multiple | Part::Total, Some(e)) if i < 3 => format!("{:.6}", e[i]),
+                (Part::Multiple | Part::Total, Some(e)) => format!("{:.6}", e.iter().sum::<f64>()),
                 _ => "-".to_string(),
             };
             let in_picture = if part == parts[parts.len() - 1] {

@@ -1,5 +1,5 @@
-//! `bssrdf bake --source walk`: a walk-angular table for one (η, g), and the refusals of what a
-//! walk bake cannot take.
+//! `bssrdf bake --source walk`: a walk-angular table for one (η, g), of either component (total
+//! by default, or multiple), and the refusals of what a walk bake cannot take.
 
 use crate::common::{bssrdf, fails_with, ok};
 
@@ -43,6 +43,8 @@ fn a_walk_bake_refuses_what_it_would_not_use() {
         "--photons 100 is outside the valid range: [131072, 1000000000000]",
     );
     assert!(!d.join("w.bssrdf").exists());
+    refused(&["--eta", "1.33", "--component", "single"], "--component");
+    assert!(!d.join("w.bssrdf").exists());
     // And a PBD bake refuses the walk's flags
     for flag in ["--photons", "--seed"] {
         fails_with(
@@ -51,43 +53,117 @@ fn a_walk_bake_refuses_what_it_would_not_use() {
             "a PBD bake has no walk",
         );
     }
+    for component in ["total", "multiple"] {
+        fails_with(
+            &bssrdf(
+                d,
+                &[
+                    "bake",
+                    "--eta",
+                    "1.33",
+                    "--component",
+                    component,
+                    "-o",
+                    "p.bssrdf",
+                ],
+            ),
+            2,
+            &format!("--component {component} chooses what a --source walk table holds"),
+        );
+    }
+    assert!(!d.join("p.bssrdf").exists());
 }
 
-/// A small walk table (coarse grid, the fewest photons) at η = 1.33, g = 0.5, as `w.bssrdf`.
-fn walk_table(d: &std::path::Path) {
-    ok(&bssrdf(
+/// A small walk table (coarse grid, the fewest photons) at η = 1.33 and `g`, of the default
+/// component with `component` `None`, as `file`.
+fn walk_table(d: &std::path::Path, g: &str, component: Option<&str>, file: &str) {
+    let mut args = vec![
+        "bake",
+        "--source",
+        "walk",
+        "--eta",
+        "1.33",
+        "--g",
+        g,
+        "--grid",
+        "coarse",
+        "--photons",
+        "131072",
+        "-q",
+        "-o",
+        file,
+    ];
+    if let Some(c) = component {
+        args.extend(["--component", c]);
+    }
+    ok(&bssrdf(d, &args));
+}
+
+#[test]
+#[ignore = "a second walk bake, about a minute of CPU; the default suite checks the multiple component through the library (crates/zoo/tests/table/walk.rs, the_walk_library_records_its_component)"]
+fn a_multiple_walk_table_says_so_everywhere() {
+    // `--component multiple`: the walk's multiple scattering alone, and every command knows it
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    walk_table(d, "0", Some("multiple"), "m.bssrdf");
+    let inspect = ok(&bssrdf(d, &["inspect", "m.bssrdf"]));
+    assert!(
+        inspect.contains("walk-angular g 0 component multiple"),
+        "{inspect}"
+    );
+    assert!(!inspect.contains("single_scattering"), "{inspect}");
+    let at = [
+        "--eta", "1.33", "--rho", "0.8", "--theta", "40", "--r", "0.5", "--phi", "10", "--json",
+    ];
+    for model in ["walk-table", "mc"] {
+        let json = ok(&bssrdf(
+            d,
+            &[&["eval", "m.bssrdf", "--model", model][..], &at].concat(),
+        ));
+        assert!(json.contains("\"component\":\"multiple\""), "{json}");
+    }
+    let zoo = ok(&bssrdf(
         d,
         &[
-            "bake",
-            "--source",
-            "walk",
-            "--eta",
-            "1.33",
-            "--g",
-            "0.5",
-            "--grid",
-            "coarse",
+            "zoo",
             "--photons",
-            "131072",
+            "20000",
+            "--cases",
+            "0.8:40",
+            "--models",
+            "walk-table,mc",
+            "--walk-table",
+            "m.bssrdf",
+            "--json",
             "-q",
-            "-o",
-            "w.bssrdf",
         ],
     ));
+    let zoo: serde_json::Value = serde_json::from_str(&zoo).unwrap();
+    let rows = zoo["rows"].as_array().unwrap();
+    let row = |model: &str| rows.iter().find(|r| r["model"] == model).unwrap();
+    assert_eq!(row("walk-table")["component"], "multiple");
+    // the zoo's mc row is a second walk's total, compared with the reference's total
+    assert_eq!(row("mc")["component"], "total");
 }
 
 #[test]
 fn a_walk_table_goes_through_every_command() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    walk_table(d);
-    // inspect names the model, its g and component, and the walk's noise
+    // The default component: the total, single scattering included
+    walk_table(d, "0.5", None, "w.bssrdf");
+    // inspect names the model, its g and component, the walk's noise and how single
+    // scattering was added, with its exit-direction assumption
     let inspect = ok(&bssrdf(d, &["inspect", "w.bssrdf"]));
     assert!(
-        inspect.contains("walk-angular g 0.5 component multiple"),
+        inspect.contains("walk-angular g 0.5 component total"),
         "{inspect}"
     );
     assert!(inspect.contains("median_rel_stderr"), "{inspect}");
+    assert!(
+        inspect.contains("single_scattering") && inspect.contains("exit_directions"),
+        "{inspect}"
+    );
     // eval takes it as the walk-table model, and refuses to call it a PBD table
     let at = [
         "--eta", "1.33", "--rho", "0.8", "--theta", "40", "--r", "0.5", "--phi", "10",
@@ -101,14 +177,17 @@ fn a_walk_table_goes_through_every_command() {
         d,
         &[&["eval", "w.bssrdf", "--json"][..], &at].concat(),
     ));
-    assert!(json.contains("\"model\":\"walk-table\""), "{json}");
+    assert!(
+        json.contains("\"model\":\"walk-table\"") && json.contains("\"component\":\"total\""),
+        "{json}"
+    );
     // the Monte Carlo model next to it walks with the file's g and keeps its component
     let mc = ok(&bssrdf(
         d,
         &[&["eval", "w.bssrdf", "--model", "mc", "--json"][..], &at].concat(),
     ));
     assert!(
-        mc.contains("\"g\":0.5") && mc.contains("\"component\":\"multiple\""),
+        mc.contains("\"g\":0.5") && mc.contains("\"component\":\"total\""),
         "{mc}"
     );
     fails_with(
@@ -134,8 +213,9 @@ fn a_walk_table_goes_through_every_command() {
         2,
         "bssrdf zoo --walk-table",
     );
-    // zoo compares it with the walk, at its own eta and g only: at (0.8, 40 deg), g = 0.5, its
-    // total is within a few per cent of the walk's where PBD's is 11 % low
+    // zoo compares it with the walk's total, at its own eta and g only: at (0.8, 40 deg),
+    // g = 0.5, its total is within a few per cent of the walk's, where PBD (multiple
+    // scattering, against the walk's multiple scattering) is 11 % low
     let zoo = ok(&bssrdf(
         d,
         &[
@@ -167,6 +247,11 @@ fn a_walk_table_goes_through_every_command() {
         walk.abs() < 0.05 && pbd < -0.08,
         "walk table {walk}, pbd {pbd}"
     );
+    let rows = zoo["rows"].as_array().unwrap();
+    let component =
+        |model: &str| rows.iter().find(|r| r["model"] == model).unwrap()["component"].clone();
+    assert_eq!(component("walk-table"), "total");
+    assert_eq!(component("pbd"), "multiple");
     fails_with(
         &bssrdf(
             d,
@@ -214,8 +299,14 @@ fn a_walk_table_goes_through_every_command() {
         "-o",
         "r.exr",
     ];
-    ok(&bssrdf(d, &render));
+    // render draws it as single and multiple scattering together: its summary shows the
+    // total alone, with the table's expected power
+    let summary = ok(&bssrdf(d, &render));
     assert!(d.join("r.exr").exists());
+    assert!(
+        summary.contains("total red") && !summary.contains("multiple red"),
+        "{summary}"
+    );
     let mut other_g = render.to_vec();
     other_g[8] = "0.2";
     fails_with(

@@ -4,7 +4,8 @@
 //! # The provenance
 //!
 //! `tool_version`; `settings`: `source` (`"walk"`), `component` (`"multiple"`: the walk's
-//! multiple scattering, the part PBD models), `g`, the grid's name and dims, θ sampling, the
+//! multiple scattering, the part PBD models; `"total"`: with single scattering added by
+//! quadrature, and then `single_scattering`, how, and the exit directions it assumes), `g`, the grid's name and dims, θ sampling, the
 //! photons per θ node, the row groups and the last group's share of them, the seed, and the
 //! method in words; `quadrature`: PBD's fast rule (the model the walk's tilt is fitted to);
 //! `accuracy`: `walk`, the photons walked, the scattering events and the median and 90th
@@ -39,6 +40,8 @@ pub struct WalkSettings {
     pub theta_sampling: bool,
     /// Whether the provenance records the bake's wall-clock time.
     pub bake_time: bool,
+    /// What the table holds ([`WalkBake::component`]).
+    pub component: WalkComponent,
 }
 
 impl WalkSettings {
@@ -54,6 +57,7 @@ impl WalkSettings {
             photons: self.photons,
             seed: self.seed,
             theta_sampling: self.theta_sampling,
+            component: self.component,
         }
     }
 }
@@ -96,7 +100,7 @@ pub fn bake_walk_library(
     })?;
     let walk = WalkSource {
         g: settings.g,
-        component: WalkComponent::Multiple,
+        component: settings.component,
     };
     let table = table.with_walk(walk);
     let provenance = provenance(settings, &config.grid, &report)?;
@@ -120,9 +124,9 @@ fn provenance(
         BakeGrid::Preset(preset) => format!("{preset:?}").to_lowercase(),
         BakeGrid::Custom(_) => "custom".to_string(),
     };
-    let settings_json = json!({
+    let mut settings_json = json!({
         "source": "walk",
-        "component": WalkComponent::Multiple.name(),
+        "component": settings.component.name(),
         "g": settings.g,
         "grid": name,
         "dims": [grid.rho.len(), grid.theta.len(), grid.r.len()],
@@ -137,6 +141,14 @@ fn provenance(
             "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
         },
     });
+    if settings.component == WalkComponent::Total {
+        settings_json["single_scattering"] = json!({
+            "method": "exact, by quadrature along the refracted beam (adaptive Gauss-Kronrod in s = b + h sinh u, 1e-9 relative; harmonics by 8-point Gauss-Legendre panels in phi doubling from cos(theta')/2), in each row's reduced units; added to the tilted PBD at every node before the two lobes are fitted, and to its energy and harmonics",
+            "exit_directions": "integrated over the exit hemisphere, as the multiple scattering: a lookup carries no exit direction, and a renderer that spreads the total over exit directions by a diffuse (Fresnel-weighted cosine) law does so for single scattering too, whose true exits leave along the line from their vertex on the beam",
+            "beam_in_surface": "the limit, a ridge on phi = 0 of energy a e^(-r/k) K/k per unit reduced r",
+            "r0_node": "0 (single scattering's r mu_0 tends to a constant as r -> 0; the first interval holds about r_1 times it)",
+        });
+    }
     let mut provenance = Provenance::new(concat!("bssrdf-zoo ", env!("CARGO_PKG_VERSION")))
         .with_settings(settings_json)?
         .with_quadrature(json!({

@@ -488,6 +488,9 @@ impl Renderer {
             ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable
         );
         let mut stats = Stats::new(sums, expected, in_picture);
+        if self.total_table() {
+            stats = stats.unsplit();
+        }
         if let Some(e) = self.pbd_expected {
             stats.expected = Some(e);
         }
@@ -497,6 +500,18 @@ impl Renderer {
             meta: self.meta(&stats),
         };
         Render { picture, stats }
+    }
+
+    /// Whether the model is a `total` walk table: its exits are single and multiple scattering
+    /// together.
+    fn total_table(&self) -> bool {
+        self.config.model == ModelKind::WalkTable
+            && self
+                .config
+                .walk_table
+                .as_deref()
+                .and_then(AngularTable::walk)
+                .is_some_and(|w| w.component == crate::format::WalkComponent::Total)
     }
 
     fn meta(&self, stats: &Stats) -> Vec<(String, String)> {
@@ -509,6 +524,7 @@ impl Renderer {
         };
         let orders = match (c.model, c.orders) {
             (ModelKind::MonteCarlo, Orders::All) => "single+multiple",
+            (ModelKind::WalkTable, _) if self.total_table() => "single+multiple",
             _ => "multiple",
         };
         let mut meta: Vec<(String, String)> = [

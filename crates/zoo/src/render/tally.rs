@@ -331,8 +331,8 @@ pub struct Stats {
     pub photons: u64,
     /// Power reflected specularly at entry per unit incident power (Fresnel; not imaged).
     pub reflected: Estimate,
-    /// The model's own prediction of the multiply scattered power per channel, the mean over
-    /// photons of T(θᵢ) ρ_eff(θᵢ); `None` where it is not computed per photon (mc, and pbd
+    /// The model's own prediction of the power it places per channel (multiple scattering; a
+    /// `total` walk table's total), the mean over photons of T(θᵢ) ρ_eff(θᵢ); `None` where it is not computed per photon (mc, and pbd
     /// with a cone).
     pub expected: Option<[f64; 3]>,
     /// Power inside the picture per unit incident power, R, G, B, luminance.
@@ -343,6 +343,10 @@ pub struct Stats {
     pub scattering_events: u64,
     /// Photons whose exit the model could not sample (0 in every case measured).
     pub lost_samples: u64,
+    /// Whether the exits are known by order: not for a `total` walk table, whose exits are
+    /// single and multiple scattering together ([`Stats::get`] then gives NaN for either alone,
+    /// and the JSON leaves them out).
+    pub split: bool,
 }
 
 impl Stats {
@@ -362,11 +366,30 @@ impl Stats {
             parts,
             scattering_events: sums.events,
             lost_samples: sums.lost,
+            split: true,
         }
     }
 
-    /// Power and centroid of one part and band.
+    /// These statistics with the exits not known by order ([`Stats::split`]).
+    pub(crate) fn unsplit(mut self) -> Self {
+        self.split = false;
+        self
+    }
+
+    /// Power and centroid of one part and band; NaN for single or multiple scattering alone
+    /// where the exits are not known by order ([`Stats::split`]).
     pub fn get(&self, part: Part, band: Band) -> BandStats {
+        if !self.split && part != Part::Total {
+            let nan = Estimate {
+                value: f64::NAN,
+                stderr: f64::NAN,
+            };
+            return BandStats {
+                power: nan,
+                centroid_x_mm: nan,
+                centroid_y_mm: nan,
+            };
+        }
         self.parts[part.index()][band.index()]
     }
 }
@@ -379,7 +402,10 @@ impl Serialize for Stats {
         map.serialize_entry("reflected_at_entry", &self.reflected)?;
         map.serialize_entry("expected", &self.expected)?;
         map.serialize_entry("in_picture", &self.in_picture)?;
-        for part in Part::ALL {
+        for part in Part::ALL
+            .into_iter()
+            .filter(|&p| self.split || p == Part::Total)
+        {
             let bands: std::collections::BTreeMap<&str, BandStats> = Band::ALL
                 .iter()
                 .map(|&b| (band_name(b), self.get(part, b)))

@@ -6,6 +6,7 @@ mod bake;
 mod check;
 mod validate;
 mod walk_bake;
+mod walk_single;
 
 pub use bake::{
     bake, bake_lobes, bake_rows, bake_rows_lobes, beam_in_surface, critical_node, node_cell,

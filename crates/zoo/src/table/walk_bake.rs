@@ -9,8 +9,8 @@
 //! | `photons` | – | per θ node and row group, at least [`MIN_HARMONICS_PHOTONS`] |
 //!
 //! # What a node stores
-//! The walk's multiple scattering (two or more vertices, the part PBD models) per unit power
-//! entering, in reduced units, described as a **tilt of PBD**: at each node the profile is
+//! The walk's multiple scattering (two or more vertices, the part PBD models; for a total
+//! table, single scattering is added after, below) per unit power entering, in reduced units, described as a **tilt of PBD**: at each node the profile is
 //! k · P(φ) · (1 + a₁ cos φ + a₂ cos 2φ), P PBD's profile at (ρ′, θ, r), with the walk's scale k
 //! and tilt (a₁, a₂). PBD is smooth, shaped like the walk, and without noise; the walk only has
 //! to tell how far off it is, which changes slowly along r. The steps, per θ node and row:
@@ -41,6 +41,15 @@
 //!    (below η = 1, the critical node) the harmonics of the tilted limit; r = 0 and the nodes
 //!    beyond the critical angle as in the PBD bake.
 //!
+//! # The total
+//! With [`WalkComponent::Total`] each node's profile is the tilted PBD plus the exact single
+//! scattering of its row ([`crate::walk::single`], by quadrature, noise-free): the energy is the
+//! sum's, the two lobes are fitted to the sum at the same azimuths, a beam in the surface adds
+//! single scattering's ridge to the harmonics, and at θ = 0 the lobe keeps the multiple
+//! scattering's share of E. The table is exitance integrated over exit directions, single
+//! scattering included; near grazing incidence two lobes do not hold single scattering's shape
+//! (docs/walk-table.md, "The total").
+//!
 //! # Row groups
 //! A walk's cost per photon grows with its largest albedo (scattering events per photon at
 //! θ = 60°, η = 1.33, g = 0: about 130 up to ρ′ = 0.99, 430 up to 0.999, 5,000–7,300 up to 1,
@@ -51,14 +60,18 @@ use super::bake::{
     assemble, beam_in_surface, checked_grid, node_cell, r0_concentration, surface_harmonics,
     to_f32, two_lobe_azimuths, two_lobe_node_of, within_floor,
 };
+use super::walk_single::{SingleNode, SinglePart};
 use super::{AngularTable, Grid, PARAMS_PER_NODE};
 use crate::error::{Error, Result};
+use crate::format::WalkComponent;
 use crate::fresnel::Moments;
 use crate::gwc::one_lobe_of;
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
 use crate::quadrature::GaussLegendre;
-use crate::walk::harmonics::{harmonics, kernels, HarmonicsConfig, WalkHarmonics, HARMONICS};
+use crate::walk::harmonics::{
+    harmonics, kernels, unreduced_albedo, HarmonicsConfig, WalkHarmonics, HARMONICS,
+};
 use crate::walk::Component;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -88,6 +101,9 @@ pub struct WalkBake {
     pub seed: u64,
     /// Whether to keep the CDF over θ for path tracing.
     pub theta_sampling: bool,
+    /// What the table holds: the walk's multiple scattering, or the total with single
+    /// scattering added by quadrature (module docs).
+    pub component: WalkComponent,
 }
 
 /// What a walk bake did.
@@ -166,6 +182,13 @@ pub fn bake_walk(
         } else {
             theta
         };
+        let in_surface = beam_in_surface(eta, theta);
+        let single = match config.component {
+            WalkComponent::Multiple => None,
+            WalkComponent::Total => Some(SinglePart::new(
+                config.g, eta, walk_theta, in_surface, &grid.r,
+            )?),
+        };
         for (group, (rows, share)) in groups.iter().enumerate() {
             if rows.is_empty() {
                 continue;
@@ -192,11 +215,13 @@ pub fn bake_walk(
                     let pbd = Pbd::new(grid.rho[i], boundary)?;
                     let control = Control {
                         pbd: &pbd,
-                        theta: (!beam_in_surface(eta, theta)).then_some(theta),
+                        theta: (!in_surface).then_some(theta),
                         rules: &rules,
                     };
                     let (tilts, rel, measured) = row_tilts(&h, k, &grid.r, &control);
-                    let out = row_cells(&tilts, &grid.r, &control)?;
+                    let albedo = unreduced_albedo(grid.rho[i], config.g);
+                    let single = single.as_ref().map(|part| (part, albedo));
+                    let out = row_cells(&tilts, &grid.r, &control, single)?;
                     let noise = if grid.rho[i] >= 0.1 {
                         (0..n_r)
                             .filter(|&node| (0.01..=20.0).contains(&grid.r[node]))
@@ -474,8 +499,17 @@ fn row_tilts(
 /// The cells (E, E_β, c, r·μ₃, r·μ₄) of a row from its nodes' tilts (module docs): at r = 0
 /// zeros (the bake then extends c); at θ = 0 PBD's isotropic node scaled to the walk's energy;
 /// for a beam in the surface the harmonics of the tilted limit; elsewhere the two lobes fitted
-/// to the tilted PBD at the azimuths of the PBD bake, scaled to the walk's energy.
-fn row_cells(tilts: &[Option<NodeTilt>], r: &[f64], control: &Control) -> Result<Vec<[f64; 5]>> {
+/// to the tilted PBD at the azimuths of the PBD bake, scaled to the walk's energy. With
+/// `single` (the θ node's single scattering and the row's unreduced albedo: a `total` table)
+/// each node's profile is the tilted PBD plus the exact single scattering: its energy is the
+/// sum's, its lobes are fitted to the sum at the same azimuths, its harmonics at a beam in the
+/// surface are the sum's, and at θ = 0 the lobe keeps the multiple scattering's share of E.
+fn row_cells(
+    tilts: &[Option<NodeTilt>],
+    r: &[f64],
+    control: &Control,
+    single: Option<(&SinglePart, f64)>,
+) -> Result<Vec<[f64; 5]>> {
     let azimuths = two_lobe_azimuths();
     let mut hint = None;
     let mut cells = Vec::with_capacity(r.len());
@@ -485,13 +519,17 @@ fn row_cells(tilts: &[Option<NodeTilt>], r: &[f64], control: &Control) -> Result
             continue;
         };
         let r = r[node];
+        let one = single.map_or(SingleNode::ZERO, |(part, albedo)| {
+            part.node(albedo, node, r)
+        });
         let m = tilted(at_node, *tilt);
-        let energy = r * m[0];
+        let energy = r * (m[0] + one.harmonics[0]);
         let cell = match control.theta {
             None => {
                 // The stored shape is the limit's own, by the bake's accurate rule (the
                 // control's coarse one only enters ratios of nearby radii)
                 let m = tilted(&surface_harmonics(control.pbd, r, None), *tilt);
+                let m: [f64; HARMONICS] = std::array::from_fn(|n| m[n] + one.harmonics[n]);
                 let energy = r * m[0];
                 let (beta, c) = one_lobe_of(m[1], m[2]);
                 [
@@ -508,12 +546,14 @@ fn row_cells(tilts: &[Option<NodeTilt>], r: &[f64], control: &Control) -> Result
             }
             Some(theta) => {
                 let [ln_k, a1, a2] = *tilt;
+                // The sum with single scattering (0 for a multiple table) at each azimuth
                 let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
                     .iter()
-                    .map(|&p| {
+                    .zip(one.at_azimuths)
+                    .map(|(&p, s1)| {
                         let pbd = control.pbd.eval(theta, r, p, Rule::Fast);
                         let factor = 1.0 + a1 * p.cos() + a2 * (2.0 * p).cos();
-                        (p, ln_k.exp() * pbd * factor)
+                        (p, ln_k.exp() * pbd * factor + s1)
                     })
                     .filter(|(_, v)| v.is_finite())
                     .unzip();

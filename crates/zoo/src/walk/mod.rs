@@ -96,9 +96,12 @@ mod exits;
 pub mod harmonics;
 mod result;
 pub mod rng;
+pub mod single;
 mod tally;
 mod transport;
 
+#[cfg(test)]
+mod single_tests;
 #[cfg(test)]
 mod tests;
 

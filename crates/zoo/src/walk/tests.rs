@@ -12,7 +12,7 @@ use harmonics::{harmonics, unreduced_albedo, HarmonicsConfig, WalkHarmonics, HAR
 use std::f64::consts::{PI, TAU};
 
 /// Photons of the fast checks.
-const FAST_PHOTONS: u64 = 100_000;
+pub(super) const FAST_PHOTONS: u64 = 100_000;
 /// Photons of the full checks.
 const FULL_PHOTONS: u64 = 10_000_000;
 
@@ -110,13 +110,13 @@ fn check_row(row: (f64, f64, f64, f64, f64), photons: u64, full: bool) {
 }
 
 /// Refracted direction cosine μ0 = cos θt of the beam inside.
-fn mu0(eta: f64, theta: f64) -> f64 {
+pub(super) fn mu0(eta: f64, theta: f64) -> f64 {
     let s = theta.sin() / eta;
     (1.0 - s * s).sqrt()
 }
 
 /// Critical cosine inside, below which exits are totally reflected (0 for η ≤ 1).
-fn mu_critical(eta: f64) -> f64 {
+pub(super) fn mu_critical(eta: f64) -> f64 {
     if eta > 1.0 {
         (1.0 - 1.0 / (eta * eta)).sqrt()
     } else {
@@ -129,7 +129,7 @@ fn mu_critical(eta: f64) -> f64 {
 /// depth and the escape probability e^{−z/μ} T(μ) (integrated over depth z). φ by the
 /// trapezoid rule (spectrally accurate for a periodic integrand), μ adaptively, split at the
 /// critical cosine.
-fn single_scattering_reflectance(albedo: f64, g: f64, eta: f64, theta: f64) -> f64 {
+pub(super) fn single_scattering_reflectance(albedo: f64, g: f64, eta: f64, theta: f64) -> f64 {
     let m0 = mu0(eta, theta);
     let s0 = (1.0 - m0 * m0).sqrt();
     let n_phi = 512;
@@ -156,7 +156,7 @@ fn single_scattering_reflectance(albedo: f64, g: f64, eta: f64, theta: f64) -> f
 /// Exact single-scattering exitance at distance r under normal incidence, per unit area per
 /// unit power entering: E₁(r) = a ∫₀^∞ e^{−z} p(−μ) T(μ) e^{−d} μ/d² dz, d = √(r² + z²),
 /// μ = z/d (dω = μ dA/d²).
-fn single_scattering_exitance(albedo: f64, g: f64, eta: f64, r: f64) -> f64 {
+pub(super) fn single_scattering_exitance(albedo: f64, g: f64, eta: f64, r: f64) -> f64 {
     let f = |z: f64| {
         let d = (r * r + z * z).sqrt();
         let mu = z / d;
@@ -740,13 +740,19 @@ fn full_single_scattering_matches_quadrature() {
 // --- The harmonics of many albedos from one walk (harmonics.rs) ---
 
 /// Radii of the harmonics checks: a geometric axis from 0 with ratio 1.33 up to ~25 mfp.
-fn harmonics_radii() -> Vec<f64> {
+pub(super) fn harmonics_radii() -> Vec<f64> {
     std::iter::once(0.0)
         .chain((0..24).map(|i| 0.03 * 1.33f64.powi(i)))
         .collect()
 }
 
-fn walk_harmonics(rho: &[f64], g: f64, theta_deg: f64, photons: u64, seed: u64) -> WalkHarmonics {
+pub(super) fn walk_harmonics(
+    rho: &[f64],
+    g: f64,
+    theta_deg: f64,
+    photons: u64,
+    seed: u64,
+) -> WalkHarmonics {
     let config = HarmonicsConfig {
         rho: rho.to_vec(),
         g,
@@ -784,7 +790,7 @@ fn hat(r: &[f64], i: usize, u: f64) -> f64 {
 
 /// The average of f over the hat kernel of node i ([`hat`]), by Gauss–Legendre over ln r on
 /// each side of the node (the hat's kink).
-fn kernel_average(r: &[f64], i: usize, f: impl Fn(f64) -> f64) -> f64 {
+pub(super) fn kernel_average(r: &[f64], i: usize, f: impl Fn(f64) -> f64) -> f64 {
     // Below a node whose neighbour is 0 the hat is as wide as above it
     let below = if r[i - 1] > 0.0 {
         r[i - 1]
