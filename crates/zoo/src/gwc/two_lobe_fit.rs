@@ -5,9 +5,9 @@
 //! draws in proportion to the profile. For fixed (c₁, c₂) the profile is linear in (α, β₁, β₂),
 //! solved by least squares with β ≥ 0 and the profile ≥ 0 at φ = π (where both lobes of
 //! c ≥ 0 have their minimum) as active constraints; (c₁, c₂) is searched on a grid uniform in
-//! s = −ln(1 − c) and refined by coordinate steps with pattern moves. Lobe 1 is the sharper
-//! (c₁ ≥ c₂ ≥ 0): PBD peaks forward, and labelling the lobes by sharpness keeps their
-//! parameters continuous from node to node wherever the two concentrations stay apart.
+//! s = −ln(1 − c) and refined by coordinate steps. Lobe 1 is the sharper (c₁ ≥ c₂ ≥ 0): PBD
+//! peaks forward, and labelling the lobes by sharpness keeps their parameters continuous from
+//! node to node wherever the two concentrations stay apart.
 
 use std::f64::consts::{PI, TAU};
 
@@ -91,14 +91,11 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
             (best.1, GRID_STEP)
         }
     };
-    // Coordinate refinement: halving steps; only the moved lobe is recomputed. After a round
-    // that moved, pattern moves along its displacement (below) take about a quarter of the
-    // solves off a default two-lobe bake's (91 → 67 per node at η = 1) at the same errors
+    // Coordinate refinement: halving steps; only the moved lobe is recomputed
     let mut lobes = [problem.lobe(c_of(s[0])), problem.lobe(c_of(s[1]))];
     let mut cost = problem.solve_columns([&lobes[0], &lobes[1]]).0;
     while step > REFINE_TOLERANCE {
         let mut moved = false;
-        let before = s;
         for axis in 0..2 {
             for dir in [-1.0, 1.0] {
                 let mut t = s;
@@ -121,24 +118,6 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
         }
         if !moved {
             step *= 0.5;
-            continue;
-        }
-        // Pattern moves: on along the round's displacement, doubling it, while that lowers
-        // the cost (the optimum often lies along a valley oblique to both axes, which
-        // single-axis steps follow in a zigzag)
-        let mut d = [s[0] - before[0], s[1] - before[1]];
-        loop {
-            let t = [0, 1].map(|axis| (s[axis] + d[axis]).clamp(0.0, s_max));
-            if t[0] < t[1] || t == s {
-                break;
-            }
-            let trial = [problem.lobe(c_of(t[0])), problem.lobe(c_of(t[1]))];
-            let c = problem.solve_columns([&trial[0], &trial[1]]).0;
-            if c >= cost {
-                break;
-            }
-            (cost, s, lobes) = (c, t, trial);
-            d = d.map(|x| 2.0 * x);
         }
     }
     let c = [lobes[0].c, lobes[1].c];
