@@ -107,10 +107,11 @@ fn walk_table_samples_follow_its_pdf() {
     );
 }
 
-#[test]
-fn walk_table_lookups_at_arbitrary_inputs_are_valid() {
-    let view = table().view();
-    let mut rng = SplitMix64::seed_from_u64(29);
+/// The lookups' rules (`check_view`) at 4,000 arbitrary inputs from `seed`, most of which
+/// draw points.
+fn lookups_at_arbitrary_inputs_are_valid(table: &AngularTable, seed: u64) {
+    let view = table.view();
+    let mut rng = SplitMix64::seed_from_u64(seed);
     let (rounds, mut drawn) = (4000, 0);
     for _ in 0..rounds {
         let selectors = [0; 9].map(|_| rng.next_u64() as u8);
@@ -118,6 +119,11 @@ fn walk_table_lookups_at_arbitrary_inputs_are_valid() {
         drawn += check_view(&view, &inputs(&view, selectors, bits));
     }
     assert!(drawn > rounds / 4, "{drawn} draws in {rounds} rounds");
+}
+
+#[test]
+fn walk_table_lookups_at_arbitrary_inputs_are_valid() {
+    lookups_at_arbitrary_inputs_are_valid(table(), 29);
 }
 
 #[test]
@@ -185,15 +191,7 @@ fn total_walk_table_samples_follow_its_pdf() {
 
 #[test]
 fn total_walk_table_lookups_at_arbitrary_inputs_are_valid() {
-    let view = total_table().view();
-    let mut rng = SplitMix64::seed_from_u64(31);
-    let (rounds, mut drawn) = (4000, 0);
-    for _ in 0..rounds {
-        let selectors = [0; 9].map(|_| rng.next_u64() as u8);
-        let bits = [0; 9].map(|_| rng.next_u64());
-        drawn += check_view(&view, &inputs(&view, selectors, bits));
-    }
-    assert!(drawn > rounds / 4, "{drawn} draws in {rounds} rounds");
+    lookups_at_arbitrary_inputs_are_valid(total_table(), 31);
 }
 
 /// The error of the total table's profile at a node against the multiple table's plus the exact
