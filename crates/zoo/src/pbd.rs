@@ -267,10 +267,16 @@ impl Pbd {
         if !(r > 0.0 && r.is_finite()) {
             return 0.0;
         }
+        self.log_amplitude(r) * (-r).exp()
+    }
+
+    /// 2ρ′² C_φ κ(t)/(4πD), κ(t) = 1 − e^{−2t}: the coefficient of ln(1/h) that the fluence's
+    /// 1/d_r gives a beam passing at distance h → 0 under the exit point at t, less the beam's
+    /// attenuation e^{−t} ([`Pbd::surface_log_coefficient`], and the closed-form term of a beam
+    /// grazing the exit point in `setup`).
+    fn log_amplitude(&self, t: f64) -> f64 {
         let ReducedDiffusion { rho_prime, d, .. } = self.diffusion;
-        2.0 * rho_prime * rho_prime * self.boundary.c_phi() / (4.0 * PI * d)
-            * one_minus_exp_neg(2.0 * r)
-            * (-r).exp()
+        2.0 * rho_prime * rho_prime * self.boundary.c_phi() / (4.0 * PI * d) * -(-2.0 * t).exp_m1()
     }
 
     /// σtr, per reduced mean free path: the rate at which S falls far from the sources.
@@ -473,11 +479,7 @@ impl Pbd {
         // S(h) = S(floor) + A ln(floor/h), with A = 2ρ′² C_φ κ(t*) e^{−t*}/(4πD) and
         // κ(t*) = 1 − e^{−2t*} (d_r = 0); scaled by e^{m} as the integral is (m ≤ t* + σtr h).
         let log_scaled = if log_ratio > 0.0 {
-            let ReducedDiffusion { rho_prime, d, .. } = self.diffusion;
-            2.0 * rho_prime * rho_prime * self.boundary.c_phi() / (4.0 * PI * d)
-                * -(-2.0 * t_star).exp_m1()
-                * (m - t_star).exp()
-                * log_ratio
+            self.log_amplitude(t_star) * (m - t_star).exp() * log_ratio
         } else {
             0.0
         };

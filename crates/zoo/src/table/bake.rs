@@ -830,9 +830,9 @@ pub(super) fn surface_harmonics<const N: usize>(pbd: &Pbd, r: f64, theta: Option
         let (half, mid) = (0.5 * (b - a), 0.5 * (a + b));
         for (x, w) in rule.nodes().iter().zip(rule.weights()) {
             let phi = mid + half * x;
-            let v = value(phi);
+            let (v, singular) = (value(phi), log * (1.0 / phi).ln());
             for (n, mn) in m.iter_mut().enumerate() {
-                *mn += 2.0 * w * half * (v * (n as f64 * phi).cos() - log * (1.0 / phi).ln());
+                *mn += 2.0 * w * half * (v * (n as f64 * phi).cos() - singular);
             }
         }
     };

@@ -12,7 +12,7 @@ use bssrdf_zoo::quadrature::adaptive;
 use bssrdf_zoo::rng::{RngCore, SeedableRng, SplitMix64};
 use bssrdf_zoo::table::{bake_walk, AngularTable, Grid, GridPreset, Lobes, WalkBake};
 use bssrdf_zoo::walk::single::SingleScattering;
-use bssrdf_zoo::walk::{self, Config};
+use bssrdf_zoo::walk::{self, Config, Estimate, WalkResult};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::lookup::samples_follow_the_pdf_at;
@@ -61,6 +61,24 @@ fn total_table() -> &'static AngularTable {
     })
 }
 
+/// `walk::run` at (ρ′, θ), g = 0, η = 1.33: 10⁵ photons from `seed`, another tally than the
+/// bake's.
+fn independent_walk(rho: f64, theta: f64, seed: u64) -> WalkResult {
+    walk::run(&Config {
+        photons: 100_000,
+        seed,
+        ..Config::new(rho, 0.0, 1.33, theta)
+    })
+    .unwrap()
+}
+
+/// Whether a table's reflectance is the independent walk's estimate `r`: within 4 combined σ
+/// (the bake's own variance is about that of a walk of its photons) and 0.5 % besides.
+fn agrees_with_the_walk(table: f64, r: &Estimate) -> bool {
+    let sigma = r.stderr * (1.0 + 100_000.0 / PHOTONS as f64).sqrt();
+    (table - r.value).abs() <= 4.0 * sigma + 0.005 * r.value
+}
+
 #[test]
 fn walk_table_reflectance_is_an_independent_walks() {
     // ρ_eff of the table (its radial CDF's end) against the multiple-scattering reflectance of
@@ -81,17 +99,9 @@ fn walk_table_reflectance_is_an_independent_walks() {
     for (rho, theta_deg) in cases {
         let theta = f64::to_radians(theta_deg);
         let table = view.effective_albedo(rho, theta).unwrap();
-        let run = walk::run(&Config {
-            photons: 100_000,
-            seed: 17,
-            ..Config::new(rho, 0.0, 1.33, theta)
-        })
-        .unwrap();
-        let r = run.multiple_reflectance();
-        let sigma = r.stderr * (1.0 + 100_000.0 / PHOTONS as f64).sqrt();
-        let bound = 4.0 * sigma + 0.005 * r.value;
+        let r = independent_walk(rho, theta, 17).multiple_reflectance();
         assert!(
-            (table - r.value).abs() <= bound,
+            agrees_with_the_walk(table, &r),
             "{rho} {theta_deg}°: table {table}, walk {} ± {}",
             r.value,
             r.stderr
@@ -157,16 +167,10 @@ fn total_walk_table_reflectance_is_an_independent_walks_total() {
         let theta = f64::to_radians(theta_deg);
         let t = total.effective_albedo(rho, theta).unwrap();
         let single = t - multiple.effective_albedo(rho, theta).unwrap();
-        let run = walk::run(&Config {
-            photons: 100_000,
-            seed: 19,
-            ..Config::new(rho, 0.0, 1.33, theta)
-        })
-        .unwrap();
+        let run = independent_walk(rho, theta, 19);
         let r = run.total_reflectance();
-        let sigma = r.stderr * (1.0 + 100_000.0 / PHOTONS as f64).sqrt();
         assert!(
-            (t - r.value).abs() <= 4.0 * sigma + 0.005 * r.value,
+            agrees_with_the_walk(t, &r),
             "{rho} {theta_deg}°: table {t}, walk {} ± {}",
             r.value,
             r.stderr
