@@ -9,9 +9,9 @@
 //! peaks forward, and labelling the lobes by sharpness keeps their parameters continuous from
 //! node to node wherever the two concentrations stay apart.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
-use super::{pdf_wc, TwoLobe, C_MAX_TWO_LOBES};
+use super::{TwoLobe, C_MAX_TWO_LOBES};
 
 /// Concentrations of the fit's grid: s = −ln(1 − c) from 0 in steps of [`GRID_STEP`] up to
 /// that of [`C_MAX_TWO_LOBES`].
@@ -91,16 +91,19 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
             (best.1, GRID_STEP)
         }
     };
-    // Coordinate refinement: halving steps; only the moved lobe is recomputed
+    // Coordinate refinement: halving steps; only the moved lobe is recomputed. Every point a
+    // step has left costs more than the current one (the cost only falls), so the trial that
+    // would return to the point just left is skipped: the same path, a fifth fewer solves.
     let mut lobes = [problem.lobe(c_of(s[0])), problem.lobe(c_of(s[1]))];
-    let mut cost = problem.solve_columns([&lobes[0], &lobes[1]]).0;
+    let (mut cost, mut coef) = problem.solve_columns([&lobes[0], &lobes[1]]);
+    let mut left = None;
     while step > REFINE_TOLERANCE {
         let mut moved = false;
         for axis in 0..2 {
             for dir in [-1.0, 1.0] {
                 let mut t = s;
                 t[axis] = (t[axis] + dir * step).clamp(0.0, s_max);
-                if t[0] < t[1] || t == s {
+                if t[0] < t[1] || t == s || left == Some(t) {
                     continue;
                 }
                 let trial = problem.lobe(c_of(t[axis]));
@@ -109,9 +112,10 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
                 } else {
                     [&lobes[0], &trial]
                 };
-                let c = problem.solve_columns(pair).0;
+                let (c, x) = problem.solve_columns(pair);
                 if c < cost {
-                    (cost, s, moved) = (c, t, true);
+                    left = Some(s);
+                    (cost, coef, s, moved) = (c, x, t, true);
                     lobes[axis] = trial;
                 }
             }
@@ -121,7 +125,7 @@ fn fit_with(phi: &[f64], y: &[f64], hint: Option<[f64; 2]>, signed: bool) -> Opt
         }
     }
     let c = [lobes[0].c, lobes[1].c];
-    let (_, [alpha, b1, b2]) = problem.solve_columns([&lobes[0], &lobes[1]]);
+    let [alpha, b1, b2] = coef;
     let (alpha, beta) = (alpha * scale, [b1 * scale, b2 * scale]);
     // The constraints keep the profile ≥ 0 to rounding; `from_table` caps a larger dip.
     TwoLobe::new(alpha, beta, c).or_else(|| {
@@ -197,7 +201,8 @@ impl<'a> Problem<'a> {
         Column {
             c,
             values,
-            at_pi: pdf_wc(PI, c),
+            // pdf_WC(π; c), by the same formula (1 − cos π = 2)
+            at_pi: a / (b + 4.0 * c),
             floor,
             square,
             data,
@@ -257,7 +262,19 @@ impl<'a> Problem<'a> {
             &[pinned(1)],
             &[pinned(2)],
         ];
+        // A candidate inside another's subspace ([α, β₁] inside [α, β₁, β₂] less one lobe, a
+        // pinned lobe inside the pinned pair) costs at least as much as that one's optimum:
+        // once that optimum is admissible, the smaller candidate cannot be the best
+        let mut admissible = [false; 7];
         for (index, t) in candidates.into_iter().enumerate() {
+            let covered = match index {
+                3 => admissible[1] || admissible[2],
+                5 | 6 => admissible[4],
+                _ => false,
+            };
+            if covered {
+                continue;
+            }
             let m = t.len();
             let mut a = if index == 0 {
                 // The free solution's basis is the columns themselves: its normal equations are
@@ -299,6 +316,7 @@ impl<'a> Problem<'a> {
                 // is the constrained optimum too
                 return (cost, coef);
             }
+            admissible[index] = true;
             if cost < best.0 {
                 best = (cost, coef);
             }
