@@ -283,7 +283,13 @@ impl<'a> Problem<'a> {
             } else {
                 normal_equations(t, &g, &b)
             };
-            let Some(x) = solve_small(&mut a, m) else {
+            // (one call per size, so that each is unrolled for its m)
+            let x = match m {
+                3 => solve_small(&mut a, 3),
+                2 => solve_small(&mut a, 2),
+                _ => solve_small(&mut a, 1),
+            };
+            let Some(x) = x else {
                 continue;
             };
             let coef: [f64; 3] = std::array::from_fn(|i| (0..m).map(|p| x[p] * t[p][i]).sum());
@@ -346,6 +352,7 @@ fn normal_equations(t: &[[f64; 3]], g: &[[f64; 3]; 3], b: &[f64; 3]) -> [[f64; 4
 
 /// Solves the m × m system whose augmented rows are `a` (m ≤ 3, right-hand side in column 3)
 /// by Gaussian elimination with partial pivoting; `None` if singular.
+#[inline(always)]
 fn solve_small(a: &mut [[f64; 4]; 3], m: usize) -> Option<[f64; 3]> {
     let scale = (0..m).map(|i| a[i][i].abs()).fold(0.0, f64::max);
     for i in 0..m {
