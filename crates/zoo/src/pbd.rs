@@ -81,6 +81,24 @@ pub enum Rule {
     Fast,
 }
 
+/// The quadrature an evaluation takes: a [`Rule`], or the bake's node rule
+/// ([`Pbd::eval_node`]).
+#[derive(Debug, Clone, Copy)]
+enum Quadrature {
+    Reference,
+    Fast,
+    Node,
+}
+
+impl From<Rule> for Quadrature {
+    fn from(rule: Rule) -> Self {
+        match rule {
+            Rule::Reference => Quadrature::Reference,
+            Rule::Fast => Quadrature::Fast,
+        }
+    }
+}
+
 /// Relative tolerance of the reference quadrature.
 pub const REFERENCE_REL_TOL: f64 = 1e-10;
 /// Below this radius (reduced mfp) S is its small-r expansion, S(R_SMALL) + k·ln(R_SMALL/r)
@@ -114,6 +132,11 @@ const MAX_EDGES: usize = 160;
 /// 1.0001, θ = 90°, φ = 0: the beam just under the exit point), over the documented 1e-6; with
 /// 6, 22 % faster and 3e-6 off (`examples/quadrature_error.rs`; docs/physics.md).
 pub const FAST_POINTS_PER_PANEL: usize = 8;
+
+/// Points per panel of [`Pbd::eval_node`]: 6, the fast rule's panels with 22 % fewer points,
+/// within 3·10⁻⁶ of the reference on every point a two-lobe bake fits through
+/// (`examples/quadrature_error.rs`).
+pub const NODE_POINTS_PER_PANEL: usize = 6;
 
 /// The fast rule in words, for a baked file's provenance.
 pub fn fast_rule_description() -> String {
@@ -228,7 +251,14 @@ impl Pbd {
 
     /// S_p^MS(r, φ; θ) in reduced units (see the module docs for ranges and limits).
     pub fn eval(&self, theta: f64, r: f64, phi: f64, rule: Rule) -> f64 {
-        self.evaluate(theta, r, phi, rule).value()
+        self.evaluate(theta, r, phi, rule.into()).value()
+    }
+
+    /// [`Pbd::eval`] by the node rule: the fast rule's panels with [`NODE_POINTS_PER_PANEL`]
+    /// points each, for the azimuths a two-lobe bake fits through (its fit misses PBD by
+    /// 10⁻⁵–10⁻³ there, this rule by at most 3·10⁻⁶; docs/physics.md).
+    pub fn eval_node(&self, theta: f64, r: f64, phi: f64) -> f64 {
+        self.evaluate(theta, r, phi, Quadrature::Node).value()
     }
 
     /// S with the refracted beam running in the surface (θ′ = 90°: η = 1 at θ = 90°, or the
@@ -236,7 +266,7 @@ impl Pbd {
     /// φ = 0 (the module docs). This is the limit θ′ → 90° of S at every φ ≠ 0, but not of
     /// the profile's energy: the limit also holds [`Pbd::surface_ridge`] on the line φ = 0.
     pub fn eval_surface_beam(&self, r: f64, phi: f64, rule: Rule) -> f64 {
-        self.evaluate_refracted(Some((1.0, 0.0)), r, phi, rule)
+        self.evaluate_refracted(Some((1.0, 0.0)), r, phi, rule.into())
             .value()
     }
 
@@ -286,13 +316,13 @@ impl Pbd {
 
     /// ln S_p^MS, accurate where S itself underflows (−∞ where S = 0).
     pub fn ln_eval(&self, theta: f64, r: f64, phi: f64, rule: Rule) -> f64 {
-        self.evaluate(theta, r, phi, rule).ln_value()
+        self.evaluate(theta, r, phi, rule.into()).ln_value()
     }
 
     /// The reference value with the quadrature's own error estimate (relative), for tests
     /// and the CLI. Returns (value, estimated relative error, converged).
     pub fn eval_reference_with_error(&self, theta: f64, r: f64, phi: f64) -> (f64, f64, bool) {
-        let e = self.evaluate(theta, r, phi, Rule::Reference);
+        let e = self.evaluate(theta, r, phi, Quadrature::Reference);
         let value = e.value();
         let rel = if value > 0.0 {
             e.error * (e.ln_scale - value.ln()).exp()
@@ -326,7 +356,7 @@ impl Pbd {
         Some(((theta.sin() / eta).min(1.0), cos_t))
     }
 
-    fn evaluate(&self, theta: f64, r: f64, phi: f64, rule: Rule) -> Evaluated {
+    fn evaluate(&self, theta: f64, r: f64, phi: f64, rule: Quadrature) -> Evaluated {
         self.evaluate_refracted(self.refract(theta), r, phi, rule)
     }
 
@@ -336,7 +366,7 @@ impl Pbd {
         refracted: Option<(f64, f64)>,
         r: f64,
         phi: f64,
-        rule: Rule,
+        rule: Quadrature,
     ) -> Evaluated {
         if r > 0.0 && r < R_SMALL {
             // The small-r expansion: S(r) = S(R_SMALL) + k·ln(R_SMALL/r), with ln r taken
@@ -351,11 +381,12 @@ impl Pbd {
             Setup::Value(v) => Evaluated::exact(v),
             Setup::Integrate(beam, log_scaled) => {
                 let (scaled, error, converged) = match rule {
-                    Rule::Reference => {
+                    Quadrature::Reference => {
                         let est = self.reference(&beam);
                         (est.value, est.error, est.converged)
                     }
-                    Rule::Fast => (self.fast(&beam), 0.0, true),
+                    Quadrature::Fast => (self.fast(&beam), 0.0, true),
+                    Quadrature::Node => (self.node(&beam), 0.0, true),
                 };
                 Evaluated {
                     scaled: scaled + log_scaled,
@@ -632,7 +663,16 @@ impl Pbd {
 
     fn fast(&self, beam: &Beam) -> f64 {
         static RULE: OnceLock<GaussLegendre> = OnceLock::new();
-        let rule = RULE.get_or_init(|| GaussLegendre::new(FAST_POINTS_PER_PANEL));
+        self.composite(beam, RULE.get_or_init(|| GaussLegendre::new(FAST_POINTS_PER_PANEL)))
+    }
+
+    fn node(&self, beam: &Beam) -> f64 {
+        static RULE: OnceLock<GaussLegendre> = OnceLock::new();
+        self.composite(beam, RULE.get_or_init(|| GaussLegendre::new(NODE_POINTS_PER_PANEL)))
+    }
+
+    /// `rule` on each panel of [`Pbd::breaks`].
+    fn composite(&self, beam: &Beam, rule: &GaussLegendre) -> f64 {
         let (breaks, n) = self.breaks(beam);
         breaks[..n]
             .windows(2)

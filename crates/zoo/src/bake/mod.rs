@@ -405,6 +405,7 @@ impl Baker {
         if two_lobes {
             settings["two_lobe_fit"] = json!({
                 "azimuths_deg": table::two_lobe_azimuths().map(f64::to_degrees),
+                "pbd_points_per_panel": crate::pbd::NODE_POINTS_PER_PANEL,
                 "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
             });
         }

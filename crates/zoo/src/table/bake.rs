@@ -727,7 +727,7 @@ fn two_lobe_node(
     };
     let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
         .iter()
-        .map(|&p| (p, less_ridge(p, pbd.eval(theta, r, p, Rule::Fast))))
+        .map(|&p| (p, less_ridge(p, pbd.eval_node(theta, r, p))))
         .filter(|(_, v)| v.is_finite())
         .unzip();
     two_lobe_node_of(&phi, &y, r, hint)
