@@ -1,4 +1,5 @@
-//! One photon-beam-diffusion evaluation with each quadrature, at representative points (normal
+//! One photon-beam-diffusion evaluation with each quadrature (the reference, the fast rule and the
+//! two-lobe bake's node rule), at representative points (normal
 //! incidence, oblique, grazing, a beam just under the exit point at η ≈ 1, small r), against a
 //! fixed arithmetic baseline in the same run. Run: `cargo bench -p bssrdf-zoo --bench pbd`; docs/performance.md gives
 //! each evaluation as a ratio to `baseline/exp_sqrt_64`.
@@ -36,6 +37,10 @@ fn bench(c: &mut Criterion) {
                 b.iter(|| pbd.eval(black_box(theta), black_box(r), black_box(phi), rule))
             });
         }
+        // The rule two-lobe bakes fit their nodes through (`Pbd::eval_node`)
+        group.bench_function(format!("node/{name}"), |b| {
+            b.iter(|| pbd.eval_node(black_box(theta), black_box(r), black_box(phi)))
+        });
     }
     group.finish();
     c.bench_function("boundary_exact_moments", |b| {
