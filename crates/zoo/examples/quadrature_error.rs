@@ -57,7 +57,9 @@ fn bake_points(stride: usize) -> Vec<Point> {
     all.into_iter().step_by(stride.max(1)).collect()
 }
 
-const TWO_LOBE_ETAS: [f64; 11] = [0.75, 0.9, 0.99, 1.0, 1.0001, 1.001, 1.01, 1.05, 1.1, 1.2, 1.3];
+const TWO_LOBE_ETAS: [f64; 11] = [
+    0.75, 0.9, 0.99, 1.0, 1.0001, 1.001, 1.01, 1.05, 1.1, 1.2, 1.3,
+];
 
 fn two_lobe_points(stride: usize) -> Vec<Point> {
     let mut all = Vec::new();
@@ -114,7 +116,10 @@ fn report(name: &str, points: &[Point], rules: Rules) {
     };
     let (reference, t_reference) = time(&|p, theta, r, phi| p.eval(theta, r, phi, Rule::Reference));
     let (fast, t_fast) = time(&|p, theta, r, phi| p.eval(theta, r, phi, Rule::Fast));
-    let n = reference.iter().filter(|r| **r > 0.0 && r.is_finite()).count();
+    let n = reference
+        .iter()
+        .filter(|r| **r > 0.0 && r.is_finite())
+        .count();
     println!("{name}: {n} points with S > 0");
     println!("  reference {:6.2} µs/eval", t_reference * 1e6);
     errors("fast rule", &fast, t_fast, &reference, t_reference, points);

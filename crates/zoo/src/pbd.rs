@@ -663,12 +663,18 @@ impl Pbd {
 
     fn fast(&self, beam: &Beam) -> f64 {
         static RULE: OnceLock<GaussLegendre> = OnceLock::new();
-        self.composite(beam, RULE.get_or_init(|| GaussLegendre::new(FAST_POINTS_PER_PANEL)))
+        self.composite(
+            beam,
+            RULE.get_or_init(|| GaussLegendre::new(FAST_POINTS_PER_PANEL)),
+        )
     }
 
     fn node(&self, beam: &Beam) -> f64 {
         static RULE: OnceLock<GaussLegendre> = OnceLock::new();
-        self.composite(beam, RULE.get_or_init(|| GaussLegendre::new(NODE_POINTS_PER_PANEL)))
+        self.composite(
+            beam,
+            RULE.get_or_init(|| GaussLegendre::new(NODE_POINTS_PER_PANEL)),
+        )
     }
 
     /// `rule` on each panel of [`Pbd::breaks`].

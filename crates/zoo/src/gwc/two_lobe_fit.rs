@@ -431,9 +431,8 @@ mod tests {
         let (mut answered, mut declined) = (0, 0);
         for case in 0..20_000 {
             let scale = 10f64.powf(20.0 * rng.next_f64() - 10.0);
-            let columns: [[f64; 8]; 3] = std::array::from_fn(|_| {
-                std::array::from_fn(|_| scale * (rng.next_f64() - 0.3))
-            });
+            let columns: [[f64; 8]; 3] =
+                std::array::from_fn(|_| std::array::from_fn(|_| scale * (rng.next_f64() - 0.3)));
             // Every fourth case: the last column nearly a copy of the second
             let near = 10f64.powf(-12.0 * rng.next_f64());
             let columns = if case % 4 == 0 {
@@ -457,14 +456,22 @@ mod tests {
                     answered += 1;
                     let size = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
                     for (u, v) in x.iter().zip(&z) {
-                        assert!((u - v).abs() <= 1e-7 * size, "case {case}: {x:?} against {z:?}");
+                        assert!(
+                            (u - v).abs() <= 1e-7 * size,
+                            "case {case}: {x:?} against {z:?}"
+                        );
                     }
                 }
-                (Some(x), None) => panic!("case {case}: cofactors {x:?} where elimination declines"),
+                (Some(x), None) => {
+                    panic!("case {case}: cofactors {x:?} where elimination declines")
+                }
                 (None, _) => declined += 1,
             }
         }
-        assert!(answered > 10_000 && declined > 1000, "{answered} answered, {declined} declined");
+        assert!(
+            answered > 10_000 && declined > 1000,
+            "{answered} answered, {declined} declined"
+        );
     }
 
     /// Leaving out the candidates that a larger admissible one covers changes no solution: over

@@ -212,9 +212,17 @@ fn node_rule_is_within_2e_5_of_the_reference_on_the_two_lobe_nodes() {
     // (ρ′, η, θ, r, φ): the largest errors found, at the node 89.4° (refracted below η = 1)
     let mut points = vec![
         (0.9999040100854296, 1.0, 89.4f64.to_radians(), 12.764, 0.0),
-        (0.9659711590253856, 0.75, (0.75 * 89.4f64.to_radians().sin()).asin(), 18.309, 0.0),
+        (
+            0.9659711590253856,
+            0.75,
+            (0.75 * 89.4f64.to_radians().sin()).asin(),
+            18.309,
+            0.0,
+        ),
     ];
-    let etas = [0.75, 0.9, 0.99, 1.0, 1.0001, 1.001, 1.01, 1.05, 1.1, 1.2, 1.3];
+    let etas = [
+        0.75, 0.9, 0.99, 1.0, 1.0001, 1.001, 1.01, 1.05, 1.1, 1.2, 1.3,
+    ];
     let phis = two_lobe_azimuths();
     for preset in [GridPreset::Coarse, GridPreset::Default, GridPreset::Fine] {
         for _ in 0..600 {
