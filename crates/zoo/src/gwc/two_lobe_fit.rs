@@ -369,7 +369,7 @@ fn solve_cofactors(a: &[[f64; 4]; 3]) -> Option<[f64; 3]> {
     let c2 = m(1, 0) * m(2, 1) - m(1, 1) * m(2, 0);
     let det = m(0, 0) * c0 + m(0, 1) * c1 + m(0, 2) * c2;
     let diagonal = (m(0, 0) * m(1, 1) * m(2, 2)).abs();
-    if !(det.abs() > 1e-6 * diagonal) {
+    if det.is_nan() || det.abs() <= 1e-6 * diagonal {
         return None;
     }
     let b = [a[0][3], a[1][3], a[2][3]];
