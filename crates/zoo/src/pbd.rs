@@ -286,6 +286,13 @@ impl Pbd {
             .value()
     }
 
+    /// [`Pbd::eval_surface_beam`] by the node rule ([`Pbd::eval_node`]): for the harmonics of
+    /// a bake's surface-beam nodes, which integrate it over φ to 10⁻⁴ of μ₀.
+    pub fn eval_surface_beam_node(&self, r: f64, phi: f64) -> f64 {
+        self.evaluate_refracted(Some((1.0, 0.0)), r, phi, Quadrature::Node)
+            .value()
+    }
+
     /// The ridge of the limit θ′ → 90°: its mass per radian of φ at radius r (reduced units),
     /// all of it on the line φ = 0, a(r) = ρ′² C_E κ e^{−r}/(2r) with κ = 1 − e^{−2r}.
     ///

@@ -413,7 +413,7 @@ impl Baker {
             settings["beam_in_surface"] = json!({
                 "cos_refracted_below": table::SURFACE_BEAM_COS,
                 "and": "the critical node below eta = 1",
-                "stored": "the limit theta' -> 90 deg by its harmonics: PBD with the beam in the surface, 8-point Gauss-Legendre panels [0, pi 1e-5] then a decade wide, plus the ridge rho'^2 C_E kappa e^-r/(2r) on phi = 0",
+                "stored": "the limit theta' -> 90 deg by its harmonics: PBD with the beam in the surface (the node rule) over phi, a first panel [0, min(pi/100, 0.3/(sigma_tr r))] of 4 Gauss-Legendre points less the closed-form a ln(1/phi), then 8-point panels a decade wide, plus the ridge rho'^2 C_E kappa e^-r/(2r) on phi = 0",
             });
         }
         if tables.iter().any(|t| t.table.ridge().is_some()) {

@@ -809,7 +809,7 @@ pub(super) fn within_floor(beta: f64, c: f64, e: f64) -> f64 {
 
 /// The harmonics μₙ = ∫ S cos nφ dφ over [−π, π], n = 0 … N − 1 (0 … 4 for the bake), at
 /// radius r > 0 of PBD at incidence `theta`, or (`None`) of the limit θ′ → 90°: PBD with the
-/// beam in the surface ([`Pbd::eval_surface_beam`]) plus its ridge. By 8-point Gauss-Legendre
+/// beam in the surface (by the node rule, [`Pbd::eval_surface_beam_node`]) plus its ridge. By 8-point Gauss-Legendre
 /// panels a decade wide in φ up to π, which follow the ridge of width cos θ′ of a beam just
 /// under the surface and, in the limit, S's growth like ln(1/φ) towards 0:
 /// - at `theta`, the panels start at π·10⁻⁵ after a first one [0, π·10⁻⁵] (48 evaluations of
@@ -825,7 +825,7 @@ pub(super) fn surface_harmonics<const N: usize>(pbd: &Pbd, r: f64, theta: Option
     let (eight, four) = (GaussLegendre::new(8), GaussLegendre::new(4));
     let value = |phi: f64| match theta {
         Some(theta) => pbd.eval(theta, r, phi, Rule::Fast),
-        None => pbd.eval_surface_beam(r, phi, Rule::Fast),
+        None => pbd.eval_surface_beam_node(r, phi),
     };
     // ∫ over [−π, π] of an even profile: twice the one over [0, π]
     let mut m = [0.0; N];
