@@ -1,4 +1,4 @@
-//! Error against run time of the two PBD quadratures: the fast rule against the reference, on
+//! Error against run time of PBD's quadratures: the fast and node rules against the reference, on
 //! the points every bake evaluates and over the whole documented domain.
 //!
 //! Run: `cargo run --release -p bssrdf-zoo --example quadrature_error [STRIDE [NODE_STRIDE]]`

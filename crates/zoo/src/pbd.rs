@@ -43,10 +43,15 @@
 //! - [`Rule::Reference`]: adaptive Gauss–Kronrod in u to 10⁻¹⁰ relative (error estimate
 //!   returned). Held to 10⁻⁸ (measured: 9e-12 at most) by an independent quadrature over
 //!   50,000 random points of the domain (`crates/zoo/tests/physics/pbd/mod.rs`).
-//! - [`Rule::Fast`]: a fixed composite 8-point Gauss–Legendre rule in u for baking: within 1.6e-7
-//!   of the reference on every bake grid and 5.9e-8 over the domain (`examples/quadrature_error.rs`).
+//! - [`Rule::Fast`]: a fixed composite 8-point Gauss–Legendre rule in u for baking and the
+//!   bake's check: within 1.6e-7 of the reference on every bake grid and 5.9e-8 over the domain
+//!   (`examples/quadrature_error.rs`).
+//! - The node rule ([`Pbd::eval_node`], [`Pbd::eval_surface_beam_node`]): the fast rule's panels
+//!   with 6 points, for the azimuths two-lobe bakes fit through and the surface-beam nodes'
+//!   harmonics: within 1.2e-5 of the reference there.
 //!
-//! Below r = 10⁻¹² both use the small-r expansion S(r) = S(10⁻¹²) + k ln(10⁻¹²/r), with
+//! A panel's points are evaluated in passes ([`Pbd::panel`]), the same operations in the same
+//! order as point by point. Below r = 10⁻¹² every rule uses the small-r expansion S(r) = S(10⁻¹²) + k ln(10⁻¹²/r), with
 //! k = ρ′² C_E cos θ′/π ([`Pbd::log_slope`]); its error is O(r ln r) relative.
 //!
 //! # Where it breaks down (documented limits, never NaN)
@@ -134,7 +139,7 @@ const MAX_EDGES: usize = 160;
 pub const FAST_POINTS_PER_PANEL: usize = 8;
 
 /// Points per panel of [`Pbd::eval_node`]: 6, the fast rule's panels with 22 % fewer points,
-/// within 3·10⁻⁶ of the reference on every point a two-lobe bake fits through
+/// within 1.2·10⁻⁵ of the reference on every point a two-lobe bake fits through
 /// (`examples/quadrature_error.rs`).
 pub const NODE_POINTS_PER_PANEL: usize = 6;
 
@@ -272,7 +277,7 @@ impl Pbd {
 
     /// [`Pbd::eval`] by the node rule: the fast rule's panels with [`NODE_POINTS_PER_PANEL`]
     /// points each, for the azimuths a two-lobe bake fits through (its fit misses PBD by
-    /// 10⁻⁵–10⁻³ there, this rule by at most 3·10⁻⁶; docs/physics.md).
+    /// 10⁻⁵–10⁻³ there, this rule by at most 1.2·10⁻⁵; docs/physics.md).
     pub fn eval_node(&self, theta: f64, r: f64, phi: f64) -> f64 {
         self.evaluate(theta, r, phi, Quadrature::Node).value()
     }

@@ -19,7 +19,8 @@
 //! `"custom"` for a grid given node by node, its dims, the Fresnel moments, θ sampling, the
 //! fit's anchors and refinement, the lobes; where a table of the file took them, the fit
 //! azimuths of two lobes, the θ nodes near η = 1 and the rule of the node where the beam
-//! runs in the surface; and for a scene its plan under `scene`), `quadrature` (PBD's fast rule) and
+//! runs in the surface; and for a scene its plan under `scene`), `quadrature` (PBD's fast rule,
+//! and where a table of the file took it, the node rule of two-lobe and surface-beam nodes) and
 //! `accuracy` (every table's [`TableCheck`], in file order). These depend on the inputs only:
 //! the same bake writes the same bytes on any machine and thread count. The one field measured
 //! at run time, `bake_seconds` (the wall-clock time of the tables' bakes, without their
@@ -405,7 +406,6 @@ impl Baker {
         if two_lobes {
             settings["two_lobe_fit"] = json!({
                 "azimuths_deg": table::two_lobe_azimuths().map(f64::to_degrees),
-                "pbd_points_per_panel": crate::pbd::NODE_POINTS_PER_PANEL,
                 "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
             });
         }
@@ -446,11 +446,7 @@ impl Baker {
             })?;
         let mut provenance = Provenance::new(concat!("bssrdf-zoo ", env!("CARGO_PKG_VERSION")))
             .with_settings(settings)?
-            .with_quadrature(json!({
-                "rule": "fast",
-                "description": crate::pbd::fast_rule_description(),
-                "points_per_panel": crate::pbd::FAST_POINTS_PER_PANEL,
-            }))?
+            .with_quadrature(quadrature(two_lobes || surface))?
             .with_accuracy(json!({ "tables": accuracy }))?;
         if self.bake_time {
             provenance = provenance.with_bake_seconds(seconds(tables))?;
@@ -582,4 +578,22 @@ impl BakedLibrary {
     pub fn full_bytes(&self) -> Option<u64> {
         self.full_bytes
     }
+}
+
+/// The provenance's `quadrature`: PBD's fast rule, and (`node_rule`) the node rule where a
+/// table of the file fitted two lobes or had a surface-beam node.
+fn quadrature(node_rule: bool) -> Value {
+    let mut quadrature = json!({
+        "rule": "fast",
+        "description": crate::pbd::fast_rule_description(),
+        "points_per_panel": crate::pbd::FAST_POINTS_PER_PANEL,
+    });
+    if node_rule {
+        quadrature["node_rule"] = json!({
+            "points_per_panel": crate::pbd::NODE_POINTS_PER_PANEL,
+            "description": "the fast rule's panels with this many Gauss-Legendre points",
+            "where": "the azimuths two-lobe nodes are fitted through, and the harmonics of the surface-beam nodes",
+        });
+    }
+    quadrature
 }
