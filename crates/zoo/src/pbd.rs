@@ -50,7 +50,7 @@
 //!   with 6 points, for the azimuths two-lobe bakes fit through and the surface-beam nodes'
 //!   harmonics: within 1.2e-5 of the reference there.
 //!
-//! A panel's points are evaluated in passes ([`Pbd::panel`]), the same operations in the same
+//! A panel's points are evaluated in passes (`Pbd::panel`), the same operations in the same
 //! order as point by point. Below r = 10⁻¹² every rule uses the small-r expansion S(r) = S(10⁻¹²) + k ln(10⁻¹²/r), with
 //! k = ρ′² C_E cos θ′/π ([`Pbd::log_slope`]); its error is O(r ln r) relative.
 //!
