@@ -353,18 +353,20 @@ fn bake_refines_where_the_three_anchor_fit_is_weak() {
     assert!(node_cell(&pbd, 0.5, -1.0).is_err() && node_cell(&pbd, 0.5, f64::NAN).is_err());
 }
 
+/// The θ and r counts of a table and its three axes' nodes (ρ′, θ, r), for reading its rows.
+fn axes_of(table: &AngularTable) -> (usize, usize, [&[f64]; 3]) {
+    let axes = table.axes();
+    let (_, n_theta, n_r) = axes.dims();
+    let nodes = [axes.rho(), axes.theta(), axes.r()].map(|a| a.as_slice());
+    (n_theta, n_r, nodes)
+}
+
 #[test]
 fn stored_nodes_are_the_node_cells_and_r0_extends_c() {
     // Every stored cell is `node_cell` rounded to f32, except c at r₀ = 0: the line through
     // (r₁, c₁) and (r₂, c₂) extended to 0 (0 at θ = 0)
     let table = default_table();
-    let axes = table.axes();
-    let (_, n_theta, n_r) = axes.dims();
-    let (rho_axis, theta_axis, r) = (
-        axes.rho().as_slice(),
-        axes.theta().as_slice(),
-        axes.r().as_slice(),
-    );
+    let (n_theta, n_r, [rho_axis, theta_axis, r]) = axes_of(table);
     for (i, j) in [(10, 0), (57, 9), (80, 5), (99, 3)] {
         let pbd = pbd(rho_axis[i]);
         let row = &table.params()[(i * n_theta + j) * n_r * 3..][..n_r * 3];
@@ -395,13 +397,7 @@ fn two_lobe_tables_take_one_lobe_near_normal_incidence() {
     // and a lookup there is that lobe over its floor; 40° keeps two lobes
     let table = two_lobe_table();
     let view = table.view();
-    let axes = table.axes();
-    let (_, n_theta, n_r) = axes.dims();
-    let (rho_axis, theta_axis, r) = (
-        axes.rho().as_slice(),
-        axes.theta().as_slice(),
-        axes.r().as_slice(),
-    );
+    let (n_theta, n_r, [rho_axis, theta_axis, r]) = axes_of(table);
     let harmonics = table.harmonics().unwrap();
     let cos_refracted = |theta: f64| (1.0 - (theta.sin() / 1.2).powi(2)).sqrt();
     let boundary = Boundary::new(1.2, Moments::Exact).unwrap();
