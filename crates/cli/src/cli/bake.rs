@@ -121,7 +121,7 @@ pub struct BakeArgs {
     pub(super) sigma_s: Option<[f64; 3]>,
     /// σa per channel, mm⁻¹.
     #[arg(long, value_name = "R,G,B", value_parser = parse_rgb, allow_hyphen_values = true,
-          requires = "sigma_s")]
+          requires = "sigma_s", conflicts_with_all = ["reflectance", "mfp"])]
     sigma_a: Option<[f64; 3]>,
     /// Henyey–Greenstein g of that material: one value or R,G,B (default 0); with --source
     /// walk, the walk's g (one value, default 0).
@@ -147,9 +147,9 @@ pub struct BakeArgs {
     /// Grid preset.
     #[arg(long, value_enum, default_value = "default")]
     pub(super) grid: GridArg,
-    /// Fresnel moments of the boundary.
-    #[arg(long, value_enum, default_value = "exact")]
-    pub(super) fresnel_moments: MomentsArg,
+    /// Fresnel moments of the boundary [default: exact].
+    #[arg(long, value_enum)]
+    pub(super) fresnel_moments: Option<MomentsArg>,
     /// Wrapped Cauchy lobes of the angular profile: 2 below η = 1.33, where one misses the
     /// report's accuracy at grazing incidence (or refraction), else 1 (auto). At η = 1.05–1.3 two
     /// are 28–47 times more accurate at 89°; on the default grid they keep the size (42 radii
@@ -204,7 +204,7 @@ fn parse_g(text: &str) -> Result<[f64; 3], String> {
 /// The library's bake of these arguments ([`bssrdf_zoo::bake`]).
 pub(super) fn baker(args: &BakeArgs) -> Baker {
     Baker::new(GridPreset::from(args.grid))
-        .with_moments(args.fresnel_moments.into())
+        .with_moments(args.fresnel_moments.unwrap_or(MomentsArg::Exact).into())
         .with_lobes(match args.lobes {
             LobesArg::Auto => None,
             LobesArg::One => Some(Lobes::One),
@@ -513,7 +513,14 @@ pub fn run(args: BakeArgs) -> Result<ExitCode, CliError> {
     // A bare table: --eta with no material.
     let mut bare = Vec::new();
     match (etas.is_empty(), args.eta, &custom) {
-        (true, Some(eta), _) => bare.push(eta),
+        (true, Some(eta), _) => {
+            super::check_range(
+                "--eta",
+                eta,
+                bssrdf_zoo::medium::ETA_MIN..=bssrdf_zoo::medium::ETA_MAX,
+            )?;
+            bare.push(eta)
+        }
         (true, None, _) => {
             return Err(CliError::input(
                 "name at least one material (see `bssrdf materials`), give --sigma-s/--sigma-a or --reflectance/--mfp, a --scene, or --eta",

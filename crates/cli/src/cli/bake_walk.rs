@@ -4,7 +4,6 @@
 //! multiple scattering, `--component multiple` keeps the latter alone.
 
 use super::bake::{table_summary, BakeArgs, ComponentArg, LobesArg, Summary};
-use super::eval::MomentsArg;
 use super::CliError;
 use bssrdf_zoo::bake::{bake_walk_library, BakeError, BakeGrid, WalkSettings};
 use bssrdf_zoo::format::Compression;
@@ -43,7 +42,7 @@ fn refuse_other_flags(args: &BakeArgs) -> Result<(), CliError> {
             "--source walk bakes one table for --eta and --g, without materials: drop the materials, --scene, --sigma-s/--sigma-a, --reflectance/--mfp, --name and --materials",
         ));
     }
-    if args.fresnel_moments != MomentsArg::Exact {
+    if args.fresnel_moments.is_some() {
         return Err(CliError::input(
             "--fresnel-moments sets PBD's boundary; the walk refracts and reflects by the exact Fresnel equations: drop it with --source walk",
         ));
@@ -82,14 +81,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
             )))
         }
     };
-    super::check_range(
-        "--g",
-        g,
-        (
-            std::ops::Bound::Excluded(-1.0),
-            std::ops::Bound::Excluded(1.0),
-        ),
-    )?;
+    super::check_g(g)?;
     let photons = args.photons.unwrap_or(DEFAULT_WALK_PHOTONS);
     if !(MIN_WALK_PHOTONS..=MAX_WALK_PHOTONS).contains(&photons) {
         return Err(CliError::input(format!(

@@ -308,14 +308,13 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         }
         _ => (args.choice.eta.unwrap_or(1.33), None),
     };
-    if model == ModelKind::MonteCarlo {
-        if let Some(m) = args.fresnel_moments {
-            return Err(CliError::input(format!(
-                "--fresnel-moments {} applies to the diffusion models, not to mc: the walk takes the exact Fresnel reflectance at every crossing",
-                m.to_possible_value()
-                    .map_or(String::new(), |v| v.get_name().to_owned())
-            )));
-        }
+    if let (ModelKind::MonteCarlo | ModelKind::WalkTable, Some(m)) = (model, args.fresnel_moments) {
+        return Err(CliError::input(format!(
+            "--fresnel-moments {} applies to the diffusion models, not to {}: the walk takes the exact Fresnel reflectance at every crossing",
+            m.to_possible_value()
+                .map_or(String::new(), |v| v.get_name().to_owned()),
+            model.name()
+        )));
     }
     let authors = args.fresnel_moments == Some(EvalMomentsArg::Authors);
     if authors && model != ModelKind::Dirpole {
@@ -403,7 +402,8 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
             theta_deg: args.theta.unwrap_or_default(),
             r: args.r.unwrap_or_default(),
             phi_deg: args.phi,
-        };
+        }
+        .unsigned_zeros();
         evaluator.check(&point, ["--rho", "--theta", "--r", "--phi"])?;
         let value = evaluator.value(&point)?;
         if args.json {

@@ -94,10 +94,12 @@ enum Command {
     Render(render::RenderArgs),
 }
 
-/// Refuses an option whose value was forgotten. An option that takes values starting with '-'
-/// (`--phi -inf`, `--bins -1,1,2,2`) takes the next argument as its value whatever it is, so
-/// in `render --size --theta 30` `--theta` became the size and clap then called `30` a stray
-/// argument. Here the next argument being one of the command's own options names both.
+/// Refuses an option whose value was forgotten, naming it and the option that follows. An
+/// option that takes values starting with '-' (`--phi -inf`, `--bins -1,1,2,2`) takes the next
+/// argument as its value whatever it is, so in `render --size --theta 30` `--theta` became the
+/// size and clap then called `30` a stray argument; for the others clap says only that the
+/// value is missing. Here an option that needs a value followed by one of the command's own
+/// options names both.
 pub fn check_forgotten_values(argv: &[OsString]) -> Result<(), clap::Error> {
     let mut cli = Cli::command();
     // Built, the subcommands know their usage ("bssrdf render [OPTIONS] ...")
@@ -120,7 +122,9 @@ pub fn check_forgotten_values(argv: &[OsString]) -> Result<(), clap::Error> {
             }
         }
     };
-    let takes_hyphen_values = |option: &str| {
+    // An option that needs a value (its value may not start with a hyphen: clap would say only
+    // that the value is missing; it may: clap would take the next option as it)
+    let needs_value = |option: &str| {
         let named = |a: &clap::Arg| match option.strip_prefix("--") {
             Some(long) => a.get_long() == Some(long),
             None => {
@@ -128,8 +132,10 @@ pub fn check_forgotten_values(argv: &[OsString]) -> Result<(), clap::Error> {
                 matches!((short.next(), short.next()), (Some(c), None) if a.get_short() == Some(c))
             }
         };
-        sub.get_arguments()
-            .any(|a| a.is_allow_hyphen_values_set() && named(a))
+        sub.get_arguments().any(|a| {
+            let required = a.get_num_args().is_none_or(|n| n.min_values() >= 1);
+            a.get_action().takes_values() && required && named(a)
+        })
     };
     let mut forgotten = None;
     for pair in argv.get(2..).unwrap_or_default().windows(2) {
@@ -139,7 +145,7 @@ pub fn check_forgotten_values(argv: &[OsString]) -> Result<(), clap::Error> {
         if option == "--" {
             break;
         }
-        if takes_hyphen_values(option) && is_option(next) {
+        if needs_value(option) && is_option(next) {
             forgotten = Some(format!(
                 "the value of {option} is missing: {next} is the next option, not a value"
             ));
@@ -206,6 +212,12 @@ pub fn check_photons(photons: u64) -> Result<(), CliError> {
         )));
     }
     Ok(())
+}
+
+/// Refuses a Henyey–Greenstein --g outside (−1, 1), naming the flag.
+pub fn check_g(g: f64) -> Result<(), CliError> {
+    use std::ops::Bound::Excluded;
+    check_range("--g", g, (Excluded(-1.0), Excluded(1.0)))
 }
 
 /// Refuses a --threads outside [1, MAX_THREADS] before any work.

@@ -38,7 +38,7 @@ pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), 
     let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| identity(p)).collect();
     for (i, (what, path)) in outputs.iter().enumerate() {
         for (j, (other, other_path)) in outputs.iter().enumerate().take(i) {
-            if ids[i] == ids[j] {
+            if ids[i] == ids[j] || same_regular_file(path, other_path) {
                 return Err(CliError::input(format!(
                     "{what} {} and {other} {} are the same file: one would overwrite the other",
                     path.display(),
@@ -47,7 +47,7 @@ pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), 
             }
         }
         for (input, input_path) in inputs {
-            if ids[i] == identity(input_path) {
+            if ids[i] == identity(input_path) || same_regular_file(path, input_path) {
                 return Err(CliError::input(format!(
                     "{what} {} is the input {input} {}: refusing to overwrite an input",
                     path.display(),
@@ -57,6 +57,28 @@ pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), 
         }
     }
     Ok(())
+}
+
+/// Whether two paths lead to one existing regular file, whatever leads there: another name of
+/// it (a hard link), a symbolic link, or a descriptor (`/dev/stdout` with the shell's stdout
+/// redirected into it). Same device and inode; devices and pipes are never the same file
+/// here (`/dev/null` may be every output of a command).
+fn same_regular_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (std::fs::metadata(a), std::fs::metadata(b)) {
+            (Ok(x), Ok(y)) => {
+                x.is_file() && y.is_file() && x.dev() == y.dev() && x.ino() == y.ino()
+            }
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (a, b);
+        false
+    }
 }
 
 /// Refuses an output that is the command's stdout when the command prints `prints` there too:

@@ -17,6 +17,18 @@ pub struct Point {
     pub phi_deg: f64,
 }
 
+impl Point {
+    /// The point with −0 as 0 (IEEE equal; the value given is echoed in the output).
+    pub fn unsigned_zeros(self) -> Self {
+        Self {
+            rho: self.rho + 0.0,
+            theta_deg: self.theta_deg + 0.0,
+            r: self.r + 0.0,
+            phi_deg: self.phi_deg + 0.0,
+        }
+    }
+}
+
 /// The rows of a points file, parsed, with what is needed to write them back.
 pub struct Rows {
     /// How errors name the input: its path, or "stdin".
@@ -168,12 +180,15 @@ pub fn read(path: &Path, material_rho: Option<f64>) -> Result<Rows, CliError> {
             (None, Some(m)) => m,
             (None, None) => return Err(missing("rho")),
         };
-        points.push(Point {
-            rho,
-            theta_deg: number(theta_at, "theta_deg")?,
-            r: number(r_at, r_column)?,
-            phi_deg: number(phi_at, "phi_deg")?,
-        });
+        points.push(
+            Point {
+                rho,
+                theta_deg: number(theta_at, "theta_deg")?,
+                r: number(r_at, r_column)?,
+                phi_deg: number(phi_at, "phi_deg")?,
+            }
+            .unsigned_zeros(),
+        );
         lines.push(line);
         records.push(record);
     }

@@ -258,8 +258,9 @@ fn config(args: &RenderArgs, model: ModelKind) -> Result<Config, CliError> {
     }
     let config = Config {
         model,
-        theta: theta.to_radians(),
-        cone: args.cone.to_radians(),
+        // (−0 is 0, and printed so)
+        theta: (theta + 0.0).to_radians(),
+        cone: (args.cone + 0.0).to_radians(),
         photons: args.photons,
         seed: args.seed,
         width: args.size.0,
@@ -346,7 +347,7 @@ fn walk_table(
 }
 
 /// Refuses a run whose outputs (the EXRs and their PNG previews) would overwrite one another
-/// or an input (`--diff`'s pictures, `--materials`), before any work.
+/// or an input (`--diff`'s pictures, `--materials`, `--walk-table`), before any work.
 fn check_outputs(args: &RenderArgs) -> Result<(), CliError> {
     // A device or FIFO is written through, but the files named after it (previews, --compare
     // pictures) would land beside it, e.g. /dev/null.png.
@@ -391,6 +392,9 @@ fn check_outputs(args: &RenderArgs) -> Result<(), CliError> {
     let material_files = super::materials::input_files(args.materials.as_deref());
     for file in &material_files {
         inputs.push(("--materials", file.as_path()));
+    }
+    if let Some(table) = &args.walk_table {
+        inputs.push(("--walk-table", table.as_path()));
     }
     for (what, path) in &outputs {
         let instead = "write the picture to a file";
@@ -533,16 +537,14 @@ fn print_summary(out: &mut impl Write, timed: &Timed, files: &[PathBuf]) -> std:
             };
             writeln!(
                 out,
-                "{:<19} {:>10.6} ± {:<9.6} {:>10} {:>10} {:>10.5} ± {:<11.5} {:>10.5} ± {:<11.5}",
+                "{:<19} {:>10.6} ± {:<9.6} {:>10} {:>10} {} {}",
                 format!("{} {}", render::part_name(part), render::band_name(band)),
                 b.power.value,
                 b.power.stderr,
                 expected,
                 in_picture,
-                b.centroid_x_mm.value,
-                b.centroid_x_mm.stderr,
-                b.centroid_y_mm.value,
-                b.centroid_y_mm.stderr
+                centroid_cell(b.centroid_x_mm),
+                centroid_cell(b.centroid_y_mm)
             )?;
         }
     }
@@ -593,6 +595,16 @@ fn print_diff(out: &mut impl Write, d: &Difference, files: &[PathBuf]) -> std::i
         d.centroid_shift_mm()
     )?;
     writeln!(out, "wrote {}", names(files))
+}
+
+/// A centroid column of the text summary: value ± standard error, or "none" where no light
+/// leaves the surface (its centroid is undefined; `--json` gives null).
+fn centroid_cell(c: bssrdf_zoo::walk::Estimate) -> String {
+    if c.value.is_finite() && c.stderr.is_finite() {
+        format!("{:>10.5} ± {:<11.5}", c.value, c.stderr)
+    } else {
+        format!("{:>10}   {:<11}", "none", "")
+    }
 }
 
 /// How the JSON summary types each metadata key of a render: fixed per key, never guessed

@@ -76,6 +76,10 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
     if let Some(p) = args.max_mean_error {
         super::check_range("--max-mean-error", p, 0.0..=1e4)?;
     }
+    // −0 is 0 (and printed as 0)
+    let max_mean_error = args.max_mean_error.map(|p| p + 0.0);
+    // --materials and --channel only with --material, and --eta in its domain, before the file
+    args.choice.check_eta()?;
     let library = library::open(&args.file, args.choice.mmap)?;
     // Every table, each against its own eta, unless the choice names one.
     let choice = &args.choice;
@@ -153,7 +157,7 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
     }
     bar.finish_and_clear();
     let bound = |row: &ValidationRow| {
-        args.max_mean_error
+        max_mean_error
             .map(|p| p / 100.0)
             .or(row.report_mean_rel_error)
             .unwrap_or(f64::INFINITY)

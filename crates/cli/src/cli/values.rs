@@ -115,7 +115,7 @@ pub fn check_range(name: &str, value: f64, range: impl RangeBounds<f64>) -> Resu
 /// A whole number as an option takes it (counts, seeds, indices, levels), also in exponent
 /// form (`--photons 1e6`), or what is wrong with the text: clap's own parse says "invalid digit
 /// found in string" for `-1` or `1.5`. The commands check their own ranges after it.
-pub fn whole<T: FromStr>(text: &str) -> Result<T, String> {
+pub fn whole<T: FromStr + Whole>(text: &str) -> Result<T, String> {
     let text = text.trim();
     if let Ok(value) = text.parse::<T>() {
         return Ok(value);
@@ -128,14 +128,44 @@ pub fn whole<T: FromStr>(text: &str) -> Result<T, String> {
     }
     // Integral and within f64's exact integers: in decimal digits, for T's own parse
     let digits = (x.abs() < 9e15).then(|| format!("{}", x as i64));
+    // Out of T's range: the number as typed (its f64 may have rounded) and the range
+    let range = format!("[{}, {}]", T::MIN_TEXT, T::MAX_TEXT);
     match digits.and_then(|d| d.parse::<T>().ok()) {
         Some(value) => Ok(value),
-        None if x < 0.0 => Err(format!(
-            "{} is negative: a whole number >= 0 is expected",
-            show(x)
+        None if x < 0.0 && T::MIN_TEXT == "0" => Err(format!(
+            "{text} is negative: a whole number in {range} is expected"
         )),
-        None => Err(format!("{} is too large", show(x))),
+        None if x < 0.0 => Err(format!(
+            "{text} is too small: a whole number in {range} is expected"
+        )),
+        None => Err(format!(
+            "{text} is too large: a whole number in {range} is expected"
+        )),
     }
+}
+
+/// The range of a whole-number type, for [`whole`]'s messages.
+pub trait Whole {
+    const MIN_TEXT: &'static str;
+    const MAX_TEXT: &'static str;
+}
+
+impl Whole for u64 {
+    const MIN_TEXT: &'static str = "0";
+    const MAX_TEXT: &'static str = "18446744073709551615";
+}
+
+impl Whole for usize {
+    const MIN_TEXT: &'static str = "0";
+    #[cfg(target_pointer_width = "64")]
+    const MAX_TEXT: &'static str = "18446744073709551615";
+    #[cfg(not(target_pointer_width = "64"))]
+    const MAX_TEXT: &'static str = "4294967295";
+}
+
+impl Whole for i32 {
+    const MIN_TEXT: &'static str = "-2147483648";
+    const MAX_TEXT: &'static str = "2147483647";
 }
 
 /// Every item of a comma-separated list, parsed as `T` ("x" is not a number).
@@ -220,14 +250,29 @@ mod tests {
         assert_eq!(whole::<i32>("-3"), Ok(-3));
         assert_eq!(
             whole::<u64>("-1").unwrap_err(),
-            "-1 is negative: a whole number >= 0 is expected"
+            "-1 is negative: a whole number in [0, 18446744073709551615] is expected"
         );
         assert_eq!(
             whole::<u64>("1.5").unwrap_err(),
             "1.5 is not a whole number"
         );
-        assert_eq!(whole::<i32>("1e10").unwrap_err(), "1e10 is too large");
-        assert_eq!(whole::<u64>("1e300").unwrap_err(), "1e300 is too large");
+        let i32_range = "a whole number in [-2147483648, 2147483647] is expected";
+        assert_eq!(
+            whole::<i32>("1e10").unwrap_err(),
+            format!("1e10 is too large: {i32_range}")
+        );
+        assert_eq!(
+            whole::<i32>("-1e10").unwrap_err(),
+            format!("-1e10 is too small: {i32_range}")
+        );
+        assert_eq!(
+            whole::<u64>("1e300").unwrap_err(),
+            "1e300 is too large: a whole number in [0, 18446744073709551615] is expected"
+        );
+        // As typed, not as its f64 rounds
+        assert!(whole::<u64>("18446744073709551616")
+            .unwrap_err()
+            .starts_with("18446744073709551616 is too large"));
         assert_eq!(
             whole::<usize>("x").unwrap_err(),
             "\"x\" is not a whole number"

@@ -2,10 +2,12 @@
 //! the walk is the physics, not a model of it).
 
 use super::CliError;
+use bssrdf_zoo::medium::{ETA_MAX, ETA_MIN};
 use bssrdf_zoo::walk::bins::{MAX_PHI, MAX_RADIAL};
 use bssrdf_zoo::walk::{self, Bins, Config, Geometry};
 use clap::Args;
 use std::io::Write;
+use std::ops::Bound;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -60,6 +62,13 @@ fn parse_bins(text: &str) -> Result<[f64; 4], String> {
 }
 
 pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
+    // The walk's own checks name its parameters; these name the flags
+    super::check_range("--albedo", args.albedo, 0.0..=1.0)?;
+    super::check_g(args.g)?;
+    super::check_range("--eta", args.eta, ETA_MIN..=ETA_MAX)?;
+    if let Some(tau) = args.slab {
+        super::check_range("--slab", tau, (Bound::Excluded(0.0), Bound::Unbounded))?;
+    }
     super::check_range("--theta", args.theta, 0.0..=90.0)?;
     // Below η = 1 no light enters beyond the critical angle (the walk's own check, in degrees)
     if (0.75..1.0).contains(&args.eta) && !super::values::enters(args.theta, args.eta) {
@@ -95,7 +104,8 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
             b[1],
             count(b[2], "radial count", MAX_RADIAL)?,
             count(b[3], "phi count", MAX_PHI)?,
-        )?;
+        )
+        .map_err(|e| CliError::input(format!("--bins: {e}")))?;
     }
     config.validate()?;
     if args.bins.is_some() && args.profile.is_none() && !args.json {

@@ -1,11 +1,12 @@
 //! `bssrdf zoo`: every model against the Monte Carlo walk, error against run time.
 
 use super::CliError;
+use bssrdf_zoo::medium::{ETA_MAX, ETA_MIN};
 use bssrdf_zoo::models::compare::{self, CompareConfig};
 use bssrdf_zoo::models::ModelKind;
 use clap::Args;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Debug, Args)]
@@ -53,6 +54,8 @@ pub struct ZooArgs {
 }
 
 pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
+    super::check_range("--eta", args.eta, ETA_MIN..=ETA_MAX)?;
+    super::check_g(args.g)?;
     super::check_photons(args.photons)?;
     let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
     if !args.models.is_empty() {
@@ -121,6 +124,7 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
         }
         std::fs::create_dir_all(dir)
             .map_err(|e| CliError::input(format!("cannot create {}: {e}", dir.display())))?;
+        check_plots(dir, args.walk_table.as_deref())?;
     }
     // Per case: its reference walk, then each model.
     let bar = super::progress::bar(
@@ -160,6 +164,31 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Refuses, before the walks, figures that could not be written or would overwrite the
+/// --walk-table: `pareto.svg` and the profile figures already in the folder (the new ones are
+/// named after the cases as the walks resolve them, `profiles-rho{ρ′}-theta{θ}.svg`).
+fn check_plots(dir: &Path, walk_table: Option<&Path>) -> Result<(), CliError> {
+    let mut figures = vec![dir.join("pareto.svg")];
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let name = name.to_string_lossy();
+            if name.starts_with("profiles-rho") && name.ends_with(".svg") {
+                figures.push(entry.path());
+            }
+        }
+    }
+    let outputs: Vec<(&str, &Path)> = figures
+        .iter()
+        .map(|f| ("the --plot figure", f.as_path()))
+        .collect();
+    let inputs: Vec<(&str, &Path)> = walk_table
+        .map(|t| ("--walk-table", t))
+        .into_iter()
+        .collect();
+    super::output::check(&outputs, &inputs)
 }
 
 /// Below η = 1 light enters only up to the critical angle asin η: refuses a case beyond it,

@@ -487,7 +487,7 @@ fn negative_numbers_are_values() {
             &["validate", "t.bssrdf", "--max-mean-error", "-1"],
             "--max-mean-error -1",
         ),
-        (&["bake", "--eta", "-1", "-q", "-o", "n.bssrdf"], "eta = -1"),
+        (&["bake", "--eta", "-1", "-q", "-o", "n.bssrdf"], "--eta -1"),
         (
             &["eval", "--rho", "0.5", "--theta", "-5", "--r", "1"],
             "--theta -5 is outside",

@@ -540,7 +540,8 @@ impl Renderer {
             ("orders", orders.to_string()),
             ("units", UNITS.to_string()),
             ("reflected_at_entry", stats.reflected.value.to_string()),
-            ("centroid_x_mm", lum.centroid_x_mm.value.to_string()),
+            // Undefined where no light leaves the surface (σs = 0): "none", never "NaN"
+            ("centroid_x_mm", finite_or_none(lum.centroid_x_mm.value)),
         ]
         .into_iter()
         .map(|(k, v)| (k.to_string(), v))
@@ -572,4 +573,13 @@ pub fn render(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Render, RenderError> {
     Ok(Renderer::new(config, material)?.run(progress))
+}
+
+/// `x` as text, or "none" where it is not finite (a centroid of no light).
+fn finite_or_none(x: f64) -> String {
+    if x.is_finite() {
+        x.to_string()
+    } else {
+        "none".to_string()
+    }
 }
