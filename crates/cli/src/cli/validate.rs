@@ -69,7 +69,7 @@ impl Status {
 pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
     if !(1..=MAX_SAMPLES).contains(&args.samples) {
         return Err(CliError::input(format!(
-            "--samples {} is outside [1, {MAX_SAMPLES}]",
+            "--samples {} is outside the valid range: [1, {MAX_SAMPLES}]",
             args.samples
         )));
     }

@@ -38,7 +38,8 @@ pub struct WalkArgs {
     slab: Option<f64>,
     /// Bins of the profile: r_min,r_max in mean free paths (0 < r_min < r_max), then the
     /// radial and φ bin counts, whole numbers in [1, 10000] and [1, 3600], with
-    /// (radial + 1) × φ ≤ 262144. With --profile or --json, which write the profile.
+    /// (radial + 1) × φ ≤ 262144. With --profile, which writes the binned profile, or --json,
+    /// which gives the bins and the reflectance inside them (binned_reflectance).
     #[arg(long, value_name = "R_MIN,R_MAX,NR,NPHI", value_parser = parse_bins,
           allow_hyphen_values = true)]
     bins: Option<[f64; 4]>,
@@ -110,7 +111,7 @@ pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
     config.validate()?;
     if args.bins.is_some() && args.profile.is_none() && !args.json {
         return Err(CliError::input(
-            "--bins sets the bins of the profile, which only --profile or --json writes: give one of them, or drop --bins",
+            "--bins sets the bins of the profile, which only --profile writes (and --json sums, as binned_reflectance): give one of them, or drop --bins",
         ));
     }
     if let Some(path) = &args.profile {

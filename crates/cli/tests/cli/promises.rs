@@ -759,11 +759,11 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         2,
         "expected 4 comma-separated numbers",
     );
-    // The bins shape the profile, which only --profile or --json writes
+    // The bins shape the profile, which only --profile writes and --json sums
     fails_with(
         &bssrdf(d, &["walk", "--albedo", "0.9", "--bins", "0.01,100,10,4"]),
         2,
-        "--bins sets the bins of the profile, which only --profile or --json writes",
+        "--bins sets the bins of the profile, which only --profile writes (and --json sums, as binned_reflectance)",
     );
     // At 90° the walk gives the grazing limit per unit power entering, as zoo and eval's mc
     let grazing = json(&bssrdf(
