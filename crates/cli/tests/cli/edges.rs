@@ -297,6 +297,29 @@ fn no_nan_and_no_negative_zero_is_printed() {
         ],
     );
     assert!(!text(&out.stdout).contains("-0.0"), "{}", text(&out.stdout));
+    // A material file's −0 is listed as 0
+    let zz = "id = \"zz\"\nname = \"Z\"\neta = 1.45\ncoefficients = \"unreduced\"\nsigma_s = [1.0, 1.1, 1.2]\nsigma_a = [0.01, -0.0, 0.05]\ng = [0, 0, -0.0]\n";
+    std::fs::write(d.join("zz.toml"), zz).unwrap();
+    let listed = ok(&bssrdf(
+        d,
+        &["materials", "--materials", "zz.toml", "--json"],
+    ));
+    let listed: serde_json::Value = serde_json::from_str(listed.trim()).unwrap();
+    let zz = listed
+        .as_array()
+        .or_else(|| listed["materials"].as_array())
+        .unwrap()
+        .iter()
+        .find(|m| m["id"] == "zz")
+        .unwrap();
+    for channel in zz["channels"].as_array().unwrap() {
+        for key in ["sigma_a", "g"] {
+            assert!(channel[key].as_f64().unwrap().is_sign_positive(), "{zz}");
+        }
+    }
+    let text_list = ok(&bssrdf(d, &["materials", "--materials", "zz.toml"]));
+    let line = text_list.lines().find(|l| l.contains("zz")).unwrap();
+    assert!(!line.contains("-0"), "{line}");
 }
 
 #[test]

@@ -273,7 +273,8 @@ pub(super) fn channels(
     }
     let channel = |c: Rgb| {
         let i = c.index();
-        Medium::new(sigma_s[i], sigma_a[i], g[i], eta)
+        // −0 as 0 (equal, and listed as given by `materials`)
+        Medium::new(sigma_s[i] + 0.0, sigma_a[i] + 0.0, g[i] + 0.0, eta)
             .map(|medium| Channel { medium })
             .map_err(|source| MaterialError::Medium {
                 file: file.to_string(),
