@@ -141,6 +141,12 @@ fn provenance(
             "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
         },
     });
+    if crate::table::ridge::reaches(settings.eta) {
+        settings_json["ridge_share"] = json!({
+            "method": "where PBD's analytic ridge has weight (cos theta' < 0.3, below eta 1.0483; not the beam in the surface), the tilted profile is P - (1 - s) R, R the ridge (format-spec.md section 10, The ridge): s in [0, 1.5] whose tilt matches mu_3, mu_4 best (chi-square with their standard errors) once mu_0..mu_2 are matched; s smoothed with a1, a2 and the walk's energy over PBD's, ln(mu_0/P_0), from which k follows",
+            "largest_share": 1.5,
+        });
+    }
     if settings.component == WalkComponent::Total {
         settings_json["single_scattering"] = json!({
             "method": "exact, by quadrature along the refracted beam (adaptive Gauss-Kronrod in s = b + h sinh u, 1e-9 relative; harmonics by 8-point Gauss-Legendre panels in phi doubling from cos(theta')/2), in each row's reduced units; added to the tilted PBD at every node before the two lobes are fitted, and to its energy and harmonics",

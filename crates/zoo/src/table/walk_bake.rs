@@ -23,8 +23,17 @@
 //!    bias out: the kernel average differs from the value at rᵢ by the profile's curvature over
 //!    the kernel, as much as 7 % at r = 10 on the default two-lobe grid, and PBD has the same
 //!    curvature (the table's ρ_eff was 2–2.8 % high without it, measured). |a₁| + |a₂| is kept
-//!    ≤ [`MAX_TILT`], so the profile stays ≥ 0.
-//! 3. **Smooth.** ln k, a₁ and a₂ are smoothed along ln r by a local linear fit over
+//!    ≤ [`MAX_TILT`], so the profile stays ≥ 0. **The ridge's share.** Where PBD has the
+//!    analytic ridge of grazing incidence near index matching (`table::ridge`: cos θ′ < 0.3,
+//!    below η ≈ 1.0483; not for the beam in the surface), the walk's own forward ridge is
+//!    weaker than PBD's (at η = 1, θ = 89°, ρ′ = 0.9 the walk over PBD is 0.3 within 10° of
+//!    φ = 0 and 0.6–1.6 elsewhere), which no smooth tilt follows: P there is PBD less its ridge
+//!    R plus a share s of it, P − (1 − s)R, with s ∈ [0, [`MAX_RIDGE_SHARE`]] the share whose
+//!    tilt matching μ̂₀ … μ̂₂ matches μ̂₃ and μ̂₄ best (χ² with their standard errors: the narrow
+//!    ridge is the part of the profile that carries the high harmonics; [`fit_ridge_tilt`]).
+//! 3. **Smooth.** ln k, a₁ and a₂ (with the ridge, ln(μ̂₀/P̄₀), a₁, a₂ and s, k then following
+//!    from them: k and s trade off against each other from node to node) are smoothed along
+//!    ln r by a local linear fit over
 //!    [`SMOOTH_NODES`] measured nodes on each side, weighted by 1/σ² and a tricube. Between
 //!    measured nodes the tilt goes linearly in ln r; before the first it is the first's;
 //!    beyond the last ln k goes on along the line in r through the last [`TAIL_NODES`] (far out
@@ -69,6 +78,7 @@ use crate::gwc::one_lobe_of;
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
 use crate::quadrature::GaussLegendre;
+use crate::table::ridge::{self, Ridge, RidgeKind};
 use crate::walk::harmonics::{
     harmonics, kernels, unreduced_albedo, HarmonicsConfig, WalkHarmonics, HARMONICS,
 };
@@ -165,6 +175,7 @@ pub fn bake_walk(
     let mut second = vec![0.0f32; n_rho * n_theta * n_r * 2];
     let (mut photons, mut events) = (0u64, 0u64);
     let mut rel_stderr = Vec::new();
+    let r_max = grid.r[n_r - 1];
     let mut rows_from_pbd = 0;
     let rules = (
         GaussLegendre::new(CONTROL_POINTS),
@@ -213,10 +224,17 @@ pub fn bake_walk(
                 .enumerate()
                 .map(|(k, &i)| {
                     let pbd = Pbd::new(grid.rho[i], boundary)?;
+                    // (the beam in the surface keeps PBD's own shape)
+                    let ridge = crate::fresnel::refracted_cos(theta, eta)
+                        .filter(|_| !in_surface && ridge::reaches(eta))
+                        .and_then(|c| {
+                            Ridge::with_cos(RidgeKind::NEWEST, &boundary, grid.rho[i], c, r_max)
+                        });
                     let control = Control {
                         pbd: &pbd,
                         theta: (!in_surface).then_some(theta),
                         rules: &rules,
+                        ridge: ridge.as_ref(),
                     };
                     let (tilts, rel, measured) = row_tilts(&h, k, &grid.r, &control);
                     let albedo = unreduced_albedo(grid.rho[i], config.g);
@@ -335,6 +353,8 @@ struct Control<'a> {
     pbd: &'a Pbd,
     theta: Option<f64>,
     rules: &'a (GaussLegendre, GaussLegendre),
+    /// PBD's analytic ridge at this (ρ′, θ), where it has weight (module docs, "The ridge").
+    ridge: Option<&'a Ridge>,
 }
 
 /// PBD's harmonics kept for the correction: μ₀ … μ₆ (the tilt of μ₄ reaches μ₆).
@@ -343,10 +363,16 @@ const PBD_HARMONICS: usize = HARMONICS + 2;
 /// One node of a row as the walk measured it, with PBD at the node and its kernel average.
 struct Measured {
     mean: [f64; HARMONICS],
+    /// Standard errors of μ̂₀ … μ̂₄.
+    se: [f64; HARMONICS],
     /// Relative standard error of μ̂₀ (`None` where μ̂₀ ≤ 0 or r = 0).
     rel: Option<f64>,
+    /// PBD's harmonics at the node and their kernel average, less the ridge's where there
+    /// is one (then in `ridge`).
     at_node: [f64; PBD_HARMONICS],
     average: [f64; PBD_HARMONICS],
+    /// The ridge's harmonics at the node and their kernel average (0 without a ridge).
+    ridge: [[f64; PBD_HARMONICS]; 2],
 }
 
 impl Measured {
@@ -407,7 +433,94 @@ fn fit_tilt(mean: &[f64; HARMONICS], p: &[f64; PBD_HARMONICS]) -> [f64; 3] {
 }
 
 /// A node's smoothed tilt (ln k, a₁, a₂) and PBD's harmonics there.
-type NodeTilt = ([f64; 3], [f64; PBD_HARMONICS]);
+/// The walk's tilt of PBD with the share s of PBD's ridge it keeps: (ln k, a₁, a₂, s).
+type Tilt = [f64; 4];
+
+/// A node's smoothed tilt and the harmonics of PBD with the tilt's share of its ridge.
+type NodeTilt = (Tilt, [f64; PBD_HARMONICS]);
+
+/// The tilt (ln k, a₁, a₂, s) of a node from the walk's energy over PBD's, ln(μ̂₀/P̄₀), in place
+/// of ln k: k = (μ̂₀/P̄₀) P̄₀/B̄, B̄ the energy of PBD with the share s of its ridge, tilted by
+/// (a₁, a₂) (kernel averages, or the node's harmonics where it has none).
+fn scale_of(m: &Measured, [ratio, a1, a2, s]: Tilt) -> Tilt {
+    let (smooth, ridge) = if m.average[0] > 0.0 {
+        (&m.average, &m.ridge[1])
+    } else {
+        (&m.at_node, &m.ridge[0])
+    };
+    let full = with_share(smooth, ridge, 1.0)[0];
+    let base = tilted(&with_share(smooth, ridge, s), [0.0, a1, a2])[0];
+    let ln_k = if full > 0.0 && base > 0.0 {
+        ratio + (full / base).ln()
+    } else {
+        ratio
+    };
+    [ln_k, a1, a2, s]
+}
+
+/// The largest share of PBD's ridge a walk node may keep.
+const MAX_RIDGE_SHARE: f64 = 1.5;
+
+/// `smooth` + s · `ridge`, harmonic by harmonic: PBD with the share s of its ridge.
+fn with_share(
+    smooth: &[f64; PBD_HARMONICS],
+    ridge: &[f64; PBD_HARMONICS],
+    s: f64,
+) -> [f64; PBD_HARMONICS] {
+    std::array::from_fn(|n| smooth[n] + s * ridge[n])
+}
+
+/// The tilt of PBD less its ridge plus the share s of it whose kernel averages have the walk's
+/// μ̂₀ … μ̂₂ ([`fit_tilt`]) and, of the shares s ∈ [0, MAX_RIDGE_SHARE], its μ̂₃ and μ̂₄
+/// closest (χ² with their standard errors): the ridge is the profile's only part narrow enough
+/// to carry the high harmonics, and the walk's is weaker than PBD's near index matching. s = 1
+/// (PBD itself) without a ridge.
+fn fit_ridge_tilt(m: &Measured) -> Tilt {
+    let [_, ridge] = &m.ridge;
+    if ridge.iter().all(|&x| x == 0.0) {
+        let [ln_k, a1, a2] = fit_tilt(&m.mean, &m.average);
+        return [ln_k, a1, a2, 1.0];
+    }
+    let misfit = |s: f64| {
+        let p = with_share(&m.average, ridge, s);
+        let tilt = fit_tilt(&m.mean, &p);
+        let h = tilted(&p, tilt);
+        let chi2: f64 = (3..HARMONICS)
+            .map(|n| {
+                let z = (h[n] - m.mean[n]) / m.se[n].max(1e-300);
+                z * z
+            })
+            .sum();
+        (
+            if chi2.is_finite() {
+                chi2
+            } else {
+                f64::INFINITY
+            },
+            tilt,
+        )
+    };
+    // A grid, then golden-section refinement around its best point
+    const STEPS: usize = 30;
+    let step = MAX_RIDGE_SHARE / STEPS as f64;
+    let best = (0..=STEPS)
+        .map(|k| k as f64 * step)
+        .min_by(|&a, &b| misfit(a).0.total_cmp(&misfit(b).0))
+        .unwrap_or(1.0);
+    let (mut lo, mut hi) = ((best - step).max(0.0), (best + step).min(MAX_RIDGE_SHARE));
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..30 {
+        let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if misfit(x1).0 <= misfit(x2).0 {
+            hi = x2;
+        } else {
+            lo = x1;
+        }
+    }
+    let s = 0.5 * (lo + hi);
+    let [ln_k, a1, a2] = misfit(s).1;
+    [ln_k, a1, a2, s]
+}
 
 /// The tilt of every node of row `row` (module docs; `None` at r = 0 and where PBD is 0), the
 /// relative standard error of each node's μ̂₀, and whether any node was measured well enough
@@ -419,7 +532,12 @@ fn row_tilts(
     control: &Control,
 ) -> (Vec<Option<NodeTilt>>, Vec<Option<f64>>, bool) {
     let (gl, azimuths) = control.rules;
-    let pbd_at = |x: f64| control_harmonics(control.pbd, x, control.theta, azimuths);
+    let pbd_at = |x: f64| control_harmonics(control.pbd, x, control.theta, azimuths, control.ridge);
+    let ridge_at = |x: f64| {
+        control
+            .ridge
+            .map_or([0.0; PBD_HARMONICS], |g| g.harmonics::<PBD_HARMONICS>(x))
+    };
     let kernels = kernels(r);
     let measured: Vec<Measured> = (0..r.len())
         .map(|node| {
@@ -430,31 +548,46 @@ fn row_tilts(
                 let zero = [0.0; PBD_HARMONICS];
                 return Measured {
                     mean,
+                    se,
                     rel: None,
                     at_node: zero,
                     average: zero,
+                    ridge: [zero; 2],
                 };
             }
             Measured {
                 mean,
+                se,
                 rel: (mean[0] > 0.0).then(|| se[0] / mean[0]),
                 at_node: pbd_at(r[node]),
                 average: kernel.map_or([0.0; PBD_HARMONICS], |k| k.average(gl, pbd_at)),
+                ridge: [
+                    ridge_at(r[node]),
+                    kernel.map_or([0.0; PBD_HARMONICS], |k| k.average(gl, ridge_at)),
+                ],
             }
         })
         .collect();
     let reliable: Vec<usize> = (0..r.len()).filter(|&k| measured[k].reliable()).collect();
     // The walk against PBD at each reliable node, as a tilt of PBD's profile, smoothed along
     // ln r (`smooth_tilt`)
-    let tilts: Vec<(f64, f64, [f64; 3])> = reliable
+    // With a ridge, k and s trade off against each other from node to node (both move the
+    // energy), so what is smoothed is the walk's energy over PBD's, ln(μ̂₀/P̄₀), and k follows
+    // from it and the smoothed shape (`scale_of`)
+    let energy_form = control.ridge.is_some();
+    let tilts: Vec<(f64, f64, Tilt)> = reliable
         .iter()
         .map(|&k| {
             let m = &measured[k];
             let rel = m.rel.unwrap_or(MAX_REL_STDERR);
-            (r[k].ln(), 1.0 / (rel * rel), fit_tilt(&m.mean, &m.average))
+            let mut tilt = fit_ridge_tilt(m);
+            if energy_form {
+                tilt[0] = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0)[0]).ln();
+            }
+            (r[k].ln(), 1.0 / (rel * rel), tilt)
         })
         .collect();
-    let smoothed: Vec<[f64; 3]> = (0..reliable.len())
+    let smoothed: Vec<Tilt> = (0..reliable.len())
         .map(|i| smooth_tilt(&tilts, i))
         .collect();
     // Beyond the last measured node, ln k goes on along the line in r through the last ones
@@ -487,9 +620,14 @@ fn row_tilts(
                         smoothed[i][n] + t * (smoothed[after][n] - smoothed[i][n])
                     })
                 }
-                (None, None) => [0.0; 3],
+                (None, None) => [0.0, 0.0, 0.0, 1.0],
             };
-            Some((tilt, here.at_node))
+            let tilt = if energy_form {
+                scale_of(here, tilt)
+            } else {
+                tilt
+            };
+            Some((tilt, with_share(&here.at_node, &here.ridge[0], tilt[3])))
         })
         .collect();
     let rel = measured.iter().map(|m| m.rel).collect();
@@ -522,13 +660,14 @@ fn row_cells(
         let one = single.map_or(SingleNode::ZERO, |(part, albedo)| {
             part.node(albedo, node, r)
         });
-        let m = tilted(at_node, *tilt);
+        let [ln_k, a1, a2, share] = *tilt;
+        let m = tilted(at_node, [ln_k, a1, a2]);
         let energy = r * (m[0] + one.harmonics[0]);
         let cell = match control.theta {
             None => {
                 // The stored shape is the limit's own, by the bake's accurate rule (the
                 // control's coarse one only enters ratios of nearby radii)
-                let m = tilted(&surface_harmonics(control.pbd, r, None), *tilt);
+                let m = tilted(&surface_harmonics(control.pbd, r, None), [ln_k, a1, a2]);
                 let m: [f64; HARMONICS] = std::array::from_fn(|n| m[n] + one.harmonics[n]);
                 let energy = r * m[0];
                 let (beta, c) = one_lobe_of(m[1], m[2]);
@@ -545,13 +684,17 @@ fn row_cells(
                 [energy, (e_beta * energy / e).min(energy), 0.0, 0.0, 0.0]
             }
             Some(theta) => {
-                let [ln_k, a1, a2] = *tilt;
                 // The sum with single scattering (0 for a multiple table) at each azimuth
                 let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
                     .iter()
                     .zip(one.at_azimuths)
                     .map(|(&p, s1)| {
                         let pbd = control.pbd.eval(theta, r, p, Rule::Fast);
+                        // PBD with the walk's share of its ridge
+                        let pbd = match control.ridge {
+                            Some(g) => (pbd - (1.0 - share) * g.eval(r, p)).max(1e-3 * pbd),
+                            None => pbd,
+                        };
                         let factor = 1.0 + a1 * p.cos() + a2 * (2.0 * p).cos();
                         (p, ln_k.exp() * pbd * factor + s1)
                     })
@@ -582,7 +725,7 @@ fn row_cells(
 
 /// The slope in r of ln k over the last [`TAIL_NODES`] measured nodes of a row (weighted least
 /// squares, weights 1/σ²), 0 with fewer than three.
-fn tail_slope(tilts: &[(f64, f64, [f64; 3])], reliable: &[usize], r: &[f64]) -> f64 {
+fn tail_slope(tilts: &[(f64, f64, Tilt)], reliable: &[usize], r: &[f64]) -> f64 {
     let n = tilts.len();
     if n < 3 {
         return 0.0;
@@ -613,7 +756,7 @@ const TAIL_NODES: usize = 5;
 /// The local linear fit in ln r, at point `i`, of the points within [`SMOOTH_NODES`] of it
 /// ((ln r, weight, values) in increasing r): weighted least squares with the points' weights
 /// times the tricube of their distance in points; the point itself where fewer than three.
-fn smooth_tilt(points: &[(f64, f64, [f64; 3])], i: usize) -> [f64; 3] {
+fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
     let lo = i.saturating_sub(SMOOTH_NODES);
     let hi = (i + SMOOTH_NODES + 1).min(points.len());
     if hi - lo < 3 {
@@ -621,7 +764,7 @@ fn smooth_tilt(points: &[(f64, f64, [f64; 3])], i: usize) -> [f64; 3] {
     }
     let u0 = points[i].0;
     let (mut sw, mut su, mut suu) = (0.0, 0.0, 0.0);
-    let (mut sy, mut suy) = ([0.0; 3], [0.0; 3]);
+    let (mut sy, mut suy) = ([0.0; 4], [0.0; 4]);
     for (j, (u, weight, y)) in points.iter().enumerate().take(hi).skip(lo) {
         let d = j.abs_diff(i) as f64 / (SMOOTH_NODES + 1) as f64;
         let w = weight * (1.0 - d * d * d).powi(3);
@@ -629,7 +772,7 @@ fn smooth_tilt(points: &[(f64, f64, [f64; 3])], i: usize) -> [f64; 3] {
         sw += w;
         su += w * x;
         suu += w * x * x;
-        for n in 0..3 {
+        for n in 0..4 {
             sy[n] += w * y[n];
             suy[n] += w * x * y[n];
         }
@@ -639,7 +782,8 @@ fn smooth_tilt(points: &[(f64, f64, [f64; 3])], i: usize) -> [f64; 3] {
         return points[i].2;
     }
     // The intercept at x = 0: (Σx² Σy − Σx Σxy) / det
-    let mut fit: [f64; 3] = std::array::from_fn(|n| (suu * sy[n] - su * suy[n]) / det);
+    let mut fit: Tilt = std::array::from_fn(|n| (suu * sy[n] - su * suy[n]) / det);
+    fit[3] = fit[3].clamp(0.0, MAX_RIDGE_SHARE);
     let size = fit[1].abs() + fit[2].abs();
     if size > MAX_TILT {
         fit[1] *= MAX_TILT / size;
@@ -658,6 +802,7 @@ fn control_harmonics(
     r: f64,
     theta: Option<f64>,
     rule: &GaussLegendre,
+    less: Option<&Ridge>,
 ) -> [f64; PBD_HARMONICS] {
     let mut m = [if theta.is_none() {
         pbd.surface_ridge(r)
@@ -670,7 +815,7 @@ fn control_harmonics(
         let value = match theta {
             Some(theta) => pbd.eval(theta, r, phi, Rule::Fast),
             None => pbd.eval_surface_beam(r, phi, Rule::Fast),
-        };
+        } - less.map_or(0.0, |g| g.eval(r, phi));
         // ∫ over [−π, π] of an even profile, dφ = 2π t dt, dt = dx/2
         let s = 2.0 * w * 0.5 * 2.0 * PI * t * value;
         for (n, mn) in m.iter_mut().enumerate() {
@@ -678,4 +823,68 @@ fn control_harmonics(
         }
     }
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::{SeedableRng, SplitMix64, UnitF64};
+
+    /// The harmonics μ₀ … μ₆ of a wrapped Cauchy lobe of mass `mass`: mass·κⁿ.
+    fn lobe(mass: f64, kappa: f64) -> [f64; PBD_HARMONICS] {
+        std::array::from_fn(|n| mass * kappa.powi(n as i32))
+    }
+
+    fn measured(
+        mean: [f64; HARMONICS],
+        smooth: [f64; PBD_HARMONICS],
+        ridge: [f64; PBD_HARMONICS],
+    ) -> Measured {
+        Measured {
+            mean,
+            se: [1e-4 * mean[0]; HARMONICS],
+            rel: Some(1e-4),
+            at_node: smooth,
+            average: smooth,
+            ridge: [ridge; 2],
+        }
+    }
+
+    #[test]
+    fn the_ridge_share_and_the_tilt_are_recovered_from_the_walks_harmonics() {
+        // Walk harmonics made as a tilt of a broad profile plus a share of a narrow ridge:
+        // the fit finds the share and the tilt that made them, over their whole range
+        let mut rng = SplitMix64::seed_from_u64(11);
+        for _ in 0..400 {
+            let mut u = || rng.next_f64();
+            let broad = lobe(1.0, 0.2 + 0.5 * u());
+            let floor = 0.3 * u();
+            let smooth: [f64; PBD_HARMONICS] =
+                std::array::from_fn(|n| broad[n] + if n == 0 { floor } else { 0.0 });
+            let ridge = lobe(0.1 + 0.9 * u(), 0.95 + 0.049 * u());
+            let share = MAX_RIDGE_SHARE * u();
+            let tilt = [u() - 0.5, 0.6 * (u() - 0.5), 0.3 * (u() - 0.5)];
+            let mean = tilted(&with_share(&smooth, &ridge, share), tilt);
+            let got = fit_ridge_tilt(&measured(mean, smooth, ridge));
+            let want = [tilt[0], tilt[1], tilt[2], share];
+            for (g, w) in got.iter().zip(want) {
+                assert!((g - w).abs() < 1e-5, "{got:?} against {want:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn without_a_ridge_the_tilt_is_pbds_alone() {
+        let smooth = lobe(1.0, 0.6);
+        let mean = tilted(&smooth, [0.2, 0.1, -0.05]);
+        let got = fit_ridge_tilt(&measured(mean, smooth, [0.0; PBD_HARMONICS]));
+        let [ln_k, a1, a2] = fit_tilt(&mean, &smooth);
+        assert_eq!(got, [ln_k, a1, a2, 1.0]);
+        // and the energy form gives back the k of the fit
+        let m = measured(mean, smooth, lobe(0.3, 0.99));
+        let fit = fit_ridge_tilt(&m);
+        let ratio = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0)[0]).ln();
+        let back = scale_of(&m, [ratio, fit[1], fit[2], fit[3]]);
+        assert!((back[0] - fit[0]).abs() < 1e-12, "{back:?} against {fit:?}");
+    }
 }
