@@ -231,7 +231,7 @@ def model_eval(
     sigma_t: Optional[ArrayLike] = None,
     moments: Optional[str] = None,
     table: Optional[Table] = None,
-    grid: Optional[Tuple[int, int, int]] = None,
-    photons: int = 100_000,
-    seed: int = 1,
+    grid: Optional[Grid] = None,
+    photons: Optional[int] = None,
+    seed: Optional[int] = None,
 ) -> Values: ...

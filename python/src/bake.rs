@@ -58,7 +58,7 @@ impl Settings {
 
 /// A grid: a preset's name ("coarse", "default", "fine"), node counts (nρ, nθ, nr) placed as
 /// Ferrier places them, or a dict of node values {"rho": …, "theta": …, "r": …}.
-fn parse_grid(grid: &Bound<'_, PyAny>) -> PyResult<BakeGrid> {
+pub fn parse_grid(grid: &Bound<'_, PyAny>) -> PyResult<BakeGrid> {
     if let Ok(name) = grid.extract::<String>() {
         let preset = match name.as_str() {
             "coarse" => GridPreset::Coarse,
@@ -73,6 +73,18 @@ fn parse_grid(grid: &Bound<'_, PyAny>) -> PyResult<BakeGrid> {
         return Ok(BakeGrid::Preset(preset));
     }
     if let Ok(nodes) = grid.cast::<PyDict>() {
+        for key in nodes.keys() {
+            let known = key
+                .extract::<String>()
+                .ok()
+                .filter(|k| ["rho", "theta", "r"].contains(&k.as_str()));
+            if known.is_none() {
+                return Err(PyValueError::new_err(format!(
+                    "the grid's dict has an unknown key {}; its keys are rho, theta, r",
+                    key_text(&key)?
+                )));
+            }
+        }
         let axis = |name: &str| -> PyResult<Vec<f64>> {
             nodes
                 .get_item(name)?
@@ -85,29 +97,39 @@ fn parse_grid(grid: &Bound<'_, PyAny>) -> PyResult<BakeGrid> {
             r: axis("r")?,
         }));
     }
-    let (n_rho, n_theta, n_r): (i64, i64, i64) = grid.extract().map_err(|_| {
-        PyValueError::new_err(
-            "grid is a preset's name, (n_rho, n_theta, n_r) or {\"rho\": ..., \"theta\": ..., \"r\": ...}",
-        )
-    })?;
+    // Counts as Python objects, so that a huge or negative one is named with its range
+    let (n_rho, n_theta, n_r): (Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>) =
+        grid.extract().map_err(|_| {
+            PyValueError::new_err(
+                "grid is a preset's name, (n_rho, n_theta, n_r) or {\"rho\": ..., \"theta\": ..., \"r\": ...}",
+            )
+        })?;
     // Each count checked before anything is allocated: the file's axes hold at most
     // MAX_AXIS_LEN nodes, and the placement needs 2 albedos, 2 angles and 4 radii
     let max = i64::from(bssrdf_zoo::format::spec::MAX_AXIS_LEN);
-    let count = |name: &str, n: i64, min: i64| -> PyResult<usize> {
-        if (min..=max).contains(&n) {
-            Ok(n as usize)
-        } else {
-            Err(PyValueError::new_err(format!(
-                "grid's {name} = {n} is outside [{min}, {max}]"
-            )))
+    let count = |name: &str, n: &Bound<'_, PyAny>, min: i64| -> PyResult<usize> {
+        match n.extract::<i64>() {
+            Ok(v) if (min..=max).contains(&v) => Ok(v as usize),
+            _ => Err(PyValueError::new_err(format!(
+                "grid's {name} = {} is outside [{min}, {max}]",
+                n.repr()?
+            ))),
         }
     };
     let (n_rho, n_theta, n_r) = (
-        count("n_rho", n_rho, 2)?,
-        count("n_theta", n_theta, 2)?,
-        count("n_r", n_r, 4)?,
+        count("n_rho", &n_rho, 2)?,
+        count("n_theta", &n_theta, 2)?,
+        count("n_r", &n_r, 4)?,
     );
     Ok(BakeGrid::Custom(Grid::ferrier(n_rho, n_theta, n_r)))
+}
+
+/// A dict key in a message: a str quoted as Rust quotes it, anything else by its repr.
+fn key_text(key: &Bound<'_, PyAny>) -> PyResult<String> {
+    match key.extract::<String>() {
+        Ok(k) => Ok(format!("{k:?}")),
+        Err(_) => Ok(key.repr()?.to_string()),
+    }
 }
 
 /// Fresnel moments by name: "exact" or "pbrt" (pbrt-v3's polynomial fits).
@@ -148,10 +170,15 @@ fn parse_material(item: &Bound<'_, PyAny>) -> PyResult<MaterialSpec> {
         "mfp",
     ];
     for key in dict.keys() {
-        let key: String = key.str()?.extract()?;
-        if !KEYS.contains(&key.as_str()) {
+        // A key that is a str, not one that prints like one (it would never be read)
+        let known = key
+            .extract::<String>()
+            .ok()
+            .filter(|k| KEYS.contains(&k.as_str()));
+        if known.is_none() {
             return Err(PyValueError::new_err(format!(
-                "the material's dict has an unknown key {key:?}; its keys are {}",
+                "the material's dict has an unknown key {}; its keys are {}",
+                key_text(&key)?,
                 KEYS.join(", ")
             )));
         }
@@ -258,6 +285,11 @@ pub fn bake(
             Err(_) => e.extract()?,
         },
     };
+    if etas.is_empty() {
+        return Err(PyValueError::new_err(
+            "eta is an empty sequence: give at least one eta to bake",
+        ));
+    }
     let default = PyString::new(py, "default");
     let settings = Settings::new(grid.unwrap_or(&default), lobes, moments, theta_sampling)?;
     run(py, settings.baker(), &[], &etas, threads, path)
@@ -279,6 +311,11 @@ pub fn bake_materials(
     #[pyo3(from_py_with = crate::args::threads)] threads: Option<usize>,
     path: Option<PathBuf>,
 ) -> PyResult<Library> {
+    if materials.is_empty() && etas.is_empty() {
+        return Err(PyValueError::new_err(
+            "materials and etas are both empty: give at least one material or eta to bake",
+        ));
+    }
     let specs = materials
         .iter()
         .map(parse_material)

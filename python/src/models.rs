@@ -9,7 +9,7 @@ use bssrdf_zoo::fresnel::{refracted_cos, Moments};
 use bssrdf_zoo::models::dirpole::DirpoleFresnel;
 use bssrdf_zoo::models::table::TableSource;
 use bssrdf_zoo::models::{self, Model, ModelKind, Options, Params};
-use bssrdf_zoo::table::{FileTable, Grid, GridPreset};
+use bssrdf_zoo::table::{FileTable, GridPreset};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -37,13 +37,17 @@ struct Built {
 /// `eta` defaults to the table's η for the table models given `table`, else 1.33; `moments` is
 /// "exact" (default; the table's with `table`), "pbrt", or for `dirpole` "authors". The table
 /// models (`table`, `perpendicular`) look up `table` or a table baked once at η on `grid`
-/// (counts (nρ, nθ, nr); default: the default grid); `walk-table` looks up `table`, which must
-/// be a walk-angular table (`bssrdf bake --source walk`); `g` defaults to its g (else 0). `mc` runs a walk of `photons` photons from
-/// `seed` for each (ρ′, θ), as `bssrdf eval --model mc` does. A model is built once for each
-/// run of points sharing its parameters. Where no light enters (η < 1 beyond the critical
-/// angle) every model gives 0.
+/// (a preset's name, counts (nρ, nθ, nr) or a dict of nodes, as `bake` takes it; default: the
+/// default grid); `walk-table` looks up `table`, which must be a walk-angular table
+/// (`bssrdf bake --source walk`); `g` defaults to its g (else 0). `mc` runs a walk of `photons`
+/// photons (default 100,000) from `seed` (default 1) for each (ρ′, θ), as
+/// `bssrdf eval --model mc` does. An argument the model does not use is refused (`table` and
+/// `grid` but for the table models, `grid` with `table`, `photons` and `seed` but for `mc`,
+/// `moments` for `mc` and `walk-table` or other than the table's). A model is built once for
+/// each run of points sharing its parameters. Where no light enters (η < 1 beyond the critical
+/// angle) every model gives 0, at points that are in their domain.
 #[pyfunction]
-#[pyo3(signature = (name, rho, theta, r, phi, *, eta = None, g = None, sigma_t = None, moments = None, table = None, grid = None, photons = 100_000, seed = 1))]
+#[pyo3(signature = (name, rho, theta, r, phi, *, eta = None, g = None, sigma_t = None, moments = None, table = None, grid = None, photons = None, seed = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn model_eval<'py>(
     py: Python<'py>,
@@ -57,18 +61,50 @@ pub fn model_eval<'py>(
     sigma_t: Option<Arg<'py>>,
     moments: Option<&str>,
     table: Option<PyRef<'py, Table>>,
-    grid: Option<(usize, usize, usize)>,
-    #[pyo3(from_py_with = crate::args::photons)] photons: u64,
-    #[pyo3(from_py_with = crate::args::seed)] seed: u64,
+    grid: Option<&Bound<'py, PyAny>>,
+    photons: Option<&Bound<'py, PyAny>>,
+    seed: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let kind: ModelKind = name.parse().map_err(errors::value)?;
     let uses_table = matches!(
         kind,
         ModelKind::Table | ModelKind::Perpendicular | ModelKind::WalkTable
     );
+    let mc = kind == ModelKind::MonteCarlo;
+    // No argument accepted and ignored
+    let unused = [
+        (
+            "table=",
+            table.is_some() && !uses_table,
+            "the table models' (table, perpendicular, walk-table)",
+        ),
+        (
+            "grid=",
+            grid.is_some() && !matches!(kind, ModelKind::Table | ModelKind::Perpendicular),
+            "the bake's of the table and perpendicular models",
+        ),
+        (
+            "grid=",
+            grid.is_some() && table.is_some(),
+            "the bake's, and table= is given",
+        ),
+        ("photons=", photons.is_some() && !mc, "the mc model's"),
+        ("seed=", seed.is_some() && !mc, "the mc model's"),
+        (
+            "moments=",
+            moments.is_some() && matches!(kind, ModelKind::MonteCarlo | ModelKind::WalkTable),
+            "the diffusion models' (the walk takes the exact Fresnel equations)",
+        ),
+    ];
+    if let Some((arg, _, whose)) = unused.iter().find(|(_, refused, _)| *refused) {
+        return Err(errors::value(format!(
+            "{arg} is {whose}, not the {} model's: drop it",
+            kind.name()
+        )));
+    }
     let mut options = Options::default();
-    options.mc.photons = photons;
-    options.mc.seed = seed;
+    options.mc.photons = photons.map_or(Ok(100_000), crate::args::photons)?;
+    options.mc.seed = seed.map_or(Ok(1), crate::args::seed)?;
     let file_table = match (&table, uses_table) {
         (Some(t), true) => Some(t.owned_table()?),
         _ => None,
@@ -103,6 +139,12 @@ pub fn model_eval<'py>(
             options.dirpole.fresnel = DirpoleFresnel::AuthorsFits;
             Moments::Exact
         }
+        (Some(m), Some(t)) if parse_moments(m)? != t.moments() => {
+            return Err(errors::value(format!(
+                "moments={m:?} conflicts with table=, baked with {:?} moments",
+                t.moments().name()
+            )))
+        }
         (Some(m), _) => parse_moments(m)?,
         (None, Some(t)) => t.moments(),
         (None, None) => Moments::Exact,
@@ -119,9 +161,10 @@ pub fn model_eval<'py>(
         let shared = match file_table {
             Some(t) => Arc::new(t),
             None => {
-                let grid = grid.map_or(BakeGrid::Preset(GridPreset::Default), |(a, b, c)| {
-                    BakeGrid::Custom(Grid::ferrier(a, b, c))
-                });
+                let grid = match grid {
+                    Some(grid) => crate::bake::parse_grid(grid)?,
+                    None => BakeGrid::Preset(GridPreset::Default),
+                };
                 let source = TableSource::Bake(grid);
                 let params = Params::new(0.5, eta, moments).map_err(errors::value)?;
                 py.detach(|| source.table(&params)).map_err(errors::value)?
@@ -133,7 +176,6 @@ pub fn model_eval<'py>(
     Params::new(0.5, eta, moments)
         .and_then(|p| p.with_g(g))
         .map_err(errors::value)?;
-    let mc = kind == ModelKind::MonteCarlo;
     let mut built: Option<Built> = None;
     let mut value =
         move |rho: f64, theta: f64, r: f64, phi: f64, sigma_t: f64| -> Result<f64, String> {
@@ -141,7 +183,14 @@ pub fn model_eval<'py>(
                 .and_then(|_| bssrdf_zoo::error::non_negative("r", r))
                 .and_then(|_| bssrdf_zoo::error::finite("r", r))
                 .and_then(|_| bssrdf_zoo::error::finite("phi", phi))
+                .and_then(|_| bssrdf_zoo::error::in_range("rho", rho, 0.0, 1.0))
                 .map_err(|e| e.to_string())?;
+            if !(sigma_t > 0.0 && sigma_t.is_finite()) {
+                return Err(format!(
+                    "sigma_t = {} is outside (0, inf): a finite positive sigma_t' in mm^-1",
+                    bssrdf_zoo::error::number(sigma_t)
+                ));
+            }
             // Where no light enters (η < 1 beyond the critical angle) every model gives 0.
             if refracted_cos(theta, eta).is_none() {
                 return Ok(0.0);

@@ -10,7 +10,7 @@
 //! here without touching its callers.
 
 use ndarray::{ArrayViewD, IxDyn};
-use numpy::{AllowTypeChange, PyArray1, PyArrayLike, PyArrayMethods};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLike, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyFloat;
@@ -113,6 +113,9 @@ impl<'a> Column<'a> {
     }
 }
 
+/// The most dimensions an array argument may have (ndarray's limit; numpy's is 64).
+const MAX_DIMENSIONS: usize = 32;
+
 /// Runs `lookup` at every point of the broadcast of `args` (named `names` in messages) with
 /// the GIL released and returns its `M` results per point, each as an array of the broadcast
 /// shape, or as a float where every argument is a scalar. The first point the lookup refuses
@@ -124,6 +127,16 @@ pub fn map<'py, const N: usize, const M: usize>(
     args: [&Arg<'py>; N],
     mut lookup: impl FnMut([f64; N]) -> Result<[f64; M], String> + Send,
 ) -> PyResult<[Bound<'py, PyAny>; M]> {
+    // ndarray takes at most 32 dimensions (numpy allows 64): refused, naming the argument,
+    // before the view that would panic
+    for (name, arg) in names.iter().zip(args) {
+        if arg.ndim() > MAX_DIMENSIONS {
+            return Err(PyValueError::new_err(format!(
+                "{name} has {} dimensions: at most {MAX_DIMENSIONS} are taken",
+                arg.ndim()
+            )));
+        }
+    }
     // A float64 array that is not aligned (a view at a byte offset into a buffer) is copied
     // first: ndarray reads only aligned values
     let mut aligned: Vec<Option<Arg<'py>>> = Vec::with_capacity(N);
@@ -165,11 +178,12 @@ pub fn map<'py, const N: usize, const M: usize>(
             *column = values_of(n).map_err(Failure::Memory)?;
         }
         for i in 0..n {
-            let point = std::array::from_fn(|k| columns[k].0[i * columns[k].1]);
+            // −0 is 0, in and out (x + 0 changes no other value)
+            let point = std::array::from_fn(|k| columns[k].0[i * columns[k].1] + 0.0);
             match lookup(point) {
                 Ok(values) => {
                     for (column, value) in out.iter_mut().zip(values) {
-                        column.push(value);
+                        column.push(value + 0.0);
                     }
                 }
                 Err(message) => return Err(Failure::Point(i, message)),

@@ -211,18 +211,19 @@ impl Domain {
     }
 }
 
-/// Refuses a uniform random number outside [0, 1] (or NaN), named: the samplers' inputs (a
-/// broken random stream is an error, not a plausible draw; 1 ends their range).
+/// Refuses a uniform random number outside [0, 1) (or NaN), named: the samplers' inputs (a
+/// broken random stream is an error, not a plausible draw; the C interface's range too: a
+/// radial uniform of 1 would draw the end of the axis, where the table holds nothing).
 #[inline]
 pub fn uniforms<const N: usize>(names: [&str; N], u: [f64; N]) -> Result<(), String> {
     match names
         .into_iter()
         .zip(u)
-        .find(|(_, u)| !(0.0..=1.0).contains(u))
+        .find(|(_, u)| !(0.0..1.0).contains(u))
     {
         None => Ok(()),
         Some((name, u)) => Err(format!(
-            "{name} = {} is outside [0, 1]: a uniform random number",
+            "{name} = {} is outside [0, 1): a uniform random number",
             bssrdf_zoo::error::number(u)
         )),
     }
@@ -546,9 +547,10 @@ impl Table {
     /// material's channel. ValueError for ρ′ outside the table's rows or σ′t outside
     /// [1e-9, 1e12] mm⁻¹.
     fn medium(&self, rho_prime: f64, sigma_t: f64) -> PyResult<Channel> {
+        // (−0 is 0)
         let lookup = self
             .lookups()?
-            .medium(rho_prime, sigma_t)
+            .medium(rho_prime + 0.0, sigma_t)
             .map_err(errors::embed)?;
         Ok(Channel::new(
             &self.library,

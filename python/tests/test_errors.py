@@ -57,15 +57,15 @@ def test_bad_values_are_value_errors_naming_them(library, table):
         with pytest.raises(ValueError, match=needle):
             green.eval(0.5, r, phi)
     assert table.eval(0.5, 0.5, 1e6, 0.0) == 0.0  # beyond the last radius node: a value, 0
-    # A sampler's uniforms are in [0, 1]: NaN or beyond is a broken random stream, refused
-    for bad in (np.nan, 1.5, -0.5, 2.0):
-        with pytest.raises(ValueError, match=r"u2 = .* is outside \[0, 1\]"):
+    # A sampler's uniforms are in [0, 1): NaN, 1 or beyond is a broken random stream, refused
+    for bad in (np.nan, 1.0, 1.5, -0.5, 2.0):
+        with pytest.raises(ValueError, match=r"u2 = .* is outside \[0, 1\)"):
             table.sample(0.5, 0.5, 0.5, bad)
-        with pytest.raises(ValueError, match=r"u1 = .* is outside \[0, 1\]"):
+        with pytest.raises(ValueError, match=r"u1 = .* is outside \[0, 1\)"):
             green.sample(0.5, bad, 0.5)
-        with pytest.raises(ValueError, match=r"u4 = .* is outside \[0, 1\]"):
+        with pytest.raises(ValueError, match=r"u4 = .* is outside \[0, 1\)"):
             table.sample_path(0.5, 0.1, 0.2, 0.3, bad)
-        with pytest.raises(ValueError, match=r"u3 = .* is outside \[0, 1\]"):
+        with pytest.raises(ValueError, match=r"u3 = .* is outside \[0, 1\)"):
             green.sample_path(0.1, 0.2, bad, 0.4)
     with pytest.raises(ValueError, match="skin1"):
         library.channel("marble", "r")
@@ -137,3 +137,74 @@ def test_lookups_beyond_the_critical_angle_draw_nothing():
     assert table.eval(0.9, 1.4, 1.0, 0.0) == 0.0
     with pytest.raises(ValueError, match="theta sampling"):
         table.sample_path(0.9, 0.1, 0.2, 0.3, 0.4)
+
+
+def test_arguments_the_call_would_not_use_are_refused(table):
+    """No argument accepted and ignored, and every point checked, lit or not."""
+    for kwargs, needle in [
+        ({"table": table}, "table= is the table models'"),
+        ({"photons": 7}, "photons= is the mc model's"),
+        ({"seed": 3}, "seed= is the mc model's"),
+        ({"grid": (4, 4, 8)}, "grid= is the bake's of the table and perpendicular models"),
+    ]:
+        with pytest.raises(ValueError, match=re.escape(needle)):
+            bz.models.eval("dipole", 0.5, 0.3, 1.0, 0.0, **kwargs)
+    with pytest.raises(ValueError, match=re.escape("grid= is the bake's, and table= is given")):
+        bz.models.eval("table", 0.5, 0.3, 1.0, 0.0, table=table, grid=(4, 4, 8))
+    with pytest.raises(ValueError, match="conflicts with table="):
+        bz.models.eval("table", 0.5, 0.3, 1.0, 0.0, table=table, moments="pbrt")
+    with pytest.raises(ValueError, match="moments= is the diffusion models'"):
+        bz.models.eval("mc", 0.5, 0.3, 1.0, 0.0, moments="exact")
+    # The grid's counts: checked, named, whatever their size
+    for grid, needle in [
+        ((0, 0, 0), r"grid's n_rho = 0 is outside \[2, 65536\]"),
+        ((-1, 2, 4), r"grid's n_rho = -1 is outside \[2, 65536\]"),
+        ((2**70, 2, 4), r"grid's n_rho = 1180591620717411303424 is outside"),
+    ]:
+        with pytest.raises(ValueError, match=needle):
+            bz.models.eval("table", 0.5, 0.3, 1.0, 0.0, grid=grid)
+    # Points where no light enters (eta < 1 beyond the critical angle) are 0 only in the domain
+    assert bz.models.eval("dipole", 0.5, 1.5, 1.0, 0.0, eta=0.8) == 0.0
+    for kwargs, needle in [
+        ({"rho": 5.0}, r"rho = 5 is outside \[0, 1\]"),
+        ({"rho": np.nan}, "rho"),
+        ({"sigma_t": np.nan}, "sigma_t = NaN is outside"),
+        ({"sigma_t": -1.0}, "sigma_t = -1 is outside"),
+    ]:
+        args = {"rho": 0.5, **kwargs}
+        rho = args.pop("rho")
+        with pytest.raises(ValueError, match=needle):
+            bz.models.eval("dipole", rho, 1.5, 1.0, 0.0, eta=0.8, **args)
+
+
+def test_dicts_take_their_keys_only_and_bakes_need_something_to_bake():
+    grid = {"rho": [0.0, 0.5, 1.0], "theta": [0.0, 0.8, 1.5707963], "r": [0.0, 0.5, 1.0, 2.0]}
+    with pytest.raises(ValueError, match='the grid\'s dict has an unknown key "foo"'):
+        bz.bake(1.33, {**grid, "foo": 1})
+
+    class LooksLikeG:
+        def __str__(self):
+            return "g"
+
+        def __hash__(self):
+            return 1
+
+        def __eq__(self, other):
+            return other is self
+
+    material = {"name": "m", "eta": 1.33, "sigma_s": [1.0, 1.0, 1.0], "sigma_a": [0.1, 0.1, 0.1]}
+    with pytest.raises(ValueError, match="unknown key"):
+        bz.bake_materials([{**material, LooksLikeG(): [0.5, 0.5, 0.5]}], "coarse")
+    with pytest.raises(ValueError, match="eta is an empty sequence"):
+        bz.bake([], "coarse")
+    with pytest.raises(ValueError, match="materials and etas are both empty"):
+        bz.bake_materials([], "coarse")
+
+
+def test_arrays_of_more_dimensions_than_taken_and_negative_zero(table):
+    deep = np.zeros((1,) * 33) + 0.5
+    with pytest.raises(ValueError, match="rho has 33 dimensions: at most 32"):
+        table.eval(deep, 0.3, 1.0, 0.0)
+    # -0 in is 0, and no -0 comes out
+    assert np.signbit(bz.models.eval("dipole", -0.0, 0.3, 1.0, 0.0)) == np.False_
+    assert np.signbit(table.medium(-0.0, 2.0).rho_prime) == np.False_
