@@ -234,6 +234,8 @@ pub fn model_eval<'py>(
 impl Table {
     /// An owned copy of the table's arrays, as the table models hold it.
     pub fn owned_table(&self) -> PyResult<bssrdf_zoo::table::AngularTable> {
+        // A table no lookup can interpolate is a FormatError, as its own lookups raise
+        self.lookups()?;
         let record = self.record()?;
         FileTable::new(record)
             .and_then(|t| t.to_owned_table())

@@ -29,7 +29,7 @@ pub struct Table {
 
 impl Table {
     /// The table's lookups, or ValueError saying why it takes none.
-    fn lookups(&self) -> PyResult<&TableLookup> {
+    pub(crate) fn lookups(&self) -> PyResult<&TableLookup> {
         match &self.lookup {
             Some(lookup) => Ok(lookup),
             None => Err(self.library.table(self.index).err().map_or_else(

@@ -79,6 +79,8 @@ def test_every_valid_vector_opens_and_a_table_without_lookups_says_why(data_dir)
         table.medium(0.5, 1.0)
     with pytest.raises(bz.FormatError, match=re.escape(reason)):
         library.channel("wax", "r")
+    with pytest.raises(bz.FormatError, match=re.escape(reason)):
+        bz.models.eval("table", 0.5, 0.0, 1.0, 0.0, table=table)
 
 
 def test_a_walk_angular_table_names_its_model_and_walk(data_dir, table):

@@ -65,3 +65,14 @@ pub fn bare() -> tempfile::TempDir {
     ));
     dir
 }
+
+/// Runs `sh -c SCRIPT` in `dir` with `$B` the binary; its output and exit status.
+#[cfg(unix)]
+pub fn shell(dir: &Path, script: &str) -> Output {
+    Command::new("sh")
+        .current_dir(dir)
+        .env("B", env!("CARGO_BIN_EXE_bssrdf"))
+        .args(["-c", script])
+        .output()
+        .expect("sh runs")
+}

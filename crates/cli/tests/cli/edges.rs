@@ -5,6 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
+#[cfg(unix)]
+use crate::common::shell;
 use crate::common::{bare, bssrdf, fails_with, ok, text};
 
 /// The walk-angular conformance vector, copied into `dir` as `name`.
@@ -14,16 +16,6 @@ fn walk_table(dir: &Path, name: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::copy(source, &path).unwrap();
     path
-}
-
-#[cfg(unix)]
-fn shell(dir: &Path, script: &str) -> std::process::Output {
-    std::process::Command::new("sh")
-        .current_dir(dir)
-        .env("B", env!("CARGO_BIN_EXE_bssrdf"))
-        .args(["-c", script])
-        .output()
-        .expect("sh runs")
 }
 
 #[cfg(unix)]

@@ -4,6 +4,8 @@
 
 use std::path::Path;
 
+#[cfg(unix)]
+use crate::common::shell;
 use crate::common::{bare, bssrdf, fails_with, ok};
 
 // ---- Outputs: devices, links, modes, stale temporaries, inputs ----
@@ -183,17 +185,6 @@ fn outputs_never_overwrite_inputs_or_each_other() {
         "-o s.toml is the input --scene s.toml",
     );
     assert_eq!(std::fs::read_to_string(d.join("s.toml")).unwrap(), scene);
-}
-
-/// Runs `sh -c SCRIPT` in `dir` with `$B` the binary; its stdout and exit status.
-#[cfg(unix)]
-fn shell(dir: &Path, script: &str) -> std::process::Output {
-    std::process::Command::new("sh")
-        .current_dir(dir)
-        .env("B", env!("CARGO_BIN_EXE_bssrdf"))
-        .args(["-c", script])
-        .output()
-        .expect("sh runs")
 }
 
 #[cfg(unix)]
