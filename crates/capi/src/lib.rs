@@ -574,8 +574,9 @@ fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option
             format_args!("no sample: u_r = {u_n} is outside [0, 1]"),
         );
     }
-    if u_phi.is_some_and(f64::is_nan) {
-        return Failure::inline(code, format_args!("no sample: u_phi is NaN"));
+    if let Some(u_phi) = u_phi.filter(|u| !u.is_finite()) {
+        let why = format_args!("no sample: u_phi = {} is not finite", Number(u_phi));
+        return Failure::inline(code, why);
     }
     if !table.effective_albedo(rho, theta).is_some_and(|a| a > 0.0) {
         let why = format_args!(
@@ -609,8 +610,9 @@ fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {
             c"no sample: the table was baked without theta sampling (bake it with theta sampling for path draws)",
         );
     }
-    if let Some(k) = u.iter().position(|u| u.is_nan()) {
-        return Failure::inline(code, format_args!("no sample: u[{k}] is NaN"));
+    if let Some(k) = u.iter().position(|u| !u.is_finite()) {
+        let why = format_args!("no sample: u[{k}] = {} is not finite", Number(u[k]));
+        return Failure::inline(code, why);
     }
     if let Some(k) = u[..2].iter().position(|u| !(0.0..=1.0).contains(u)) {
         let why = format_args!("no sample: u[{k}] = {} is outside [0, 1]", Number(u[k]));

@@ -333,7 +333,13 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
         for (u_r, u_phi, cause) in [
             (2.0, 0.5, "no sample: u_r = 2 is outside [0, 1]"),
             (f64::NAN, 0.5, "no sample: u_r = NaN is outside [0, 1]"),
-            (0.5, f64::NAN, "no sample: u_phi is NaN"),
+            (0.5, f64::NAN, "no sample: u_phi = NaN is not finite"),
+            (0.5, f64::INFINITY, "no sample: u_phi = inf is not finite"),
+            (
+                0.5,
+                f64::NEG_INFINITY,
+                "no sample: u_phi = -inf is not finite",
+            ),
             (0.0, 0.5, "no sample: u_r = 0 draws the entry point itself"),
         ] {
             let status = bssrdf_channel_sample(red, 0.3, u_r, u_phi, &mut sample);
@@ -348,7 +354,21 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
         );
         let status =
             bssrdf_channel_sample_path(red, [0.5, 0.5, f64::NAN, 0.5].as_ptr(), &mut path_sample);
-        expect(status, BSSRDF_ERROR_NO_SAMPLE, "no sample: u[2] is NaN");
+        expect(
+            status,
+            BSSRDF_ERROR_NO_SAMPLE,
+            "no sample: u[2] = NaN is not finite",
+        );
+        let status = bssrdf_channel_sample_path(
+            red,
+            [0.5, 0.5, 0.5, f64::INFINITY].as_ptr(),
+            &mut path_sample,
+        );
+        expect(
+            status,
+            BSSRDF_ERROR_NO_SAMPLE,
+            "no sample: u[3] = inf is not finite",
+        );
         let status =
             bssrdf_channel_sample_path(red, [0.5, 1.5, 0.5, 0.5].as_ptr(), &mut path_sample);
         expect(

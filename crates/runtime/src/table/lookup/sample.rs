@@ -7,10 +7,10 @@ impl TableRef<'_> {
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
     /// energy there (ρ′ = 0, light beyond the critical angle), (ρ′, θ) is outside the axes,
     /// u_r is outside [0, 1] or draws the entry point (u_r = 0 on every baked table, where the
-    /// density is infinite), or u_φ is NaN: a broken random stream draws nothing rather than
-    /// a plausible point. A finite u_φ outside [0, 1] is clamped into it.
+    /// density is infinite), or u_φ is not finite (NaN or ±∞): a broken random stream draws
+    /// nothing rather than a plausible point. A finite u_φ outside [0, 1] is clamped into it.
     pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        if !self.light_enters(theta) || u_phi.is_nan() {
+        if !self.light_enters(theta) || !u_phi.is_finite() {
             return None;
         }
         if let Some(ridge) = self.ridge_at(rho, theta) {
@@ -147,9 +147,9 @@ impl TableRef<'_> {
     }
 
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform. `None` as
-    /// [`TableRef::sample`] (a NaN uniform included).
+    /// [`TableRef::sample`] (a uniform that is not finite included).
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        if u_phi.is_nan() {
+        if !u_phi.is_finite() {
             return None;
         }
         let radial = self.with_slice(rho, 0.0, |s| self.radius_draw(s, u_r))??;
@@ -162,9 +162,10 @@ impl TableRef<'_> {
     }
 
     /// Path-tracing draw (algorithm 3): θ from ρ_eff(ρ′, ·), then (r, φ), then φ′ uniform.
-    /// `None` without the θ-sampling table, where no energy is stored or for a NaN uniform.
+    /// `None` without the θ-sampling table, where no energy is stored or for a uniform that
+    /// is not finite (NaN or ±∞).
     pub fn sample_path(&self, rho: f64, u: [f64; 4]) -> Option<PathSample> {
-        if u.iter().any(|u| u.is_nan()) {
+        if u.iter().any(|u| !u.is_finite()) {
             return None;
         }
         let theta_cdf = self.theta_cdf?;
