@@ -197,12 +197,14 @@ void bssrdf_channel_release(bssrdf_channel *channel);
 /* The channel's rho', sigma_t', eta and table index. */
 int bssrdf_channel_get_info(const bssrdf_channel *channel, bssrdf_channel_info *out_info);
 
-/* S_p(r, phi; theta) in mm^-2, r in mm: 0 outside the radial support (r < 0, beyond the
- * table, NaN r or phi); BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table. */
+/* S_p(r, phi; theta) in mm^-2, r in mm: 0 beyond the table's last radius;
+ * BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table, r NaN, infinite or negative, or phi
+ * not finite (the message names the value). */
 int bssrdf_channel_eval(const bssrdf_channel *channel, double theta, double r_mm, double phi,
                         double *out_value);
 
-/* Density per mm^2 of bssrdf_channel_sample at (r, phi): 0 where it cannot sample. */
+/* Density per mm^2 of bssrdf_channel_sample at (r, phi): 0 where it cannot sample;
+ * BSSRDF_ERROR_OUT_OF_RANGE at a point outside the domain of bssrdf_channel_eval. */
 int bssrdf_channel_pdf(const bssrdf_channel *channel, double theta, double r_mm, double phi,
                        double *out_pdf);
 
@@ -220,7 +222,8 @@ int bssrdf_channel_sample(const bssrdf_channel *channel, double theta, double u_
 int bssrdf_channel_sample_path(const bssrdf_channel *channel, const double *u,
                                bssrdf_path_sample *out_sample);
 
-/* Density of theta in bssrdf_channel_sample_path, per radian (0 without theta sampling). */
+/* Density of theta in bssrdf_channel_sample_path, per radian (0 without theta sampling);
+ * BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table. */
 int bssrdf_channel_pdf_theta(const bssrdf_channel *channel, double theta, double *out_pdf);
 
 /* Effective albedo rho_eff(theta): multiply scattered power leaving per unit power entering
@@ -237,14 +240,15 @@ int bssrdf_channel_effective_albedo(const bssrdf_channel *channel, double theta,
 int bssrdf_channel_sample_radius(const bssrdf_channel *channel, double theta, double u,
                                  bssrdf_radial_sample *out_sample);
 
-/* Density per mm of bssrdf_channel_sample_radius at r_mm (0 where it cannot sample). */
+/* Density per mm of bssrdf_channel_sample_radius at r_mm (0 where it cannot sample);
+ * BSSRDF_ERROR_OUT_OF_RANGE for theta outside the table or r NaN, infinite or negative. */
 int bssrdf_channel_pdf_radius(const bssrdf_channel *channel, double theta, double r_mm,
                               double *out_pdf);
 
 /* The angular factor S(r, phi; theta) / S_bar(r; theta), dimensionless, >= 0, with
  * S_bar = (1 / 2 pi) * integral of S over phi: bssrdf_channel_eval = S_bar * factor, and the
- * factor averages to 1 over phi. 0 outside the radial support; BSSRDF_ERROR_OUT_OF_RANGE for
- * theta outside the table. */
+ * factor averages to 1 over phi. 0 beyond the table's last radius; BSSRDF_ERROR_OUT_OF_RANGE
+ * for theta outside the table, r NaN, infinite or negative, or phi not finite. */
 int bssrdf_channel_angular_factor(const bssrdf_channel *channel, double theta, double r_mm,
                                   double phi, double *out_factor);
 

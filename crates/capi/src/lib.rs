@@ -553,6 +553,31 @@ fn theta_outside(theta: f64, table: &TableRef<'_>) -> Failure {
     )
 }
 
+/// The failure of a lookup at a point outside its domain, naming the value, without
+/// allocating: θ outside the table's axis (with `theta`), r not a distance in [0, ∞) (with
+/// `r_mm`: NaN, ±∞ or negative), φ not finite (with `phi`). `None` inside. Finite r beyond the
+/// table's last radius is inside: the value there is 0, as the profile's far tail is.
+#[inline]
+fn point_outside(
+    table: &TableRef<'_>,
+    theta: Option<f64>,
+    r_mm: Option<f64>,
+    phi: Option<f64>,
+) -> Option<Failure> {
+    if let Some(r) = r_mm.filter(|r| !(r.is_finite() && *r >= 0.0)) {
+        let why = format_args!("r = {} mm is outside [0, inf): a distance", Number(r));
+        return Some(Failure::inline(BSSRDF_ERROR_OUT_OF_RANGE, why));
+    }
+    if let Some(phi) = phi.filter(|phi| !phi.is_finite()) {
+        let why = format_args!("phi = {} rad is not a finite angle", Number(phi));
+        return Some(Failure::inline(BSSRDF_ERROR_OUT_OF_RANGE, why));
+    }
+    match theta {
+        Some(theta) if !table.keeps_theta(theta) => Some(theta_outside(theta, table)),
+        _ => None,
+    }
+}
+
 /// The failure of a draw with nothing to sample, naming its cause, formatted without
 /// allocating: θ outside the table, u_r outside [0, 1] (or NaN), a NaN u_φ (`None` for the
 /// radial draw, which takes none), no energy stored for the medium (ρ′) at θ, or u_r at 0 (the
@@ -627,7 +652,7 @@ fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {
 
 /// S_p(r, φ; θ) in mm⁻², stored in `*out_value` (see [`ChannelLookup::eval`]): θ in radians
 /// before refraction, r in mm, φ in radians with 0 forward. `BSSRDF_ERROR_OUT_OF_RANGE` for θ
-/// outside the table.
+/// outside the table, r NaN, infinite or negative, or φ not finite.
 ///
 /// # Safety
 /// `channel` is NULL or a live handle; `out_value` is NULL or writable.
@@ -644,6 +669,9 @@ pub unsafe extern "C" fn bssrdf_channel_eval(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_value, c"out_value is NULL") }?;
+        if let Some(failure) = point_outside(&lookup.table().view(), None, Some(r_mm), Some(phi)) {
+            return Err(failure);
+        }
         *out = (lookup.eval(theta, r_mm, phi))
             .ok_or_else(|| theta_outside(theta, &lookup.table().view()))?;
         Ok(())
@@ -651,7 +679,8 @@ pub unsafe extern "C" fn bssrdf_channel_eval(
 }
 
 /// Density per mm² of [`bssrdf_channel_sample`] at (r, φ) (0 where it cannot sample), stored in
-/// `*out_pdf`.
+/// `*out_pdf`. `BSSRDF_ERROR_OUT_OF_RANGE` at a point outside the domain of
+/// [`bssrdf_channel_eval`].
 ///
 /// # Safety
 /// `channel` is NULL or a live handle; `out_pdf` is NULL or writable.
@@ -667,7 +696,12 @@ pub unsafe extern "C" fn bssrdf_channel_pdf(
         // SAFETY: the function's contract.
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
-        *unsafe { output(out_pdf, c"out_pdf is NULL") }? = lookup.pdf(theta, r_mm, phi);
+        let out = unsafe { output(out_pdf, c"out_pdf is NULL") }?;
+        let view = lookup.table().view();
+        if let Some(failure) = point_outside(&view, Some(theta), Some(r_mm), Some(phi)) {
+            return Err(failure);
+        }
+        *out = lookup.pdf(theta, r_mm, phi);
         Ok(())
     })
 }
@@ -727,7 +761,7 @@ pub unsafe extern "C" fn bssrdf_channel_sample_path(
 }
 
 /// Density of θ in [`bssrdf_channel_sample_path`], per radian (0 without θ sampling), stored in
-/// `*out_pdf`.
+/// `*out_pdf`. `BSSRDF_ERROR_OUT_OF_RANGE` for θ outside the table.
 ///
 /// # Safety
 /// `channel` is NULL or a live handle; `out_pdf` is NULL or writable.
@@ -741,7 +775,11 @@ pub unsafe extern "C" fn bssrdf_channel_pdf_theta(
         // SAFETY: the function's contract.
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
-        *unsafe { output(out_pdf, c"out_pdf is NULL") }? = lookup.pdf_theta(theta);
+        let out = unsafe { output(out_pdf, c"out_pdf is NULL") }?;
+        if let Some(failure) = point_outside(&lookup.table().view(), Some(theta), None, None) {
+            return Err(failure);
+        }
+        *out = lookup.pdf_theta(theta);
         Ok(())
     })
 }

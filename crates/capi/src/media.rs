@@ -101,9 +101,11 @@ pub unsafe extern "C" fn bssrdf_table_eval(
     out_value: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let eval = |m: MediumRef| {
-        m.eval(theta, r_mm, phi)
-            .ok_or_else(|| theta_outside(theta, &m.table()))
+    let eval = |m: MediumRef| match point_outside(&m.table(), None, Some(r_mm), Some(phi)) {
+        Some(failure) => Err(failure),
+        None => m
+            .eval(theta, r_mm, phi)
+            .ok_or_else(|| theta_outside(theta, &m.table())),
     };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_value, c"out_value is NULL"), eval) }
@@ -127,7 +129,10 @@ pub unsafe extern "C" fn bssrdf_table_pdf(
     out_pdf: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let pdf = |m: MediumRef| Ok(m.pdf(theta, r_mm, phi));
+    let pdf = |m: MediumRef| match point_outside(&m.table(), Some(theta), Some(r_mm), Some(phi)) {
+        Some(failure) => Err(failure),
+        None => Ok(m.pdf(theta, r_mm, phi)),
+    };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_pdf, c"out_pdf is NULL"), pdf) }
 }
@@ -200,7 +205,10 @@ pub unsafe extern "C" fn bssrdf_table_pdf_theta(
     out_pdf: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let pdf_theta = |m: MediumRef| Ok(m.pdf_theta(theta));
+    let pdf_theta = |m: MediumRef| match point_outside(&m.table(), Some(theta), None, None) {
+        Some(failure) => Err(failure),
+        None => Ok(m.pdf_theta(theta)),
+    };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_pdf, c"out_pdf is NULL"), pdf_theta) }
 }

@@ -499,17 +499,25 @@ pub unsafe fn check_capi(
     };
     assert_eq!(status, BSSRDF_OK, "C refused a channel Rust made at {x:?}");
     let bits = |v: Option<f64>| v.map(f64::to_bits);
+    // C refuses a point outside the domain (OUT_OF_RANGE) where Rust gives 0 or None
+    let inside = c_point_inside(&rust.table().view(), theta, r, phi);
     let mut value = f64::NAN;
     // SAFETY: a live channel and valid outputs, here and below.
     let status = unsafe { bssrdf_channel_eval(channel, theta, r, phi, &mut value) };
     let c = (status == BSSRDF_OK).then_some(value);
-    assert_eq!(bits(c), bits(rust.eval(theta, r, phi)), "eval at {x:?}");
+    let want = rust.eval(theta, r, phi).filter(|_| inside.r_phi);
+    assert_eq!(bits(c), bits(want), "eval at {x:?}");
     let status = unsafe { bssrdf_channel_pdf(channel, theta, r, phi, &mut value) };
-    assert_eq!(status, BSSRDF_OK);
-    assert_eq!(value.to_bits(), rust.pdf(theta, r, phi).to_bits(), "{x:?}");
+    let c = (status == BSSRDF_OK).then_some(value);
+    let want = (inside.r_phi && inside.theta).then(|| rust.pdf(theta, r, phi));
+    assert_eq!(bits(c), bits(want), "pdf at {x:?}");
     let status = unsafe { bssrdf_channel_pdf_theta(channel, theta, &mut value) };
-    assert_eq!(status, BSSRDF_OK);
-    assert_eq!(value.to_bits(), rust.pdf_theta(theta).to_bits(), "{x:?}");
+    let c = (status == BSSRDF_OK).then_some(value);
+    assert_eq!(
+        bits(c),
+        bits(inside.theta.then(|| rust.pdf_theta(theta))),
+        "{x:?}"
+    );
     let status = unsafe { bssrdf_channel_effective_albedo(channel, theta, &mut value) };
     let c = (status == BSSRDF_OK).then_some(value);
     assert_eq!(bits(c), bits(rust.effective_albedo(theta)), "{x:?}");
@@ -559,20 +567,36 @@ pub unsafe fn check_capi(
     let expected = rust.sample_radius(theta, u[0]);
     assert_eq!(c, expected.map(|d| [d.r, d.pdf].map(f64::to_bits)), "{x:?}");
     let status = unsafe { bssrdf_channel_pdf_radius(channel, theta, r, &mut value) };
-    assert_eq!(status, BSSRDF_OK);
-    assert_eq!(
-        value.to_bits(),
-        rust.pdf_radius(theta, r).to_bits(),
-        "{x:?}"
-    );
+    let c = (status == BSSRDF_OK).then_some(value);
+    let want = (inside.r && inside.theta).then(|| rust.pdf_radius(theta, r));
+    assert_eq!(bits(c), bits(want), "pdf_radius at {x:?}");
     let status = unsafe { bssrdf_channel_angular_factor(channel, theta, r, phi, &mut value) };
     let c = (status == BSSRDF_OK).then_some(value);
-    assert_eq!(bits(c), bits(rust.angular_factor(theta, r, phi)), "{x:?}");
+    let want = rust.angular_factor(theta, r, phi).filter(|_| inside.r_phi);
+    assert_eq!(bits(c), bits(want), "{x:?}");
     let status = unsafe { bssrdf_channel_diffuse_reflectance(channel, theta, &mut value) };
     let c = (status == BSSRDF_OK).then_some(value);
     assert_eq!(bits(c), bits(rust.diffuse_reflectance(theta)), "{x:?}");
     // SAFETY: made above, released once.
     unsafe { bssrdf_channel_release(channel) };
+}
+
+/// Which parts of a point are inside the domain of the C lookups (`capi::point_outside`):
+/// θ on the table's axis, r a distance in [0, ∞), and r with φ finite.
+pub struct CPointInside {
+    pub theta: bool,
+    pub r: bool,
+    pub r_phi: bool,
+}
+
+/// [`CPointInside`] of (θ, r, φ) on `view`.
+pub fn c_point_inside(view: &TableRef<'_>, theta: f64, r: f64, phi: f64) -> CPointInside {
+    let r_ok = r.is_finite() && r >= 0.0;
+    CPointInside {
+        theta: view.keeps_theta(theta),
+        r: r_ok,
+        r_phi: r_ok && phi.is_finite(),
+    }
 }
 
 /// The C lookups with the medium given per call (`bssrdf_table_*`) and in batches of one
@@ -609,16 +633,24 @@ unsafe fn check_per_call(
             None => assert_eq!(got, (refused, None), "{what} of a refused medium at {x:?}"),
             Some(v) => assert_eq!(got.1, v.map(f64::to_bits), "{what} at {x:?}"),
         };
+    // C refuses a point outside the domain where Rust gives 0 or None
+    let inside = |h: &ChannelLookup| c_point_inside(&h.table().view(), theta, r, phi);
     // SAFETY (every call below): the caller's library handle and valid outputs.
     let got =
         one(&|out| unsafe { bssrdf_table_eval(library, table, rho, sigma_t, theta, r, phi, out) });
-    expect("eval", got, rust.map(|h| h.eval(theta, r, phi)));
+    let want = rust.map(|h| h.eval(theta, r, phi).filter(|_| inside(h).r_phi));
+    expect("eval", got, want);
     let got =
         one(&|out| unsafe { bssrdf_table_pdf(library, table, rho, sigma_t, theta, r, phi, out) });
-    expect("pdf", got, rust.map(|h| Some(h.pdf(theta, r, phi))));
+    let want = rust.map(|h| {
+        let inside = inside(h);
+        (inside.r_phi && inside.theta).then(|| h.pdf(theta, r, phi))
+    });
+    expect("pdf", got, want);
     let got =
         one(&|out| unsafe { bssrdf_table_pdf_theta(library, table, rho, sigma_t, theta, out) });
-    expect("pdf_theta", got, rust.map(|h| Some(h.pdf_theta(theta))));
+    let want = rust.map(|h| inside(h).theta.then(|| h.pdf_theta(theta)));
+    expect("pdf_theta", got, want);
     let got = one(&|out| unsafe {
         bssrdf_table_effective_albedo(library, table, rho, sigma_t, theta, out)
     });

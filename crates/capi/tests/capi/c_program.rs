@@ -244,7 +244,11 @@ fn expectations(library: &Library) -> String {
                     line_values(BSSRDF_ERROR_OUT_OF_RANGE, eval, 1)
                 )
                 .unwrap();
-                writeln!(text, "P {args} {BSSRDF_OK} {}", hex(h.pdf(theta, r, phi))).unwrap();
+                // (the densities refuse θ outside the table, as eval)
+                let keeps = h.table().view().keeps_theta(theta);
+                let pdf = keeps.then(|| vec![h.pdf(theta, r, phi)]);
+                let status = line_values(BSSRDF_ERROR_OUT_OF_RANGE, pdf, 1);
+                writeln!(text, "P {args} {status}").unwrap();
                 let args = [theta, u[0], u[1]].map(hex).join(" ");
                 let sample = h.sample(theta, u[0], u[1]).map(|s| vec![s.r, s.phi, s.pdf]);
                 writeln!(
@@ -263,13 +267,9 @@ fn expectations(library: &Library) -> String {
                     line_values(BSSRDF_ERROR_NO_SAMPLE, path, 6)
                 )
                 .unwrap();
-                writeln!(
-                    text,
-                    "Q {} {BSSRDF_OK} {}",
-                    hex(theta),
-                    hex(h.pdf_theta(theta))
-                )
-                .unwrap();
+                let pdf_theta = keeps.then(|| vec![h.pdf_theta(theta)]);
+                let status = line_values(BSSRDF_ERROR_OUT_OF_RANGE, pdf_theta, 1);
+                writeln!(text, "Q {} {status}", hex(theta)).unwrap();
                 let albedo = h.effective_albedo(theta).map(|v| vec![v]);
                 let status = line_values(BSSRDF_ERROR_OUT_OF_RANGE, albedo, 1);
                 writeln!(text, "A {} {status}", hex(theta)).unwrap();
@@ -278,9 +278,10 @@ fn expectations(library: &Library) -> String {
                 let draw = h.sample_radius(theta, u[0]).map(|d| vec![d.r, d.pdf]);
                 let status = line_values(BSSRDF_ERROR_NO_SAMPLE, draw, 2);
                 writeln!(text, "D {} {} {status}", hex(theta), hex(u[0])).unwrap();
-                let pdf_r = h.pdf_radius(theta, r);
+                let pdf_r = keeps.then(|| vec![h.pdf_radius(theta, r)]);
+                let status = line_values(BSSRDF_ERROR_OUT_OF_RANGE, pdf_r, 1);
                 let args = [theta, r].map(hex).join(" ");
-                writeln!(text, "W {args} {BSSRDF_OK} {}", hex(pdf_r)).unwrap();
+                writeln!(text, "W {args} {status}").unwrap();
                 let factor = h.angular_factor(theta, r, phi).map(|v| vec![v]);
                 let status = line_values(BSSRDF_ERROR_OUT_OF_RANGE, factor, 1);
                 let args = [theta, r, phi].map(hex).join(" ");

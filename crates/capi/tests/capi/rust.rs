@@ -345,6 +345,52 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
             let status = bssrdf_channel_sample(red, 0.3, u_r, u_phi, &mut sample);
             expect(status, BSSRDF_ERROR_NO_SAMPLE, cause);
         }
+        // A point outside the lookups' domain is refused by name, not given a value of 0
+        let mut value = -7.0;
+        let status = bssrdf_channel_eval(red, 0.3, f64::NAN, 0.0, &mut value);
+        expect(
+            status,
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            "r = NaN mm is outside [0, inf): a distance",
+        );
+        let status = bssrdf_channel_eval(red, 0.3, -1.0, 0.0, &mut value);
+        expect(
+            status,
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            "r = -1 mm is outside [0, inf)",
+        );
+        let status = bssrdf_channel_pdf(red, 0.3, 1.0, f64::INFINITY, &mut value);
+        expect(
+            status,
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            "phi = inf rad is not a finite angle",
+        );
+        let status = bssrdf_channel_pdf(red, -1.0, 1.0, 0.0, &mut value);
+        let cause = "theta = -1 rad is outside the table's theta axis";
+        expect(status, BSSRDF_ERROR_OUT_OF_RANGE, cause);
+        let status = bssrdf_channel_pdf_theta(red, f64::NAN, &mut value);
+        let cause = "theta = NaN rad is outside the table's theta axis";
+        expect(status, BSSRDF_ERROR_OUT_OF_RANGE, cause);
+        let status = bssrdf_channel_pdf_radius(red, 0.3, f64::INFINITY, &mut value);
+        expect(
+            status,
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            "r = inf mm is outside [0, inf)",
+        );
+        let status = bssrdf_channel_angular_factor(red, 0.3, 1.0, f64::NAN, &mut value);
+        expect(
+            status,
+            BSSRDF_ERROR_OUT_OF_RANGE,
+            "phi = NaN rad is not a finite angle",
+        );
+        assert_eq!(value, -7.0, "an output written on failure");
+        // beyond the last radius the value is 0, as the far tail is
+        expect(
+            bssrdf_channel_eval(red, 0.3, 1e9, 0.0, &mut value),
+            BSSRDF_OK,
+            "",
+        );
+        assert_eq!(value, 0.0);
         let mut radial = bssrdf_radial_sample { r: 0.0, pdf: 0.0 };
         let status = bssrdf_channel_sample_radius(red, 0.3, -1.0, &mut radial);
         expect(
@@ -613,8 +659,13 @@ fn c_values_equal_the_rust_api_bit_for_bit_and_channels_outlive_the_library() {
                         Some(v) => assert_eq!((status, value.to_bits()), (0, v.to_bits())),
                         None => assert_eq!(status, BSSRDF_ERROR_OUT_OF_RANGE),
                     }
-                    expect(bssrdf_channel_pdf(ch, theta, r, phi, &mut value), 0, "");
-                    assert_eq!(value.to_bits(), lookup.pdf(theta, r, phi).to_bits());
+                    let status = bssrdf_channel_pdf(ch, theta, r, phi, &mut value);
+                    if lookup.table().view().keeps_theta(theta) {
+                        assert_eq!(status, BSSRDF_OK);
+                        assert_eq!(value.to_bits(), lookup.pdf(theta, r, phi).to_bits());
+                    } else {
+                        assert_eq!(status, BSSRDF_ERROR_OUT_OF_RANGE);
+                    }
                     let status = bssrdf_channel_sample(ch, theta, u[0], u[1], &mut sample);
                     match lookup.sample(theta, u[0], u[1]) {
                         Some(s) => {
@@ -638,8 +689,13 @@ fn c_values_equal_the_rust_api_bit_for_bit_and_channels_outlive_the_library() {
                         }
                         None => assert_eq!(status, BSSRDF_ERROR_NO_SAMPLE),
                     }
-                    expect(bssrdf_channel_pdf_theta(ch, theta, &mut value), 0, "");
-                    assert_eq!(value.to_bits(), lookup.pdf_theta(theta).to_bits());
+                    let status = bssrdf_channel_pdf_theta(ch, theta, &mut value);
+                    if lookup.table().view().keeps_theta(theta) {
+                        assert_eq!(status, BSSRDF_OK);
+                        assert_eq!(value.to_bits(), lookup.pdf_theta(theta).to_bits());
+                    } else {
+                        assert_eq!(status, BSSRDF_ERROR_OUT_OF_RANGE);
+                    }
                     let status = bssrdf_channel_effective_albedo(ch, theta, &mut value);
                     match lookup.effective_albedo(theta) {
                         Some(v) => assert_eq!((status, value.to_bits()), (0, v.to_bits())),
