@@ -212,8 +212,9 @@ impl Domain {
 }
 
 /// Refuses a uniform random number outside [0, 1) (or NaN), named: the samplers' inputs (a
-/// broken random stream is an error, not a plausible draw; the C interface's range too: a
-/// radial uniform of 1 would draw the end of the axis, where the table holds nothing).
+/// broken random stream is an error, not a plausible draw). [0, 1) is the range the C header
+/// documents for every uniform (C itself clamps a finite azimuthal one); a radial uniform of 1
+/// would draw the end of the axis, where the table holds nothing.
 #[inline]
 pub fn uniforms<const N: usize>(names: [&str; N], u: [f64; N]) -> Result<(), String> {
     match names

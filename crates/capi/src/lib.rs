@@ -579,7 +579,7 @@ fn point_outside(
 }
 
 /// The failure of a draw with nothing to sample, naming its cause, formatted without
-/// allocating: θ outside the table, u_r outside [0, 1] (or NaN), a NaN u_φ (`None` for the
+/// allocating: θ outside the table, u_r outside [0, 1] (or NaN), a u_φ that is not finite (`None` for the
 /// radial draw, which takes none), no energy stored for the medium (ρ′) at θ, or u_r at 0 (the
 /// entry point itself, of infinite density per area).
 #[cold]
@@ -624,7 +624,8 @@ fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option
 }
 
 /// The failure of a path draw with nothing to sample, naming its cause, formatted without
-/// allocating: no θ sampling in the table, a NaN uniform, u[0] or u[1] outside [0, 1], or no
+/// allocating: no θ sampling in the table, a uniform that is not finite, u[0] or u[1] outside
+/// [0, 1], or no
 /// energy stored for the medium (ρ′) at any θ.
 #[cold]
 fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {

@@ -126,8 +126,8 @@ pub fn whole<T: FromStr + Whole>(text: &str) -> Result<T, String> {
     if !x.is_finite() || x.fract() != 0.0 {
         return Err(format!("{} is not a whole number", show(x)));
     }
-    // Integral and within f64's exact integers: in decimal digits, for T's own parse
-    let digits = (x.abs() < 9e15).then(|| format!("{}", x as i64));
+    // Integral: in decimal digits (exact for every integral f64 below 2^127), for T's own parse
+    let digits = (x.abs() < 1.7e38).then(|| format!("{}", x as i128));
     // Out of T's range: the number as typed (its f64 may have rounded) and the range
     let range = format!("[{}, {}]", T::MIN_TEXT, T::MAX_TEXT);
     match digits.and_then(|d| d.parse::<T>().ok()) {
@@ -269,7 +269,9 @@ mod tests {
             whole::<u64>("1e300").unwrap_err(),
             "1e300 is too large: a whole number in [0, 18446744073709551615] is expected"
         );
-        // As typed, not as its f64 rounds
+        // Exponent forms up to the type's range, and as typed beyond it
+        assert_eq!(whole::<u64>("1e16"), Ok(10_000_000_000_000_000));
+        assert_eq!(whole::<u64>("1.5e19"), Ok(15_000_000_000_000_000_000));
         assert!(whole::<u64>("18446744073709551616")
             .unwrap_err()
             .starts_with("18446744073709551616 is too large"));

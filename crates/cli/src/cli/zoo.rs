@@ -122,9 +122,12 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
                 dir.display()
             )));
         }
+        // (a folder made now holds no figure yet: only an existing one is checked, first)
+        if dir.is_dir() {
+            check_plots(dir, args.walk_table.as_deref())?;
+        }
         std::fs::create_dir_all(dir)
             .map_err(|e| CliError::input(format!("cannot create {}: {e}", dir.display())))?;
-        check_plots(dir, args.walk_table.as_deref())?;
     }
     // Per case: its reference walk, then each model.
     let bar = super::progress::bar(

@@ -378,9 +378,18 @@ struct Measured {
 impl Measured {
     /// Whether the node's walk/PBD ratio is known well enough to stand for its neighbours'.
     fn reliable(&self) -> bool {
+        // (PBD itself, its ridge included: less it, the energy can be ≤ 0 far out)
         self.rel.is_some_and(|x| x <= MAX_REL_STDERR)
-            && self.at_node[0] > 0.0
-            && self.average[0] > 0.0
+            && with_share(&self.at_node, &self.ridge[0], 1.0)[0] > 0.0
+            && with_share(&self.average, &self.ridge[1], 1.0)[0] > 0.0
+    }
+
+    /// Whether PBD with the share s of its ridge, tilted by (a₁, a₂), holds energy at the node
+    /// and in its kernel average (where the ridge reaches past PBD, less of it may not).
+    fn holds_energy(&self, [_, a1, a2, s]: Tilt) -> bool {
+        let at = |smooth, ridge| tilted(&with_share(smooth, ridge, s), [0.0, a1, a2])[0] > 0.0;
+        at(&self.at_node, &self.ridge[0])
+            && (self.average[0] == 0.0 || at(&self.average, &self.ridge[1]))
     }
 }
 
@@ -600,7 +609,7 @@ fn row_tilts(
     let node_tilts = (0..r.len())
         .map(|node| {
             let here = &measured[node];
-            if r[node] == 0.0 || here.at_node[0] <= 0.0 {
+            if r[node] == 0.0 || with_share(&here.at_node, &here.ridge[0], 1.0)[0] <= 0.0 {
                 return None;
             }
             let after = reliable.partition_point(|&k| k < node);
@@ -622,10 +631,13 @@ fn row_tilts(
                 }
                 (None, None) => [0.0, 0.0, 0.0, 1.0],
             };
-            let tilt = if energy_form {
-                scale_of(here, tilt)
-            } else {
-                tilt
+            let tilt = match tilt {
+                // A share whose profile holds no energy at this node gives way to PBD's own
+                [y, a1, a2, _] if energy_form && !here.holds_energy(tilt) => {
+                    scale_of(here, [y, a1, a2, 1.0])
+                }
+                _ if energy_form => scale_of(here, tilt),
+                _ => tilt,
             };
             Some((tilt, with_share(&here.at_node, &here.ridge[0], tilt[3])))
         })
