@@ -553,17 +553,11 @@ fn theta_outside(theta: f64, table: &TableRef<'_>) -> Failure {
     )
 }
 
-/// The failure of a lookup at a point outside its domain, naming the value, without
-/// allocating: θ outside the table's axis (with `theta`), r not a distance in [0, ∞) (with
-/// `r_mm`: NaN, ±∞ or negative), φ not finite (with `phi`). `None` inside. Finite r beyond the
-/// table's last radius is inside: the value there is 0, as the profile's far tail is.
+/// The failure of a lookup at r not a distance in [0, ∞) (NaN, ±∞ or negative; with `r_mm`) or
+/// φ not finite (with `phi`), naming the value, without allocating; `None` inside. Finite r
+/// beyond the table's last radius is inside: the value there is 0, as the profile's far tail is.
 #[inline]
-fn point_outside(
-    table: &TableRef<'_>,
-    theta: Option<f64>,
-    r_mm: Option<f64>,
-    phi: Option<f64>,
-) -> Option<Failure> {
+fn distance_or_angle_outside(r_mm: Option<f64>, phi: Option<f64>) -> Option<Failure> {
     if let Some(r) = r_mm.filter(|r| !(r.is_finite() && *r >= 0.0)) {
         let why = format_args!("r = {} mm is outside [0, inf): a distance", Number(r));
         return Some(Failure::inline(BSSRDF_ERROR_OUT_OF_RANGE, why));
@@ -572,9 +566,26 @@ fn point_outside(
         let why = format_args!("phi = {} rad is not a finite angle", Number(phi));
         return Some(Failure::inline(BSSRDF_ERROR_OUT_OF_RANGE, why));
     }
-    match theta {
-        Some(theta) if !table.keeps_theta(theta) => Some(theta_outside(theta, table)),
-        _ => None,
+    None
+}
+
+/// A density `value` looked up at θ, or θ's failure where θ is outside the table's axis. A
+/// density is 0 there, so the axis (`table`, the lookup's view) is read only where the value is
+/// not positive: a lookup that found density pays nothing for the check.
+#[inline]
+fn density_at<'t>(
+    value: f64,
+    theta: f64,
+    table: impl FnOnce() -> TableRef<'t>,
+) -> Result<f64, Failure> {
+    if value > 0.0 {
+        return Ok(value);
+    }
+    let table = table();
+    if table.keeps_theta(theta) {
+        Ok(value)
+    } else {
+        Err(theta_outside(theta, &table))
     }
 }
 
@@ -670,7 +681,7 @@ pub unsafe extern "C" fn bssrdf_channel_eval(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_value, c"out_value is NULL") }?;
-        if let Some(failure) = point_outside(&lookup.table().view(), None, Some(r_mm), Some(phi)) {
+        if let Some(failure) = distance_or_angle_outside(Some(r_mm), Some(phi)) {
             return Err(failure);
         }
         *out = (lookup.eval(theta, r_mm, phi))
@@ -698,11 +709,12 @@ pub unsafe extern "C" fn bssrdf_channel_pdf(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_pdf, c"out_pdf is NULL") }?;
-        let view = lookup.table().view();
-        if let Some(failure) = point_outside(&view, Some(theta), Some(r_mm), Some(phi)) {
+        if let Some(failure) = distance_or_angle_outside(Some(r_mm), Some(phi)) {
             return Err(failure);
         }
-        *out = lookup.pdf(theta, r_mm, phi);
+        *out = density_at(lookup.pdf(theta, r_mm, phi), theta, || {
+            lookup.table().view()
+        })?;
         Ok(())
     })
 }
@@ -777,10 +789,7 @@ pub unsafe extern "C" fn bssrdf_channel_pdf_theta(
         let lookup = &unsafe { input(channel, c"channel is NULL") }?.lookup;
         // SAFETY: the function's contract.
         let out = unsafe { output(out_pdf, c"out_pdf is NULL") }?;
-        if let Some(failure) = point_outside(&lookup.table().view(), Some(theta), None, None) {
-            return Err(failure);
-        }
-        *out = lookup.pdf_theta(theta);
+        *out = density_at(lookup.pdf_theta(theta), theta, || lookup.table().view())?;
         Ok(())
     })
 }

@@ -101,7 +101,7 @@ pub unsafe extern "C" fn bssrdf_table_eval(
     out_value: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let eval = |m: MediumRef| match point_outside(&m.table(), None, Some(r_mm), Some(phi)) {
+    let eval = |m: MediumRef| match distance_or_angle_outside(Some(r_mm), Some(phi)) {
         Some(failure) => Err(failure),
         None => m
             .eval(theta, r_mm, phi)
@@ -129,9 +129,9 @@ pub unsafe extern "C" fn bssrdf_table_pdf(
     out_pdf: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let pdf = |m: MediumRef| match point_outside(&m.table(), Some(theta), Some(r_mm), Some(phi)) {
+    let pdf = |m: MediumRef| match distance_or_angle_outside(Some(r_mm), Some(phi)) {
         Some(failure) => Err(failure),
-        None => Ok(m.pdf(theta, r_mm, phi)),
+        None => density_at(m.pdf(theta, r_mm, phi), theta, || m.table()),
     };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_pdf, c"out_pdf is NULL"), pdf) }
@@ -205,10 +205,7 @@ pub unsafe extern "C" fn bssrdf_table_pdf_theta(
     out_pdf: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let pdf_theta = |m: MediumRef| match point_outside(&m.table(), Some(theta), None, None) {
-        Some(failure) => Err(failure),
-        None => Ok(m.pdf_theta(theta)),
-    };
+    let pdf_theta = |m: MediumRef| density_at(m.pdf_theta(theta), theta, || m.table());
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_pdf, c"out_pdf is NULL"), pdf_theta) }
 }

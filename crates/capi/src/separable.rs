@@ -68,11 +68,10 @@ pub unsafe extern "C" fn bssrdf_channel_pdf_radius(
     r_mm: f64,
     out_pdf: *mut f64,
 ) -> c_int {
-    let pdf =
-        |h: &ChannelLookup| match point_outside(&h.table().view(), Some(theta), Some(r_mm), None) {
-            Some(failure) => Err(failure),
-            None => Ok(h.pdf_radius(theta, r_mm)),
-        };
+    let pdf = |h: &ChannelLookup| match distance_or_angle_outside(Some(r_mm), None) {
+        Some(failure) => Err(failure),
+        None => density_at(h.pdf_radius(theta, r_mm), theta, || h.table().view()),
+    };
     // SAFETY: the function's contract.
     unsafe { per_channel(channel, (out_pdf, c"out_pdf is NULL"), pdf) }
 }
@@ -92,7 +91,7 @@ pub unsafe extern "C" fn bssrdf_channel_angular_factor(
     out_factor: *mut f64,
 ) -> c_int {
     let factor = |h: &ChannelLookup| {
-        if let Some(failure) = point_outside(&h.table().view(), None, Some(r_mm), Some(phi)) {
+        if let Some(failure) = distance_or_angle_outside(Some(r_mm), Some(phi)) {
             return Err(failure);
         }
         h.angular_factor(theta, r_mm, phi)
@@ -144,9 +143,9 @@ pub unsafe extern "C" fn bssrdf_table_pdf_radius(
     out_pdf: *mut f64,
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
-    let pdf = |m: MediumRef| match point_outside(&m.table(), Some(theta), Some(r_mm), None) {
+    let pdf = |m: MediumRef| match distance_or_angle_outside(Some(r_mm), None) {
         Some(failure) => Err(failure),
-        None => Ok(m.pdf_radius(theta, r_mm)),
+        None => density_at(m.pdf_radius(theta, r_mm), theta, || m.table()),
     };
     // SAFETY: the function's contract.
     unsafe { per_call(medium, (out_pdf, c"out_pdf is NULL"), pdf) }
@@ -172,7 +171,7 @@ pub unsafe extern "C" fn bssrdf_table_angular_factor(
 ) -> c_int {
     let medium = (library, table, rho_prime, sigma_t_prime);
     let factor = |m: MediumRef| {
-        if let Some(failure) = point_outside(&m.table(), None, Some(r_mm), Some(phi)) {
+        if let Some(failure) = distance_or_angle_outside(Some(r_mm), Some(phi)) {
             return Err(failure);
         }
         m.angular_factor(theta, r_mm, phi)

@@ -581,7 +581,7 @@ pub unsafe fn check_capi(
     unsafe { bssrdf_channel_release(channel) };
 }
 
-/// Which parts of a point are inside the domain of the C lookups (`capi::point_outside`):
+/// Which parts of a point are inside the domain of the C lookups (`capi`'s `distance_or_angle_outside` and `density_at`):
 /// θ on the table's axis, r a distance in [0, ∞), and r with φ finite.
 pub struct CPointInside {
     pub theta: bool,
