@@ -512,10 +512,14 @@ fn fit_ridge_tilt(m: &Measured) -> Tilt {
     // A grid, then golden-section refinement around its best point
     const STEPS: usize = 30;
     let step = MAX_RIDGE_SHARE / STEPS as f64;
+    // (each share's misfit once; the first of equal ones, as before)
     let best = (0..=STEPS)
-        .map(|k| k as f64 * step)
-        .min_by(|&a, &b| misfit(a).0.total_cmp(&misfit(b).0))
-        .unwrap_or(1.0);
+        .map(|k| {
+            let s = k as f64 * step;
+            (misfit(s).0, s)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map_or(1.0, |(_, s)| s);
     let (mut lo, mut hi) = ((best - step).max(0.0), (best + step).min(MAX_RIDGE_SHARE));
     let g = 0.5 * (5f64.sqrt() - 1.0);
     for _ in 0..30 {
