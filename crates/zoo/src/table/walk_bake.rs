@@ -26,15 +26,21 @@
 //!    ≤ [`MAX_TILT`], so the profile stays ≥ 0. **The ridge's share.** Where PBD has the
 //!    analytic ridge of grazing incidence near index matching (`table::ridge`: cos θ′ < 0.3,
 //!    below η ≈ 1.0483; not for the beam in the surface), the walk's own forward ridge is
-//!    weaker than PBD's (at η = 1, θ = 89°, ρ′ = 0.9 the walk over PBD is 0.3 within 10° of
-//!    φ = 0 and 0.6–1.6 elsewhere), which no smooth tilt follows: P there is PBD less its ridge
-//!    R plus a share s of it, P − (1 − s)R, with s ∈ [0, [`MAX_RIDGE_SHARE`]] the share whose
+//!    weaker and wider than PBD's (at η = 1, θ = 89°, ρ′ = 0.9 the walk over PBD is 0.3 within
+//!    10° of φ = 0 and 0.6–1.6 elsewhere), which no smooth tilt follows: P there is PBD less
+//!    the ridge's flux part R (its narrow lobe; the broad fluence lobes stay) plus a share s of
+//!    R widened by w, P − R + s R_w ([`Ridge::widened`]: every lobe's concentration times
+//!    e^{−w}), with s ∈ [0, [`MAX_RIDGE_SHARE`]] and w ∈ [0, [`MAX_RIDGE_WIDENING`]] those whose
 //!    tilt matching μ̂₀ … μ̂₂ matches μ̂₃ and μ̂₄ best (χ² with their standard errors: the narrow
 //!    ridge is the part of the profile that carries the high harmonics; [`fit_ridge_tilt`]).
-//! 3. **Smooth.** ln k, a₁ and a₂ (with the ridge, ln(μ̂₀/P̄₀), a₁, a₂ and s, k then following
-//!    from them: k and s trade off against each other from node to node) are smoothed along
-//!    ln r by a local linear fit over
-//!    [`SMOOTH_NODES`] measured nodes on each side, weighted by 1/σ² and a tricube. Between
+//!    Widening by more than 0.15 fitted the noise of μ̂₃, μ̂₄ at small r (measured: the 89°
+//!    error doubled); with the fluence lobes shared too the sides of the profile came out low.
+//! 3. **Smooth.** ln k, a₁ and a₂ (with the ridge, ln(μ̂₀/P̄₀), a₁, a₂, s and w, k then
+//!    following from them: k and s trade off against each other from node to node) are
+//!    smoothed along ln r by a local quadratic fit over [`SMOOTH_NODES`] measured nodes on each
+//!    side, weighted by 1/σ² and a tricube. (A line left the curvature of the walk over PBD in
+//!    the energy: at η = 1 the tables' ρ_eff came out 0.5 % high at 60° and 1.4 % at 89°,
+//!    1–3.5 % between r = 0.1 and 3.) Between
 //!    measured nodes the tilt goes linearly in ln r; before the first it is the first's;
 //!    beyond the last ln k goes on along the line in r through the last [`TAIL_NODES`] (far out
 //!    both profiles fall exponentially, at rates that differ by a constant), by at most
@@ -148,7 +154,10 @@ const CONTROL_POINTS: usize = 3;
 const MAX_REL_STDERR: f64 = 0.3;
 
 /// Half-width, in reliable nodes, of the local fit that smooths the walk/PBD ratio along r.
-const SMOOTH_NODES: usize = 3;
+const SMOOTH_NODES: usize = 6;
+
+/// The fewest points on each side of a node for its smoothing to be quadratic ([`smooth_tilt`]).
+const MIN_QUADRATIC_SIDE: usize = 3;
 
 /// Points of PBD's harmonics over φ ([`control_harmonics`]).
 const CONTROL_AZIMUTHS: usize = 16;
@@ -224,11 +233,13 @@ pub fn bake_walk(
                 .enumerate()
                 .map(|(k, &i)| {
                     let pbd = Pbd::new(grid.rho[i], boundary)?;
-                    // (the beam in the surface keeps PBD's own shape)
+                    // (the beam in the surface keeps PBD's own shape). The flux part alone:
+                    // the narrow lobe that the walk has weaker and wider; its broad fluence
+                    // lobes stay in PBD (module docs, "The ridge's share")
                     let ridge = crate::fresnel::refracted_cos(theta, eta)
                         .filter(|_| !in_surface && ridge::reaches(eta))
                         .and_then(|c| {
-                            Ridge::with_cos(RidgeKind::NEWEST, &boundary, grid.rho[i], c, r_max)
+                            Ridge::with_cos(RidgeKind::Flux, &boundary, grid.rho[i], c, r_max)
                         });
                     let control = Control {
                         pbd: &pbd,
@@ -380,14 +391,14 @@ impl Measured {
     fn reliable(&self) -> bool {
         // (PBD itself, its ridge included: less it, the energy can be ≤ 0 far out)
         self.rel.is_some_and(|x| x <= MAX_REL_STDERR)
-            && with_share(&self.at_node, &self.ridge[0], 1.0)[0] > 0.0
-            && with_share(&self.average, &self.ridge[1], 1.0)[0] > 0.0
+            && with_share(&self.at_node, &self.ridge[0], 1.0, 0.0)[0] > 0.0
+            && with_share(&self.average, &self.ridge[1], 1.0, 0.0)[0] > 0.0
     }
 
     /// Whether PBD with the share s of its ridge, tilted by (a₁, a₂), holds energy at the node
     /// and in its kernel average (where the ridge reaches past PBD, less of it may not).
-    fn holds_energy(&self, [_, a1, a2, s]: Tilt) -> bool {
-        let at = |smooth, ridge| tilted(&with_share(smooth, ridge, s), [0.0, a1, a2])[0] > 0.0;
+    fn holds_energy(&self, [_, a1, a2, s, w]: Tilt) -> bool {
+        let at = |smooth, ridge| tilted(&with_share(smooth, ridge, s, w), [0.0, a1, a2])[0] > 0.0;
         at(&self.at_node, &self.ridge[0])
             && (self.average[0] == 0.0 || at(&self.average, &self.ridge[1]))
     }
@@ -441,99 +452,148 @@ fn fit_tilt(mean: &[f64; HARMONICS], p: &[f64; PBD_HARMONICS]) -> [f64; 3] {
     [(mean[0] / base).ln(), a1, a2]
 }
 
-/// A node's smoothed tilt (ln k, a₁, a₂) and PBD's harmonics there.
-/// The walk's tilt of PBD with the share s of PBD's ridge it keeps: (ln k, a₁, a₂, s).
-type Tilt = [f64; 4];
+/// The walk's tilt of PBD with the share s of PBD's ridge it keeps, widened by w:
+/// (ln k, a₁, a₂, s, w).
+type Tilt = [f64; 5];
 
 /// A node's smoothed tilt and the harmonics of PBD with the tilt's share of its ridge.
 type NodeTilt = (Tilt, [f64; PBD_HARMONICS]);
 
-/// The tilt (ln k, a₁, a₂, s) of a node from the walk's energy over PBD's, ln(μ̂₀/P̄₀), in place
-/// of ln k: k = (μ̂₀/P̄₀) P̄₀/B̄, B̄ the energy of PBD with the share s of its ridge, tilted by
-/// (a₁, a₂) (kernel averages, or the node's harmonics where it has none).
-fn scale_of(m: &Measured, [ratio, a1, a2, s]: Tilt) -> Tilt {
+/// The tilt (ln k, a₁, a₂, s, w) of a node from the walk's energy over PBD's, ln(μ̂₀/P̄₀), in
+/// place of ln k: k = (μ̂₀/P̄₀) P̄₀/B̄, B̄ the energy of PBD with the share s of its ridge widened
+/// by w, tilted by (a₁, a₂) (kernel averages, or the node's harmonics where it has none).
+fn scale_of(m: &Measured, [ratio, a1, a2, s, w]: Tilt) -> Tilt {
     let (smooth, ridge) = if m.average[0] > 0.0 {
         (&m.average, &m.ridge[1])
     } else {
         (&m.at_node, &m.ridge[0])
     };
-    let full = with_share(smooth, ridge, 1.0)[0];
-    let base = tilted(&with_share(smooth, ridge, s), [0.0, a1, a2])[0];
+    let full = with_share(smooth, ridge, 1.0, 0.0)[0];
+    let base = tilted(&with_share(smooth, ridge, s, w), [0.0, a1, a2])[0];
     let ln_k = if full > 0.0 && base > 0.0 {
         ratio + (full / base).ln()
     } else {
         ratio
     };
-    [ln_k, a1, a2, s]
+    [ln_k, a1, a2, s, w]
 }
 
 /// The largest share of PBD's ridge a walk node may keep.
-const MAX_RIDGE_SHARE: f64 = 1.5;
+pub const MAX_RIDGE_SHARE: f64 = 1.5;
 
-/// `smooth` + s · `ridge`, harmonic by harmonic: PBD with the share s of its ridge.
+/// The most a walk node may widen PBD's ridge: w in [`Ridge::widened`], each lobe's width
+/// (1 − κ for the narrow ones) grown by up to this much.
+pub const MAX_RIDGE_WIDENING: f64 = 0.15;
+
+/// `smooth` + s · e^{−nw} · `ridge`, harmonic by harmonic n: PBD with the share s of its ridge
+/// widened by w ([`Ridge::widened`]).
 fn with_share(
     smooth: &[f64; PBD_HARMONICS],
     ridge: &[f64; PBD_HARMONICS],
     s: f64,
+    w: f64,
 ) -> [f64; PBD_HARMONICS] {
-    std::array::from_fn(|n| smooth[n] + s * ridge[n])
+    std::array::from_fn(|n| smooth[n] + s * (-w * n as f64).exp() * ridge[n])
 }
 
-/// The tilt of PBD less its ridge plus the share s of it whose kernel averages have the walk's
-/// μ̂₀ … μ̂₂ ([`fit_tilt`]) and, of the shares s ∈ [0, MAX_RIDGE_SHARE], its μ̂₃ and μ̂₄
-/// closest (χ² with their standard errors): the ridge is the profile's only part narrow enough
-/// to carry the high harmonics, and the walk's is weaker than PBD's near index matching. s = 1
-/// (PBD itself) without a ridge.
+/// The tilt of PBD less its ridge plus the share s of it widened by w whose kernel averages
+/// have the walk's μ̂₀ … μ̂₂ ([`fit_tilt`]) and, of the shares s ∈ [0, MAX_RIDGE_SHARE] and
+/// widenings w ∈ [0, MAX_RIDGE_WIDENING], its μ̂₃ and μ̂₄ closest (χ² with their standard
+/// errors): the ridge is the profile's only part narrow enough to carry the high harmonics,
+/// and the walk's is weaker and wider than PBD's near index matching. (s, w) = (1, 0) (PBD
+/// itself) without a ridge.
 fn fit_ridge_tilt(m: &Measured) -> Tilt {
     let [_, ridge] = &m.ridge;
     if ridge.iter().all(|&x| x == 0.0) {
         let [ln_k, a1, a2] = fit_tilt(&m.mean, &m.average);
-        return [ln_k, a1, a2, 1.0];
+        return [ln_k, a1, a2, 1.0, 0.0];
     }
-    let misfit = |s: f64| {
-        let p = with_share(&m.average, ridge, s);
+    // The tilt at (s, w) and its misses of μ̂₃, μ̂₄ in standard errors
+    let fit = |s: f64, w: f64| {
+        let p = with_share(&m.average, ridge, s, w);
         let tilt = fit_tilt(&m.mean, &p);
         let h = tilted(&p, tilt);
-        let chi2: f64 = (3..HARMONICS)
-            .map(|n| {
-                let z = (h[n] - m.mean[n]) / m.se[n].max(1e-300);
-                z * z
-            })
-            .sum();
-        (
-            if chi2.is_finite() {
-                chi2
-            } else {
-                f64::INFINITY
-            },
-            tilt,
-        )
+        let z: [f64; 2] =
+            std::array::from_fn(|k| (h[k + 3] - m.mean[k + 3]) / m.se[k + 3].max(1e-300));
+        (z, tilt)
     };
-    // A grid, then golden-section refinement around its best point
-    const STEPS: usize = 30;
-    let step = MAX_RIDGE_SHARE / STEPS as f64;
-    // (each share's misfit once; the first of equal ones, as before)
-    let best = (0..=STEPS)
-        .map(|k| {
-            let s = k as f64 * step;
-            (misfit(s).0, s)
-        })
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map_or(1.0, |(_, s)| s);
-    let (mut lo, mut hi) = ((best - step).max(0.0), (best + step).min(MAX_RIDGE_SHARE));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..30 {
-        let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        if misfit(x1).0 <= misfit(x2).0 {
-            hi = x2;
+    let chi2 = |s: f64, w: f64| {
+        let ([a, b], _) = fit(s, w);
+        let c = a * a + b * b;
+        if c.is_finite() {
+            c
         } else {
-            lo = x1;
+            f64::INFINITY
+        }
+    };
+    // A grid, (each point's misfit once; the first of equal ones)
+    const STEPS: usize = 30;
+    const WIDENING_STEPS: usize = 12;
+    let step = MAX_RIDGE_SHARE / STEPS as f64;
+    let w_step = MAX_RIDGE_WIDENING / WIDENING_STEPS as f64;
+    let (mut best, mut s, mut w) = (0..=WIDENING_STEPS)
+        .flat_map(|j| (0..=STEPS).map(move |k| (k as f64 * step, j as f64 * w_step)))
+        .map(|(s, w)| (chi2(s, w), s, w))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap_or((f64::INFINITY, 1.0, 0.0));
+    // then Levenberg–Marquardt steps on the two misses inside the bounds (s and w trade off
+    // against each other along a narrow valley, which steps along one of them cross slowly)
+    let mut lambda = 1e-3;
+    for _ in 0..REFINE_STEPS {
+        if !best.is_finite() || best == 0.0 {
+            break;
+        }
+        let (z, _) = fit(s, w);
+        // central differences, one-sided at the bounds
+        let column = |x: f64, hi: f64, h: f64, at: &dyn Fn(f64) -> [f64; 2]| {
+            let (a, b) = ((x - h).max(0.0), (x + h).min(hi));
+            let (za, zb) = (at(a), at(b));
+            [(zb[0] - za[0]) / (b - a), (zb[1] - za[1]) / (b - a)]
+        };
+        let js = column(s, MAX_RIDGE_SHARE, 1e-6, &|x| fit(x, w).0);
+        let jw = column(w, MAX_RIDGE_WIDENING, 1e-6, &|x| fit(s, x).0);
+        // (JᵀJ + λ diag JᵀJ) δ = −Jᵀz
+        let (a, b, d) = (
+            js[0] * js[0] + js[1] * js[1],
+            js[0] * jw[0] + js[1] * jw[1],
+            jw[0] * jw[0] + jw[1] * jw[1],
+        );
+        let (gs, gw) = (js[0] * z[0] + js[1] * z[1], jw[0] * z[0] + jw[1] * z[1]);
+        let (a, d) = (a * (1.0 + lambda), d * (1.0 + lambda));
+        let det = a * d - b * b;
+        // (where w does not act, s = 0, a step in s alone)
+        let (ds, dw) = if det > 1e-12 * a * d {
+            ((-d * gs + b * gw) / det, (b * gs - a * gw) / det)
+        } else if a > 0.0 {
+            (-gs / a, 0.0)
+        } else {
+            break;
+        };
+        let (s1, w1) = (
+            (s + ds).clamp(0.0, MAX_RIDGE_SHARE),
+            (w + dw).clamp(0.0, MAX_RIDGE_WIDENING),
+        );
+        let c = chi2(s1, w1);
+        if c < best {
+            let moved = (s1 - s).abs() + (w1 - w).abs();
+            (best, s, w) = (c, s1, w1);
+            lambda = (lambda * 0.1).max(1e-12);
+            if moved <= 1e-12 {
+                break;
+            }
+        } else {
+            lambda *= 10.0;
+            if lambda > 1e8 {
+                break;
+            }
         }
     }
-    let s = 0.5 * (lo + hi);
-    let [ln_k, a1, a2] = misfit(s).1;
-    [ln_k, a1, a2, s]
+    let [ln_k, a1, a2] = fit(s, w).1;
+    [ln_k, a1, a2, s, w]
 }
+
+/// Levenberg–Marquardt steps of [`fit_ridge_tilt`] at most.
+const REFINE_STEPS: usize = 60;
 
 /// The tilt of every node of row `row` (module docs; `None` at r = 0 and where PBD is 0), the
 /// relative standard error of each node's μ̂₀, and whether any node was measured well enough
@@ -595,7 +655,7 @@ fn row_tilts(
             let rel = m.rel.unwrap_or(MAX_REL_STDERR);
             let mut tilt = fit_ridge_tilt(m);
             if energy_form {
-                tilt[0] = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0)[0]).ln();
+                tilt[0] = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
             }
             (r[k].ln(), 1.0 / (rel * rel), tilt)
         })
@@ -613,7 +673,7 @@ fn row_tilts(
     let node_tilts = (0..r.len())
         .map(|node| {
             let here = &measured[node];
-            if r[node] == 0.0 || with_share(&here.at_node, &here.ridge[0], 1.0)[0] <= 0.0 {
+            if r[node] == 0.0 || with_share(&here.at_node, &here.ridge[0], 1.0, 0.0)[0] <= 0.0 {
                 return None;
             }
             let after = reliable.partition_point(|&k| k < node);
@@ -633,17 +693,20 @@ fn row_tilts(
                         smoothed[i][n] + t * (smoothed[after][n] - smoothed[i][n])
                     })
                 }
-                (None, None) => [0.0, 0.0, 0.0, 1.0],
+                (None, None) => [0.0, 0.0, 0.0, 1.0, 0.0],
             };
             let tilt = match tilt {
                 // A share whose profile holds no energy at this node gives way to PBD's own
-                [y, a1, a2, _] if energy_form && !here.holds_energy(tilt) => {
-                    scale_of(here, [y, a1, a2, 1.0])
+                [y, a1, a2, ..] if energy_form && !here.holds_energy(tilt) => {
+                    scale_of(here, [y, a1, a2, 1.0, 0.0])
                 }
                 _ if energy_form => scale_of(here, tilt),
                 _ => tilt,
             };
-            Some((tilt, with_share(&here.at_node, &here.ridge[0], tilt[3])))
+            Some((
+                tilt,
+                with_share(&here.at_node, &here.ridge[0], tilt[3], tilt[4]),
+            ))
         })
         .collect();
     let rel = measured.iter().map(|m| m.rel).collect();
@@ -676,7 +739,8 @@ fn row_cells(
         let one = single.map_or(SingleNode::ZERO, |(part, albedo)| {
             part.node(albedo, node, r)
         });
-        let [ln_k, a1, a2, share] = *tilt;
+        let [ln_k, a1, a2, share, widening] = *tilt;
+        let wide = control.ridge.map(|g| g.widened(widening));
         let m = tilted(at_node, [ln_k, a1, a2]);
         let energy = r * (m[0] + one.harmonics[0]);
         let cell = match control.theta {
@@ -707,9 +771,11 @@ fn row_cells(
                     .map(|(&p, s1)| {
                         let pbd = control.pbd.eval(theta, r, p, Rule::Fast);
                         // PBD with the walk's share of its ridge
-                        let pbd = match control.ridge {
-                            Some(g) => (pbd - (1.0 - share) * g.eval(r, p)).max(1e-3 * pbd),
-                            None => pbd,
+                        let pbd = match (control.ridge, &wide) {
+                            (Some(g), Some(wide)) => {
+                                (pbd - g.eval(r, p) + share * wide.eval(r, p)).max(1e-3 * pbd)
+                            }
+                            _ => pbd,
                         };
                         let factor = 1.0 + a1 * p.cos() + a2 * (2.0 * p).cos();
                         (p, ln_k.exp() * pbd * factor + s1)
@@ -769,9 +835,13 @@ const TAIL_MAX_FACTOR: f64 = 2.0;
 /// Measured nodes at the end of a row whose ln k sets the slope of the far tail.
 const TAIL_NODES: usize = 5;
 
-/// The local linear fit in ln r, at point `i`, of the points within [`SMOOTH_NODES`] of it
+/// The local quadratic fit in ln r, at point `i`, of the points within [`SMOOTH_NODES`] of it
 /// ((ln r, weight, values) in increasing r): weighted least squares with the points' weights
-/// times the tricube of their distance in points; the point itself where fewer than three.
+/// times the tricube of their distance in points; a line where fewer than
+/// [`MIN_QUADRATIC_SIDE`] points lie on one side of `i` (towards the ends of a row, where a
+/// parabola through one side's points swings with their noise), the point itself where the
+/// window holds fewer than three. A line leaves the curvature of the walk over PBD in ln r in
+/// its value, which is not small near index matching (module docs, "Smooth").
 fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
     let lo = i.saturating_sub(SMOOTH_NODES);
     let hi = (i + SMOOTH_NODES + 1).min(points.len());
@@ -779,27 +849,49 @@ fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
         return points[i].2;
     }
     let u0 = points[i].0;
-    let (mut sw, mut su, mut suu) = (0.0, 0.0, 0.0);
-    let (mut sy, mut suy) = ([0.0; 4], [0.0; 4]);
+    // Σ w xᵏ, k = 0 … 4, and Σ w xᵏ y, k = 0 … 2
+    let mut m = [0.0; 5];
+    let mut t = [[0.0; 5]; 3];
     for (j, (u, weight, y)) in points.iter().enumerate().take(hi).skip(lo) {
         let d = j.abs_diff(i) as f64 / (SMOOTH_NODES + 1) as f64;
         let w = weight * (1.0 - d * d * d).powi(3);
         let x = u - u0;
-        sw += w;
-        su += w * x;
-        suu += w * x * x;
-        for n in 0..4 {
-            sy[n] += w * y[n];
-            suy[n] += w * x * y[n];
+        let mut xk = w;
+        for (k, mk) in m.iter_mut().enumerate() {
+            *mk += xk;
+            if k < 3 {
+                for (tn, yn) in t[k].iter_mut().zip(y) {
+                    *tn += xk * yn;
+                }
+            }
+            xk *= x;
         }
     }
-    let det = sw * suu - su * su;
-    if det.is_nan() || det <= 1e-12 * sw * suu {
-        return points[i].2;
-    }
-    // The intercept at x = 0: (Σx² Σy − Σx Σxy) / det
-    let mut fit: Tilt = std::array::from_fn(|n| (suu * sy[n] - su * suy[n]) / det);
+    // The intercept at x = 0, c₀ = Σₖ cₖ tₖ / det, by Cramer's rule on the normal equations
+    let quadratic = {
+        let det = m[0] * (m[2] * m[4] - m[3] * m[3]) - m[1] * (m[1] * m[4] - m[2] * m[3])
+            + m[2] * (m[1] * m[3] - m[2] * m[2]);
+        let c = [
+            m[2] * m[4] - m[3] * m[3],
+            m[2] * m[3] - m[1] * m[4],
+            m[1] * m[3] - m[2] * m[2],
+        ];
+        let balanced = (i - lo).min(hi - 1 - i) >= MIN_QUADRATIC_SIDE;
+        (balanced && det > 1e-12 * m[0] * m[2] * m[4]).then_some((c, det))
+    };
+    let (c, det) = match quadratic {
+        Some(fit) => fit,
+        None => {
+            let det = m[0] * m[2] - m[1] * m[1];
+            if det.is_nan() || det <= 1e-12 * m[0] * m[2] {
+                return points[i].2;
+            }
+            ([m[2], -m[1], 0.0], det)
+        }
+    };
+    let mut fit: Tilt = std::array::from_fn(|n| (0..3).map(|k| c[k] * t[k][n]).sum::<f64>() / det);
     fit[3] = fit[3].clamp(0.0, MAX_RIDGE_SHARE);
+    fit[4] = fit[4].clamp(0.0, MAX_RIDGE_WIDENING);
     let size = fit[1].abs() + fit[2].abs();
     if size > MAX_TILT {
         fit[1] *= MAX_TILT / size;
@@ -867,9 +959,10 @@ mod tests {
     }
 
     #[test]
-    fn the_ridge_share_and_the_tilt_are_recovered_from_the_walks_harmonics() {
-        // Walk harmonics made as a tilt of a broad profile plus a share of a narrow ridge:
-        // the fit finds the share and the tilt that made them, over their whole range
+    fn the_ridge_share_its_widening_and_the_tilt_are_recovered_from_the_walks_harmonics() {
+        // Walk harmonics made as a tilt of a broad profile plus a share of a narrow ridge,
+        // widened: the fit finds harmonics the walk's and, over their whole range, the share,
+        // the widening and the tilt that made them
         let mut rng = SplitMix64::seed_from_u64(11);
         for _ in 0..400 {
             let mut u = || rng.next_f64();
@@ -879,12 +972,28 @@ mod tests {
                 std::array::from_fn(|n| broad[n] + if n == 0 { floor } else { 0.0 });
             let ridge = lobe(0.1 + 0.9 * u(), 0.95 + 0.049 * u());
             let share = MAX_RIDGE_SHARE * u();
+            let widening = MAX_RIDGE_WIDENING * u();
             let tilt = [u() - 0.5, 0.6 * (u() - 0.5), 0.3 * (u() - 0.5)];
-            let mean = tilted(&with_share(&smooth, &ridge, share), tilt);
-            let got = fit_ridge_tilt(&measured(mean, smooth, ridge));
-            let want = [tilt[0], tilt[1], tilt[2], share];
-            for (g, w) in got.iter().zip(want) {
-                assert!((g - w).abs() < 1e-5, "{got:?} against {want:?}");
+            let mean = tilted(&with_share(&smooth, &ridge, share, widening), tilt);
+            let m = measured(mean, smooth, ridge);
+            let got = fit_ridge_tilt(&m);
+            // its harmonics are the walk's, to 10⁻⁶ of μ̂₀
+            let h = tilted(
+                &with_share(&smooth, &ridge, got[3], got[4]),
+                [got[0], got[1], got[2]],
+            );
+            for n in 0..HARMONICS {
+                assert!(
+                    (h[n] - mean[n]).abs() < 1e-6 * mean[0],
+                    "{n}: {h:?} against {mean:?}, {got:?}"
+                );
+            }
+            // and so are its parameters, where the ridge carries enough to tell the widening
+            let want = [tilt[0], tilt[1], tilt[2], share, widening];
+            if share > 0.1 {
+                for (g, w) in got.iter().zip(want) {
+                    assert!((g - w).abs() < 1e-4, "{got:?} against {want:?}");
+                }
             }
         }
     }
@@ -895,12 +1004,12 @@ mod tests {
         let mean = tilted(&smooth, [0.2, 0.1, -0.05]);
         let got = fit_ridge_tilt(&measured(mean, smooth, [0.0; PBD_HARMONICS]));
         let [ln_k, a1, a2] = fit_tilt(&mean, &smooth);
-        assert_eq!(got, [ln_k, a1, a2, 1.0]);
+        assert_eq!(got, [ln_k, a1, a2, 1.0, 0.0]);
         // and the energy form gives back the k of the fit
         let m = measured(mean, smooth, lobe(0.3, 0.99));
         let fit = fit_ridge_tilt(&m);
-        let ratio = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0)[0]).ln();
-        let back = scale_of(&m, [ratio, fit[1], fit[2], fit[3]]);
+        let ratio = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
+        let back = scale_of(&m, [ratio, fit[1], fit[2], fit[3], fit[4]]);
         assert!((back[0] - fit[0]).abs() < 1e-12, "{back:?} against {fit:?}");
     }
 }
