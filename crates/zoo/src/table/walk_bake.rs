@@ -999,6 +999,41 @@ mod tests {
     }
 
     #[test]
+    fn the_smoothing_keeps_a_parabola_in_ln_r_and_a_line_at_the_ends() {
+        // Values quadratic in ln r come back exactly where a node has MIN_QUADRATIC_SIDE
+        // points on each side (a line would be off by the curvature), values linear in ln r
+        // everywhere, whatever the weights
+        let mut rng = SplitMix64::seed_from_u64(5);
+        let n = 20;
+        let points = |f: &dyn Fn(f64) -> f64, rng: &mut SplitMix64| -> Vec<(f64, f64, Tilt)> {
+            (0..n)
+                .map(|i| {
+                    let u = -3.0 + 0.28 * i as f64;
+                    (u, 0.5 + rng.next_f64(), [f(u), 0.1 * f(u), 0.0, 1.0, 0.0])
+                })
+                .collect()
+        };
+        let parabola = |u: f64| 0.3 - 0.2 * u + 0.15 * u * u;
+        let line = |u: f64| -0.4 + 0.7 * u;
+        let curved = points(&parabola, &mut rng);
+        let straight = points(&line, &mut rng);
+        for i in 0..n {
+            let inner = i >= MIN_QUADRATIC_SIDE && i + MIN_QUADRATIC_SIDE < n;
+            let got = smooth_tilt(&curved, i)[0];
+            let want = parabola(curved[i].0);
+            if inner {
+                assert!((got - want).abs() < 1e-12, "{i}: {got} {want}");
+            }
+            let got = smooth_tilt(&straight, i);
+            assert!((got[0] - line(straight[i].0)).abs() < 1e-12, "{i}: {got:?}");
+            assert!(
+                (got[1] - 0.1 * line(straight[i].0)).abs() < 1e-12,
+                "{i}: {got:?}"
+            );
+        }
+    }
+
+    #[test]
     fn without_a_ridge_the_tilt_is_pbds_alone() {
         let smooth = lobe(1.0, 0.6);
         let mean = tilted(&smooth, [0.2, 0.1, -0.05]);
