@@ -143,9 +143,9 @@ fn provenance(
     });
     if crate::table::ridge::reaches(settings.eta) {
         settings_json["ridge_share"] = json!({
-            "method": "where PBD's analytic ridge has weight (cos theta' < 0.3, below eta 1.0483; not the beam in the surface), the tilted profile is P - R + s R_w, R the flux part of the ridge (format-spec.md section 10, The ridge; its fluence lobes stay in P) and R_w that part with its lobe's concentration times e^-w (convolved over phi with a wrapped Cauchy lobe of concentration e^-w): s in [0, largest_share] and w in [0, largest_widening] whose tilt matches mu_3, mu_4 best (chi-square with their standard errors) once mu_0..mu_2 are matched; s and w smoothed with a1, a2 and the walk's energy over PBD's, ln(mu_0/P_0), from which k follows",
+            "method": "where PBD's analytic ridge has weight (cos theta' < 0.3, below eta 1.0483; not the beam in the surface), the tilted profile is P - R + s R_w, R the flux part of the ridge (format-spec.md section 10, The ridge; its fluence lobes stay in P) and R_w that part with its lobe's concentration times e^-w (convolved over phi with a wrapped Cauchy lobe of concentration e^-w): s in [0, largest_share] and w in [0, largest_widening] (0 for a total table, whose single scattering has its own narrow ridge) whose tilt matches mu_3, mu_4 best (chi-square with their standard errors) once mu_0..mu_2 are matched; s and w smoothed with a1, a2 and the walk's energy over PBD's, ln(mu_0/P_0), from which k follows",
             "largest_share": table::MAX_RIDGE_SHARE,
-            "largest_widening": table::MAX_RIDGE_WIDENING,
+            "largest_widening": table::max_ridge_widening(settings.component),
         });
     }
     if settings.component == WalkComponent::Total {

@@ -35,6 +35,9 @@
 //!    ridge is the part of the profile that carries the high harmonics; [`fit_ridge_tilt`]).
 //!    Widening by more than 0.15 fitted the noise of μ̂₃, μ̂₄ at small r (measured: the 89°
 //!    error doubled); with the fluence lobes shared too the sides of the profile came out low.
+//!    A total table does not widen ([`max_ridge_widening`]): its single scattering has a ridge
+//!    of its own on φ = 0 as narrow as PBD's, and with the multiple scattering's widened the
+//!    89° cases at η = 1 came out worse (docs/walk-table.md).
 //! 3. **Smooth.** ln k, a₁ and a₂ (with the ridge, ln(μ̂₀/P̄₀), a₁, a₂, s and w, k then
 //!    following from them: k and s trade off against each other from node to node) are
 //!    smoothed along ln r by a local quadratic fit over [`SMOOTH_NODES`] measured nodes on each
@@ -246,6 +249,7 @@ pub fn bake_walk(
                         theta: (!in_surface).then_some(theta),
                         rules: &rules,
                         ridge: ridge.as_ref(),
+                        max_widening: max_ridge_widening(config.component),
                     };
                     let (tilts, rel, measured) = row_tilts(&h, k, &grid.r, &control);
                     let albedo = unreduced_albedo(grid.rho[i], config.g);
@@ -366,6 +370,8 @@ struct Control<'a> {
     rules: &'a (GaussLegendre, GaussLegendre),
     /// PBD's analytic ridge at this (ρ′, θ), where it has weight (module docs, "The ridge").
     ridge: Option<&'a Ridge>,
+    /// The most the walk's share of the ridge may be widened ([`fit_ridge_tilt`]).
+    max_widening: f64,
 }
 
 /// PBD's harmonics kept for the correction: μ₀ … μ₆ (the tilt of μ₄ reaches μ₆).
@@ -485,6 +491,17 @@ pub const MAX_RIDGE_SHARE: f64 = 1.5;
 /// (1 − κ for the narrow ones) grown by up to this much.
 pub const MAX_RIDGE_WIDENING: f64 = 0.15;
 
+/// The most a table of `component` widens the walk's share of the ridge: a multiple table
+/// [`MAX_RIDGE_WIDENING`], a total one 0. In a total table single scattering puts its own
+/// ridge, as narrow as cos θ′, on φ = 0, and the nodes' sharp lobe holds both ridges best when
+/// they are alike (module docs, "The ridge's share").
+pub fn max_ridge_widening(component: WalkComponent) -> f64 {
+    match component {
+        WalkComponent::Multiple => MAX_RIDGE_WIDENING,
+        WalkComponent::Total => 0.0,
+    }
+}
+
 /// `smooth` + s · e^{−nw} · `ridge`, harmonic by harmonic n: PBD with the share s of its ridge
 /// widened by w ([`Ridge::widened`]).
 fn with_share(
@@ -498,11 +515,11 @@ fn with_share(
 
 /// The tilt of PBD less its ridge plus the share s of it widened by w whose kernel averages
 /// have the walk's μ̂₀ … μ̂₂ ([`fit_tilt`]) and, of the shares s ∈ [0, MAX_RIDGE_SHARE] and
-/// widenings w ∈ [0, MAX_RIDGE_WIDENING], its μ̂₃ and μ̂₄ closest (χ² with their standard
+/// widenings w ∈ [0, `max_widening`] (at most [`MAX_RIDGE_WIDENING`]), its μ̂₃ and μ̂₄ closest (χ² with their standard
 /// errors): the ridge is the profile's only part narrow enough to carry the high harmonics,
 /// and the walk's is weaker and wider than PBD's near index matching. (s, w) = (1, 0) (PBD
 /// itself) without a ridge.
-fn fit_ridge_tilt(m: &Measured) -> Tilt {
+fn fit_ridge_tilt(m: &Measured, max_widening: f64) -> Tilt {
     let [_, ridge] = &m.ridge;
     if ridge.iter().all(|&x| x == 0.0) {
         let [ln_k, a1, a2] = fit_tilt(&m.mean, &m.average);
@@ -530,8 +547,14 @@ fn fit_ridge_tilt(m: &Measured) -> Tilt {
     const STEPS: usize = 30;
     const WIDENING_STEPS: usize = 12;
     let step = MAX_RIDGE_SHARE / STEPS as f64;
-    let w_step = MAX_RIDGE_WIDENING / WIDENING_STEPS as f64;
-    let (mut best, mut s, mut w) = (0..=WIDENING_STEPS)
+    let max_widening = max_widening.clamp(0.0, MAX_RIDGE_WIDENING);
+    let widening_steps = if max_widening > 0.0 {
+        WIDENING_STEPS
+    } else {
+        0
+    };
+    let w_step = max_widening / WIDENING_STEPS as f64;
+    let (mut best, mut s, mut w) = (0..=widening_steps)
         .flat_map(|j| (0..=STEPS).map(move |k| (k as f64 * step, j as f64 * w_step)))
         .map(|(s, w)| (chi2(s, w), s, w))
         .min_by(|a, b| a.0.total_cmp(&b.0))
@@ -551,7 +574,11 @@ fn fit_ridge_tilt(m: &Measured) -> Tilt {
             [(zb[0] - za[0]) / (b - a), (zb[1] - za[1]) / (b - a)]
         };
         let js = column(s, MAX_RIDGE_SHARE, 1e-6, &|x| fit(x, w).0);
-        let jw = column(w, MAX_RIDGE_WIDENING, 1e-6, &|x| fit(s, x).0);
+        let jw = if max_widening > 0.0 {
+            column(w, max_widening, 1e-6, &|x| fit(s, x).0)
+        } else {
+            [0.0; 2]
+        };
         // (JᵀJ + λ diag JᵀJ) δ = −Jᵀz
         let (a, b, d) = (
             js[0] * js[0] + js[1] * js[1],
@@ -571,7 +598,7 @@ fn fit_ridge_tilt(m: &Measured) -> Tilt {
         };
         let (s1, w1) = (
             (s + ds).clamp(0.0, MAX_RIDGE_SHARE),
-            (w + dw).clamp(0.0, MAX_RIDGE_WIDENING),
+            (w + dw).clamp(0.0, max_widening),
         );
         let c = chi2(s1, w1);
         if c < best {
@@ -653,7 +680,7 @@ fn row_tilts(
         .map(|&k| {
             let m = &measured[k];
             let rel = m.rel.unwrap_or(MAX_REL_STDERR);
-            let mut tilt = fit_ridge_tilt(m);
+            let mut tilt = fit_ridge_tilt(m, control.max_widening);
             if energy_form {
                 tilt[0] = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
             }
@@ -976,7 +1003,7 @@ mod tests {
             let tilt = [u() - 0.5, 0.6 * (u() - 0.5), 0.3 * (u() - 0.5)];
             let mean = tilted(&with_share(&smooth, &ridge, share, widening), tilt);
             let m = measured(mean, smooth, ridge);
-            let got = fit_ridge_tilt(&m);
+            let got = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING);
             // its harmonics are the walk's, to 10⁻⁶ of μ̂₀
             let h = tilted(
                 &with_share(&smooth, &ridge, got[3], got[4]),
@@ -993,6 +1020,36 @@ mod tests {
             if share > 0.1 {
                 for (g, w) in got.iter().zip(want) {
                     assert!((g - w).abs() < 1e-4, "{got:?} against {want:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_total_tables_share_is_not_widened() {
+        assert_eq!(max_ridge_widening(WalkComponent::Total), 0.0);
+        assert_eq!(
+            max_ridge_widening(WalkComponent::Multiple),
+            MAX_RIDGE_WIDENING
+        );
+        // Harmonics of an unwidened share come back with w = 0 and their share and tilt, and
+        // a widened one's best unwidened fit keeps w = 0
+        let mut rng = SplitMix64::seed_from_u64(12);
+        for widening in [0.0, 0.1] {
+            for _ in 0..50 {
+                let mut u = || rng.next_f64();
+                let smooth = lobe(1.0, 0.2 + 0.5 * u());
+                let ridge = lobe(0.1 + 0.9 * u(), 0.95 + 0.049 * u());
+                let share = 0.1 + 1.3 * u();
+                let tilt = [u() - 0.5, 0.6 * (u() - 0.5), 0.3 * (u() - 0.5)];
+                let mean = tilted(&with_share(&smooth, &ridge, share, widening), tilt);
+                let got = fit_ridge_tilt(&measured(mean, smooth, ridge), 0.0);
+                assert_eq!(got[4], 0.0);
+                if widening == 0.0 {
+                    let want = [tilt[0], tilt[1], tilt[2], share, 0.0];
+                    for (g, w) in got.iter().zip(want) {
+                        assert!((g - w).abs() < 1e-5, "{got:?} against {want:?}");
+                    }
                 }
             }
         }
@@ -1037,12 +1094,15 @@ mod tests {
     fn without_a_ridge_the_tilt_is_pbds_alone() {
         let smooth = lobe(1.0, 0.6);
         let mean = tilted(&smooth, [0.2, 0.1, -0.05]);
-        let got = fit_ridge_tilt(&measured(mean, smooth, [0.0; PBD_HARMONICS]));
+        let got = fit_ridge_tilt(
+            &measured(mean, smooth, [0.0; PBD_HARMONICS]),
+            MAX_RIDGE_WIDENING,
+        );
         let [ln_k, a1, a2] = fit_tilt(&mean, &smooth);
         assert_eq!(got, [ln_k, a1, a2, 1.0, 0.0]);
         // and the energy form gives back the k of the fit
         let m = measured(mean, smooth, lobe(0.3, 0.99));
-        let fit = fit_ridge_tilt(&m);
+        let fit = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING);
         let ratio = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
         let back = scale_of(&m, [ratio, fit[1], fit[2], fit[3], fit[4]]);
         assert!((back[0] - fit[0]).abs() < 1e-12, "{back:?} against {fit:?}");
