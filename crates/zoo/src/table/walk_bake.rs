@@ -515,10 +515,10 @@ fn with_share(
 
 /// The tilt of PBD less its ridge plus the share s of it widened by w whose kernel averages
 /// have the walk's μ̂₀ … μ̂₂ ([`fit_tilt`]) and, of the shares s ∈ [0, MAX_RIDGE_SHARE] and
-/// widenings w ∈ [0, `max_widening`] (at most [`MAX_RIDGE_WIDENING`]), its μ̂₃ and μ̂₄ closest (χ² with their standard
-/// errors): the ridge is the profile's only part narrow enough to carry the high harmonics,
-/// and the walk's is weaker and wider than PBD's near index matching. (s, w) = (1, 0) (PBD
-/// itself) without a ridge.
+/// widenings w ∈ [0, `max_widening`] (at most [`MAX_RIDGE_WIDENING`]), its μ̂₃ and μ̂₄
+/// closest (χ² with their standard errors): the ridge is the profile's only part narrow enough
+/// to carry the high harmonics, and the walk's is weaker and wider than PBD's near index
+/// matching. (s, w) = (1, 0) (PBD itself) without a ridge.
 fn fit_ridge_tilt(m: &Measured, max_widening: f64) -> Tilt {
     let [_, ridge] = &m.ridge;
     if ridge.iter().all(|&x| x == 0.0) {
@@ -543,7 +543,7 @@ fn fit_ridge_tilt(m: &Measured, max_widening: f64) -> Tilt {
             f64::INFINITY
         }
     };
-    // A grid, (each point's misfit once; the first of equal ones)
+    // A grid over (s, w), the first of equal misfits
     const STEPS: usize = 30;
     const WIDENING_STEPS: usize = 12;
     let step = MAX_RIDGE_SHARE / STEPS as f64;
@@ -767,7 +767,8 @@ fn row_cells(
             part.node(albedo, node, r)
         });
         let [ln_k, a1, a2, share, widening] = *tilt;
-        let wide = control.ridge.map(|g| g.widened(widening));
+        // The ridge and the walk's widened share of it
+        let ridges = control.ridge.map(|g| (g, g.widened(widening)));
         let m = tilted(at_node, [ln_k, a1, a2]);
         let energy = r * (m[0] + one.harmonics[0]);
         let cell = match control.theta {
@@ -798,11 +799,11 @@ fn row_cells(
                     .map(|(&p, s1)| {
                         let pbd = control.pbd.eval(theta, r, p, Rule::Fast);
                         // PBD with the walk's share of its ridge
-                        let pbd = match (control.ridge, &wide) {
-                            (Some(g), Some(wide)) => {
+                        let pbd = match &ridges {
+                            Some((g, wide)) => {
                                 (pbd - g.eval(r, p) + share * wide.eval(r, p)).max(1e-3 * pbd)
                             }
-                            _ => pbd,
+                            None => pbd,
                         };
                         let factor = 1.0 + a1 * p.cos() + a2 * (2.0 * p).cos();
                         (p, ln_k.exp() * pbd * factor + s1)
