@@ -135,7 +135,7 @@ fn provenance(
         "row_groups_rho_above": WALK_GROUP_EDGES,
         "last_group_photons_divided_by": WALK_LAST_GROUP_SHARE,
         "seed": settings.seed,
-        "method": "per theta node, one walk per group of albedo rows (every row from the walk at the group's largest albedo), harmonics mu_0..mu_4 of multiple scattering on hat kernels in ln r; at each node measured within 30 % (mu_0), the tilt k P (1 + a1 cos phi + a2 cos 2 phi) of PBD's profile P whose kernel averages match mu_0..mu_2; ln k, a1, a2 smoothed along ln r (local quadratic over 6 measured nodes each side, weighted by 1/sigma^2 and a tricube); other nodes take the nearest measured tilt, ln k beyond the last one along the line in r through the last 5; stored as two lobes fitted to the tilted PBD at the two-lobe azimuths, scaled to its energy",
+        "method": "per theta node, one walk per group of albedo rows (every row from the walk at the group's largest albedo), harmonics mu_0..mu_4 of multiple scattering on hat kernels in ln r; at each node measured within 30 % (mu_0), the tilt k P (1 + a1 cos phi + a2 cos 2 phi + a3 cos 3 phi + a4 cos 4 phi) of PBD's profile P whose kernel averages match mu_0..mu_4 (where PBD's ridge has weight, a3 = a4 = 0 and mu_0..mu_2 matched: ridge_share); ln k, a1..a4 smoothed along ln r (local quadratic over 6 measured nodes each side, weighted by 1/sigma^2 and a tricube); other nodes take the nearest measured tilt, ln k beyond the last one along the line in r through the last 5; stored as two lobes fitted to the tilted PBD at the two-lobe azimuths, scaled to its energy",
         "two_lobe_fit": {
             "azimuths_deg": table::two_lobe_azimuths().map(f64::to_degrees),
             "stored": "E, E_beta, c of the one lobe with the first two harmonics; r*mu3, r*mu4",
@@ -143,7 +143,7 @@ fn provenance(
     });
     if crate::table::ridge::reaches(settings.eta) {
         settings_json["ridge_share"] = json!({
-            "method": "where PBD's analytic ridge has weight (cos theta' < 0.3, below eta 1.0483; not the beam in the surface), the tilted profile is P - R + s R_w, R the flux part of the ridge (format-spec.md section 10, The ridge; its fluence lobes stay in P) and R_w that part with its lobe's concentration times e^-w (convolved over phi with a wrapped Cauchy lobe of concentration e^-w): s in [0, largest_share] and w in [0, largest_widening] (0 for a total table, whose single scattering has its own narrow ridge) whose tilt matches mu_3, mu_4 best (chi-square with their standard errors) once mu_0..mu_2 are matched; s and w smoothed with a1, a2 and the walk's energy over PBD's, ln(mu_0/P_0), from which k follows",
+            "method": "where PBD's analytic ridge has weight (cos theta' < 0.3, below eta 1.0483; not the beam in the surface), the tilted profile is P - R + s R_w, R the flux part of the ridge (format-spec.md section 10, The ridge; its fluence lobes stay in P) and R_w that part with its lobe's concentration times e^-w (convolved over phi with a wrapped Cauchy lobe of concentration e^-w): s in [0, largest_share] and w in [0, largest_widening] (0 for a total table, whose single scattering has its own narrow ridge) whose two-term tilt matches mu_3, mu_4 best (chi-square with their standard errors) once mu_0..mu_2 are matched; s and w smoothed with a1, a2 and the walk's energy over PBD's, ln(mu_0/P_0), from which k follows",
             "largest_share": table::MAX_RIDGE_SHARE,
             "largest_widening": table::max_ridge_widening(settings.component),
         });

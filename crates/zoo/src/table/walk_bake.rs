@@ -10,24 +10,31 @@
 //!
 //! # What a node stores
 //! The walk's multiple scattering (two or more vertices, the part PBD models; for a total
-//! table, single scattering is added after, below) per unit power entering, in reduced units, described as a **tilt of PBD**: at each node the profile is
-//! k · P(φ) · (1 + a₁ cos φ + a₂ cos 2φ), P PBD's profile at (ρ′, θ, r), with the walk's scale k
-//! and tilt (a₁, a₂). PBD is smooth, shaped like the walk, and without noise; the walk only has
-//! to tell how far off it is, which changes slowly along r. The steps, per θ node and row:
+//! table, single scattering is added after, below) per unit power entering, in reduced units,
+//! described as a **tilt of PBD**: at each node the profile is
+//! k · P(φ) · (1 + a₁ cos φ + … + a₄ cos 4φ), P PBD's profile at (ρ′, θ, r), with the walk's
+//! scale k and tilt (a₁ … a₄). PBD is smooth, shaped like the walk, and without noise; the walk
+//! only has to tell how far off it is, which changes slowly along r. The steps, per θ node and
+//! row:
 //! 1. **Measure.** One walk per group of rows ([`crate::walk::harmonics`]: every albedo of a
 //!    group from one walk at its largest) gives, at every node rᵢ > 0, the harmonics μ̂₀ … μ̂₄
 //!    averaged over a hat kernel in ln r, with standard errors.
 //! 2. **Tilt.** At each node whose μ̂₀ has a relative standard error ≤ [`MAX_REL_STDERR`], the
-//!    tilt whose kernel average of the tilted PBD has the walk's μ̂₀, μ̂₁ and μ̂₂ (PBD's own
-//!    kernel averages by quadrature). Comparing averages with averages takes the kernel's
-//!    bias out: the kernel average differs from the value at rᵢ by the profile's curvature over
-//!    the kernel, as much as 7 % at r = 10 on the default two-lobe grid, and PBD has the same
-//!    curvature (the table's ρ_eff was 2–2.8 % high without it, measured). |a₁| + |a₂| is kept
-//!    ≤ [`MAX_TILT`], so the profile stays ≥ 0. **The ridge's share.** Where PBD has the
+//!    tilt whose kernel average of the tilted PBD has the walk's μ̂₀ … μ̂₄ (PBD's own kernel
+//!    averages by quadrature; four linear equations in a₁ … a₄, then k). Comparing averages
+//!    with averages takes the kernel's bias out: the kernel average differs from the value at
+//!    rᵢ by the profile's curvature over the kernel, as much as 7 % at r = 10 on the default
+//!    two-lobe grid, and PBD has the same curvature (the table's ρ_eff was 2–2.8 % high without
+//!    it, measured). Σ |aₘ| is kept ≤ [`MAX_TILT`], so the profile stays ≥ 0. The terms in
+//!    cos 3φ and cos 4φ carry what the walk's shape departs from PBD's beyond a tilt by cos φ
+//!    and cos 2φ: at η = 1, 60° the walk's μ̂₃ and μ̂₄ missed by a two-term tilt drift by 3–5
+//!    standard errors over a dozen nodes, and without them the sides of the profile came out
+//!    low (docs/walk-table.md). **The ridge's share.** Where PBD has the
 //!    analytic ridge of grazing incidence near index matching (`table::ridge`: cos θ′ < 0.3,
 //!    below η ≈ 1.0483; not for the beam in the surface), the walk's own forward ridge is
 //!    weaker and wider than PBD's (at η = 1, θ = 89°, ρ′ = 0.9 the walk over PBD is 0.3 within
-//!    10° of φ = 0 and 0.6–1.6 elsewhere), which no smooth tilt follows: P there is PBD less
+//!    10° of φ = 0 and 0.6–1.6 elsewhere), which no smooth tilt follows: there the tilt has two
+//!    terms (a₃ = a₄ = 0) matching μ̂₀ … μ̂₂, and P is PBD less
 //!    the ridge's flux part R (its narrow lobe; the broad fluence lobes stay) plus a share s of
 //!    R widened by w, P − R + s R_w ([`Ridge::widened`]: every lobe's concentration times
 //!    e^{−w}), with s ∈ [0, [`MAX_RIDGE_SHARE`]] and w ∈ [0, [`MAX_RIDGE_WIDENING`]] those whose
@@ -38,7 +45,7 @@
 //!    A total table does not widen ([`max_ridge_widening`]): its single scattering has a ridge
 //!    of its own on φ = 0 as narrow as PBD's, and with the multiple scattering's widened the
 //!    89° cases at η = 1 came out worse (docs/walk-table.md).
-//! 3. **Smooth.** ln k, a₁ and a₂ (with the ridge, ln(μ̂₀/P̄₀), a₁, a₂, s and w, k then
+//! 3. **Smooth.** ln k and a₁ … a₄ (with the ridge, ln(μ̂₀/P̄₀), a₁, a₂, s and w, k then
 //!    following from them: k and s trade off against each other from node to node) are
 //!    smoothed along ln r by a local quadratic fit over [`SMOOTH_NODES`] measured nodes on each
 //!    side, weighted by 1/σ² and a tricube. (A line left the curvature of the walk over PBD in
@@ -374,8 +381,14 @@ struct Control<'a> {
     max_widening: f64,
 }
 
-/// PBD's harmonics kept for the correction: μ₀ … μ₆ (the tilt of μ₄ reaches μ₆).
-const PBD_HARMONICS: usize = HARMONICS + 2;
+/// The most harmonics of a tilt, 1 + a₁ cos φ + … + a₄ cos 4φ ([`fit_tilt`]).
+const TILT_TERMS: usize = 4;
+
+/// A tilt's coefficients a₁ … a₄ (a₃ = a₄ = 0 for a two-term tilt).
+type Shape = [f64; TILT_TERMS];
+
+/// PBD's harmonics kept for the correction: μ₀ … μ₈ (a tilt's cos 4φ moves μ₄ to μ₈).
+const PBD_HARMONICS: usize = HARMONICS + TILT_TERMS;
 
 /// One node of a row as the walk measured it, with PBD at the node and its kernel average.
 struct Measured {
@@ -401,87 +414,148 @@ impl Measured {
             && with_share(&self.average, &self.ridge[1], 1.0, 0.0)[0] > 0.0
     }
 
-    /// Whether PBD with the share s of its ridge, tilted by (a₁, a₂), holds energy at the node
+    /// Whether PBD with the share s of its ridge, tilted by its aₘ, holds energy at the node
     /// and in its kernel average (where the ridge reaches past PBD, less of it may not).
-    fn holds_energy(&self, [_, a1, a2, s, w]: Tilt) -> bool {
-        let at = |smooth, ridge| tilted(&with_share(smooth, ridge, s, w), [0.0, a1, a2])[0] > 0.0;
+    fn holds_energy(&self, tilt: Tilt) -> bool {
+        let (a, s, w) = (shape(&tilt), tilt[SHARE], tilt[WIDENING]);
+        let at = |smooth, ridge| tilted(&with_share(smooth, ridge, s, w), 0.0, a)[0] > 0.0;
         at(&self.at_node, &self.ridge[0])
             && (self.average[0] == 0.0 || at(&self.average, &self.ridge[1]))
     }
 }
 
-/// The harmonics of k · P(φ) · (1 + a₁ cos φ + a₂ cos 2φ), P the profile of harmonics `p`
+/// The harmonics of k · P(φ) · (1 + Σₘ aₘ cos mφ), P the profile of harmonics `p`
 /// (μₙ = ∫ P cos nφ dφ, so cos mφ · cos nφ moves half of μₙ to μₙ₋ₘ and half to μₙ₊ₘ).
-fn tilted(p: &[f64; PBD_HARMONICS], [ln_k, a1, a2]: [f64; 3]) -> [f64; HARMONICS] {
+fn tilted(p: &[f64; PBD_HARMONICS], ln_k: f64, a: Shape) -> [f64; HARMONICS] {
     let at = |n: i32| p[n.unsigned_abs() as usize];
     std::array::from_fn(|n| {
         let n = n as i32;
-        let value = at(n) + 0.5 * a1 * (at(n - 1) + at(n + 1)) + 0.5 * a2 * (at(n - 2) + at(n + 2));
-        ln_k.exp() * value
+        let moved: f64 = (1..)
+            .zip(a)
+            .map(|(m, am)| 0.5 * am * (at(n - m) + at(n + m)))
+            .sum();
+        ln_k.exp() * (at(n) + moved)
     })
 }
 
-/// Largest |a₁| + |a₂| of a tilt: 1 + a₁ cos φ + a₂ cos 2φ stays ≥ 0.05.
+/// 1 + Σₘ aₘ cos mφ.
+fn tilt_factor(a: &Shape, phi: f64) -> f64 {
+    1.0 + (1..)
+        .zip(a)
+        .map(|(m, am)| am * (f64::from(m) * phi).cos())
+        .sum::<f64>()
+}
+
+/// Largest Σ |aₘ| of a tilt: 1 + Σₘ aₘ cos mφ stays ≥ 0.05.
 const MAX_TILT: f64 = 0.95;
 
-/// The tilt (ln k, a₁, a₂) whose [`tilted`] kernel averages of PBD have the walk's μ̂₀, μ̂₁
-/// and μ̂₂: two linear equations for a₁, a₂ from μ̂ₙ/μ̂₀, n = 1, 2, then k from μ̂₀; the
-/// tilt scaled back to [`MAX_TILT`] where it goes beyond (a profile that stays ≥ 0).
-fn fit_tilt(mean: &[f64; HARMONICS], p: &[f64; PBD_HARMONICS]) -> [f64; 3] {
-    let at = |n: i32| p[n.unsigned_abs() as usize];
-    let a = |n: i32| 0.5 * (at(n - 1) + at(n + 1));
-    let b = |n: i32| 0.5 * (at(n - 2) + at(n + 2));
-    let ratio = [mean[1] / mean[0], mean[2] / mean[0]];
-    // a₁ (Aₙ − ρₙA₀) + a₂ (Bₙ − ρₙB₀) = ρₙP₀ − Pₙ, n = 1, 2
-    let row = |n: usize| {
-        let q = ratio[n - 1];
-        let n = n as i32;
-        [a(n) - q * a(0), b(n) - q * b(0), q * at(0) - at(n)]
-    };
-    let (r1, r2) = (row(1), row(2));
-    let det = r1[0] * r2[1] - r1[1] * r2[0];
-    let (mut a1, mut a2) = if det.abs() > 1e-12 * (r1[0].abs() * r2[1].abs()).max(1e-300) {
-        (
-            (r1[2] * r2[1] - r1[1] * r2[2]) / det,
-            (r1[0] * r2[2] - r1[2] * r2[0]) / det,
-        )
-    } else {
-        (0.0, 0.0)
-    };
-    let size = a1.abs() + a2.abs();
+/// `a` scaled back to Σ |aₘ| ≤ [`MAX_TILT`] where it goes beyond (a profile that stays ≥ 0),
+/// 0 where it is not finite.
+fn bounded(a: Shape) -> Shape {
+    let size: f64 = a.iter().map(|x| x.abs()).sum();
     if !size.is_finite() {
-        (a1, a2) = (0.0, 0.0);
+        [0.0; TILT_TERMS]
     } else if size > MAX_TILT {
-        (a1, a2) = (a1 * MAX_TILT / size, a2 * MAX_TILT / size);
+        a.map(|x| x * MAX_TILT / size)
+    } else {
+        a
     }
-    let base = at(0) + a1 * a(0) + a2 * b(0);
-    [(mean[0] / base).ln(), a1, a2]
+}
+
+/// The tilt (ln k, a₁ … a_`terms`) whose [`tilted`] kernel averages of PBD have the walk's
+/// μ̂₀ … μ̂_`terms` (`terms` 2 or [`TILT_TERMS`]): `terms` linear equations for the aₘ from
+/// μ̂ₙ/μ̂₀, then k from μ̂₀; the tilt [`bounded`].
+fn fit_tilt(mean: &[f64; HARMONICS], p: &[f64; PBD_HARMONICS], terms: usize) -> (f64, Shape) {
+    let at = |n: i32| p[n.unsigned_abs() as usize];
+    // What cos mφ moves into μₙ
+    let moved = |m: i32, n: i32| 0.5 * (at(n - m) + at(n + m));
+    // Σₘ aₘ (Mₘ(n) − qₙ Mₘ(0)) = qₙ P₀ − Pₙ, qₙ = μ̂ₙ/μ̂₀, n = 1 … terms
+    let mut system = [[0.0; TILT_TERMS + 1]; TILT_TERMS];
+    for (n, row) in (1..).zip(system.iter_mut().take(terms)) {
+        let q = mean[n as usize] / mean[0];
+        for (m, x) in (1..).zip(row.iter_mut().take(terms)) {
+            *x = moved(m, n) - q * moved(m, 0);
+        }
+        row[TILT_TERMS] = q * at(0) - at(n);
+    }
+    let a = bounded(solve(system, terms).unwrap_or([0.0; TILT_TERMS]));
+    let base = at(0) + (1..).zip(a).map(|(m, am)| am * moved(m, 0)).sum::<f64>();
+    ((mean[0] / base).ln(), a)
+}
+
+/// Solves the first `n` equations in the first `n` unknowns of the augmented rows `a`
+/// (right-hand side in the last column) by Gaussian elimination with partial pivoting; the
+/// other unknowns 0. `None` if singular.
+fn solve(mut a: [[f64; TILT_TERMS + 1]; TILT_TERMS], n: usize) -> Option<Shape> {
+    let scale = (0..n).map(|i| a[i][i].abs()).fold(0.0, f64::max);
+    for i in 0..n {
+        let p = (i..n).max_by(|&x, &z| a[x][i].abs().total_cmp(&a[z][i].abs()))?;
+        a.swap(i, p);
+        let pivot = a[i][i];
+        if pivot.is_nan() || pivot.abs() <= 1e-12 * scale {
+            return None;
+        }
+        let row = a[i];
+        for below in a.iter_mut().take(n).skip(i + 1) {
+            let f = below[i] / pivot;
+            for (x, &y) in below[i..].iter_mut().zip(&row[i..]) {
+                *x -= f * y;
+            }
+        }
+    }
+    let mut x = [0.0; TILT_TERMS];
+    for i in (0..n).rev() {
+        let s: f64 = (i + 1..n).map(|j| a[i][j] * x[j]).sum();
+        x[i] = (a[i][TILT_TERMS] - s) / a[i][i];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// The walk's tilt of PBD with the share s of PBD's ridge it keeps, widened by w:
-/// (ln k, a₁, a₂, s, w).
-type Tilt = [f64; 5];
+/// (ln k, a₁ … a₄, s, w).
+type Tilt = [f64; TILT_LEN];
+
+/// The numbers of a [`Tilt`].
+const TILT_LEN: usize = TILT_TERMS + 3;
+
+/// Where s and w sit in a [`Tilt`].
+const SHARE: usize = TILT_TERMS + 1;
+const WIDENING: usize = TILT_TERMS + 2;
+
+/// The tilt (ln k, a, s, w).
+fn tilt_of(ln_k: f64, a: Shape, s: f64, w: f64) -> Tilt {
+    let mut tilt = [0.0; TILT_LEN];
+    tilt[0] = ln_k;
+    tilt[1..=TILT_TERMS].copy_from_slice(&a);
+    (tilt[SHARE], tilt[WIDENING]) = (s, w);
+    tilt
+}
+
+/// The coefficients a₁ … a₄ of a tilt.
+fn shape(tilt: &Tilt) -> Shape {
+    std::array::from_fn(|m| tilt[m + 1])
+}
 
 /// A node's smoothed tilt and the harmonics of PBD with the tilt's share of its ridge.
 type NodeTilt = (Tilt, [f64; PBD_HARMONICS]);
 
-/// The tilt (ln k, a₁, a₂, s, w) of a node from the walk's energy over PBD's, ln(μ̂₀/P̄₀), in
+/// The tilt (ln k, a₁ … a₄, s, w) of a node from the walk's energy over PBD's, ln(μ̂₀/P̄₀), in
 /// place of ln k: k = (μ̂₀/P̄₀) P̄₀/B̄, B̄ the energy of PBD with the share s of its ridge widened
-/// by w, tilted by (a₁, a₂) (kernel averages, or the node's harmonics where it has none).
-fn scale_of(m: &Measured, [ratio, a1, a2, s, w]: Tilt) -> Tilt {
+/// by w, tilted by its aₘ (kernel averages, or the node's harmonics where it has none).
+fn scale_of(m: &Measured, tilt: Tilt) -> Tilt {
     let (smooth, ridge) = if m.average[0] > 0.0 {
         (&m.average, &m.ridge[1])
     } else {
         (&m.at_node, &m.ridge[0])
     };
+    let (ratio, s, w) = (tilt[0], tilt[SHARE], tilt[WIDENING]);
     let full = with_share(smooth, ridge, 1.0, 0.0)[0];
-    let base = tilted(&with_share(smooth, ridge, s, w), [0.0, a1, a2])[0];
-    let ln_k = if full > 0.0 && base > 0.0 {
-        ratio + (full / base).ln()
-    } else {
-        ratio
-    };
-    [ln_k, a1, a2, s, w]
+    let base = tilted(&with_share(smooth, ridge, s, w), 0.0, shape(&tilt))[0];
+    let mut tilt = tilt;
+    if full > 0.0 && base > 0.0 {
+        tilt[0] = ratio + (full / base).ln();
+    }
+    tilt
 }
 
 /// The largest share of PBD's ridge a walk node may keep.
@@ -518,21 +592,19 @@ fn with_share(
 /// widenings w ∈ [0, `max_widening`] (at most [`MAX_RIDGE_WIDENING`]), its μ̂₃ and μ̂₄
 /// closest (χ² with their standard errors): the ridge is the profile's only part narrow enough
 /// to carry the high harmonics, and the walk's is weaker and wider than PBD's near index
-/// matching. (s, w) = (1, 0) (PBD itself) without a ridge.
-fn fit_ridge_tilt(m: &Measured, max_widening: f64) -> Tilt {
+/// matching. Without a ridge, (s, w) = (1, 0) (PBD itself) and the tilt of `terms` harmonics
+/// that matches μ̂₀ … μ̂_`terms`.
+fn fit_ridge_tilt(m: &Measured, max_widening: f64, terms: usize) -> Tilt {
     let [_, ridge] = &m.ridge;
     if ridge.iter().all(|&x| x == 0.0) {
-        let [ln_k, a1, a2] = fit_tilt(&m.mean, &m.average);
-        return [ln_k, a1, a2, 1.0, 0.0];
+        let (ln_k, a) = fit_tilt(&m.mean, &m.average, terms);
+        return tilt_of(ln_k, a, 1.0, 0.0);
     }
     // The tilt at (s, w) and its misses of μ̂₃, μ̂₄ in standard errors
     let fit = |s: f64, w: f64| {
         let p = with_share(&m.average, ridge, s, w);
-        let tilt = fit_tilt(&m.mean, &p);
-        let h = tilted(&p, tilt);
-        let z: [f64; 2] =
-            std::array::from_fn(|k| (h[k + 3] - m.mean[k + 3]) / m.se[k + 3].max(1e-300));
-        (z, tilt)
+        let (ln_k, a) = fit_tilt(&m.mean, &p, 2);
+        (misses(m, &tilted(&p, ln_k, a)), (ln_k, a))
     };
     let chi2 = |s: f64, w: f64| {
         let ([a, b], _) = fit(s, w);
@@ -615,8 +687,13 @@ fn fit_ridge_tilt(m: &Measured, max_widening: f64) -> Tilt {
             }
         }
     }
-    let [ln_k, a1, a2] = fit(s, w).1;
-    [ln_k, a1, a2, s, w]
+    let (ln_k, a) = fit(s, w).1;
+    tilt_of(ln_k, a, s, w)
+}
+
+/// The misses of μ̂₃ and μ̂₄ by the harmonics `h`, in standard errors of the walk.
+fn misses(m: &Measured, h: &[f64; HARMONICS]) -> [f64; 2] {
+    std::array::from_fn(|k| (h[k + 3] - m.mean[k + 3]) / m.se[k + 3].max(1e-300))
 }
 
 /// Levenberg–Marquardt steps of [`fit_ridge_tilt`] at most.
@@ -680,7 +757,7 @@ fn row_tilts(
         .map(|&k| {
             let m = &measured[k];
             let rel = m.rel.unwrap_or(MAX_REL_STDERR);
-            let mut tilt = fit_ridge_tilt(m, control.max_widening);
+            let mut tilt = fit_ridge_tilt(m, control.max_widening, TILT_TERMS);
             if energy_form {
                 tilt[0] = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
             }
@@ -720,19 +797,19 @@ fn row_tilts(
                         smoothed[i][n] + t * (smoothed[after][n] - smoothed[i][n])
                     })
                 }
-                (None, None) => [0.0, 0.0, 0.0, 1.0, 0.0],
+                (None, None) => tilt_of(0.0, [0.0; TILT_TERMS], 1.0, 0.0),
             };
             let tilt = match tilt {
                 // A share whose profile holds no energy at this node gives way to PBD's own
-                [y, a1, a2, ..] if energy_form && !here.holds_energy(tilt) => {
-                    scale_of(here, [y, a1, a2, 1.0, 0.0])
+                _ if energy_form && !here.holds_energy(tilt) => {
+                    scale_of(here, tilt_of(tilt[0], shape(&tilt), 1.0, 0.0))
                 }
                 _ if energy_form => scale_of(here, tilt),
                 _ => tilt,
             };
             Some((
                 tilt,
-                with_share(&here.at_node, &here.ridge[0], tilt[3], tilt[4]),
+                with_share(&here.at_node, &here.ridge[0], tilt[SHARE], tilt[WIDENING]),
             ))
         })
         .collect();
@@ -766,16 +843,16 @@ fn row_cells(
         let one = single.map_or(SingleNode::ZERO, |(part, albedo)| {
             part.node(albedo, node, r)
         });
-        let [ln_k, a1, a2, share, widening] = *tilt;
+        let (ln_k, a, share) = (tilt[0], shape(tilt), tilt[SHARE]);
         // The ridge and the walk's widened share of it
-        let ridges = control.ridge.map(|g| (g, g.widened(widening)));
-        let m = tilted(at_node, [ln_k, a1, a2]);
+        let ridges = control.ridge.map(|g| (g, g.widened(tilt[WIDENING])));
+        let m = tilted(at_node, ln_k, a);
         let energy = r * (m[0] + one.harmonics[0]);
         let cell = match control.theta {
             None => {
                 // The stored shape is the limit's own, by the bake's accurate rule (the
                 // control's coarse one only enters ratios of nearby radii)
-                let m = tilted(&surface_harmonics(control.pbd, r, None), [ln_k, a1, a2]);
+                let m = tilted(&surface_harmonics(control.pbd, r, None), ln_k, a);
                 let m: [f64; HARMONICS] = std::array::from_fn(|n| m[n] + one.harmonics[n]);
                 let energy = r * m[0];
                 let (beta, c) = one_lobe_of(m[1], m[2]);
@@ -805,8 +882,7 @@ fn row_cells(
                             }
                             None => pbd,
                         };
-                        let factor = 1.0 + a1 * p.cos() + a2 * (2.0 * p).cos();
-                        (p, ln_k.exp() * pbd * factor + s1)
+                        (p, ln_k.exp() * pbd * tilt_factor(&a, p) + s1)
                     })
                     .filter(|(_, v)| v.is_finite())
                     .unzip();
@@ -879,7 +955,7 @@ fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
     let u0 = points[i].0;
     // Σ w xᵏ, k = 0 … 4, and Σ w xᵏ y, k = 0 … 2
     let mut m = [0.0; 5];
-    let mut t = [[0.0; 5]; 3];
+    let mut t = [[0.0; TILT_LEN]; 3];
     for (j, (u, weight, y)) in points.iter().enumerate().take(hi).skip(lo) {
         let d = j.abs_diff(i) as f64 / (SMOOTH_NODES + 1) as f64;
         let w = weight * (1.0 - d * d * d).powi(3);
@@ -917,15 +993,13 @@ fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
             ([m[2], -m[1], 0.0], det)
         }
     };
-    let mut fit: Tilt = std::array::from_fn(|n| (0..3).map(|k| c[k] * t[k][n]).sum::<f64>() / det);
-    fit[3] = fit[3].clamp(0.0, MAX_RIDGE_SHARE);
-    fit[4] = fit[4].clamp(0.0, MAX_RIDGE_WIDENING);
-    let size = fit[1].abs() + fit[2].abs();
-    if size > MAX_TILT {
-        fit[1] *= MAX_TILT / size;
-        fit[2] *= MAX_TILT / size;
-    }
-    fit
+    let fit: Tilt = std::array::from_fn(|n| (0..3).map(|k| c[k] * t[k][n]).sum::<f64>() / det);
+    tilt_of(
+        fit[0],
+        bounded(shape(&fit)),
+        fit[SHARE].clamp(0.0, MAX_RIDGE_SHARE),
+        fit[WIDENING].clamp(0.0, MAX_RIDGE_WIDENING),
+    )
 }
 
 /// PBD's harmonics μ₀ … μ₄ at radius r > 0 and incidence `theta`, or (`None`) in the limit of a
@@ -1001,14 +1075,25 @@ mod tests {
             let ridge = lobe(0.1 + 0.9 * u(), 0.95 + 0.049 * u());
             let share = MAX_RIDGE_SHARE * u();
             let widening = MAX_RIDGE_WIDENING * u();
-            let tilt = [u() - 0.5, 0.6 * (u() - 0.5), 0.3 * (u() - 0.5)];
-            let mean = tilted(&with_share(&smooth, &ridge, share, widening), tilt);
+            let want = tilt_of(
+                u() - 0.5,
+                [0.6 * (u() - 0.5), 0.3 * (u() - 0.5), 0.0, 0.0],
+                share,
+                widening,
+            );
+            let mean = tilted(
+                &with_share(&smooth, &ridge, share, widening),
+                want[0],
+                shape(&want),
+            );
             let m = measured(mean, smooth, ridge);
-            let got = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING);
+            // (a tilt of two harmonics with a ridge, whatever the terms asked for)
+            let got = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING, TILT_TERMS);
             // its harmonics are the walk's, to 10⁻⁶ of μ̂₀
             let h = tilted(
-                &with_share(&smooth, &ridge, got[3], got[4]),
-                [got[0], got[1], got[2]],
+                &with_share(&smooth, &ridge, got[SHARE], got[WIDENING]),
+                got[0],
+                shape(&got),
             );
             for n in 0..HARMONICS {
                 assert!(
@@ -1017,7 +1102,6 @@ mod tests {
                 );
             }
             // and so are its parameters, where the ridge carries enough to tell the widening
-            let want = [tilt[0], tilt[1], tilt[2], share, widening];
             if share > 0.1 {
                 for (g, w) in got.iter().zip(want) {
                     assert!((g - w).abs() < 1e-4, "{got:?} against {want:?}");
@@ -1042,12 +1126,20 @@ mod tests {
                 let smooth = lobe(1.0, 0.2 + 0.5 * u());
                 let ridge = lobe(0.1 + 0.9 * u(), 0.95 + 0.049 * u());
                 let share = 0.1 + 1.3 * u();
-                let tilt = [u() - 0.5, 0.6 * (u() - 0.5), 0.3 * (u() - 0.5)];
-                let mean = tilted(&with_share(&smooth, &ridge, share, widening), tilt);
-                let got = fit_ridge_tilt(&measured(mean, smooth, ridge), 0.0);
-                assert_eq!(got[4], 0.0);
+                let want = tilt_of(
+                    u() - 0.5,
+                    [0.6 * (u() - 0.5), 0.3 * (u() - 0.5), 0.0, 0.0],
+                    share,
+                    0.0,
+                );
+                let mean = tilted(
+                    &with_share(&smooth, &ridge, share, widening),
+                    want[0],
+                    shape(&want),
+                );
+                let got = fit_ridge_tilt(&measured(mean, smooth, ridge), 0.0, TILT_TERMS);
+                assert_eq!(got[WIDENING], 0.0);
                 if widening == 0.0 {
-                    let want = [tilt[0], tilt[1], tilt[2], share, 0.0];
                     for (g, w) in got.iter().zip(want) {
                         assert!((g - w).abs() < 1e-5, "{got:?} against {want:?}");
                     }
@@ -1067,7 +1159,8 @@ mod tests {
             (0..n)
                 .map(|i| {
                     let u = -3.0 + 0.28 * i as f64;
-                    (u, 0.5 + rng.next_f64(), [f(u), 0.1 * f(u), 0.0, 1.0, 0.0])
+                    let tilt = tilt_of(f(u), [0.1 * f(u), 0.0, 0.0, 0.0], 1.0, 0.0);
+                    (u, 0.5 + rng.next_f64(), tilt)
                 })
                 .collect()
         };
@@ -1094,18 +1187,96 @@ mod tests {
     #[test]
     fn without_a_ridge_the_tilt_is_pbds_alone() {
         let smooth = lobe(1.0, 0.6);
-        let mean = tilted(&smooth, [0.2, 0.1, -0.05]);
-        let got = fit_ridge_tilt(
-            &measured(mean, smooth, [0.0; PBD_HARMONICS]),
-            MAX_RIDGE_WIDENING,
-        );
-        let [ln_k, a1, a2] = fit_tilt(&mean, &smooth);
-        assert_eq!(got, [ln_k, a1, a2, 1.0, 0.0]);
+        let mean = tilted(&smooth, 0.2, [0.1, -0.05, 0.03, 0.02]);
+        for terms in [2, TILT_TERMS] {
+            let got = fit_ridge_tilt(
+                &measured(mean, smooth, [0.0; PBD_HARMONICS]),
+                MAX_RIDGE_WIDENING,
+                terms,
+            );
+            let (ln_k, a) = fit_tilt(&mean, &smooth, terms);
+            assert_eq!(got, tilt_of(ln_k, a, 1.0, 0.0));
+        }
         // and the energy form gives back the k of the fit
         let m = measured(mean, smooth, lobe(0.3, 0.99));
-        let fit = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING);
+        let fit = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING, TILT_TERMS);
         let ratio = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
-        let back = scale_of(&m, [ratio, fit[1], fit[2], fit[3], fit[4]]);
+        let mut energy_form = fit;
+        energy_form[0] = ratio;
+        let back = scale_of(&m, energy_form);
         assert!((back[0] - fit[0]).abs() < 1e-12, "{back:?} against {fit:?}");
+    }
+
+    /// A profile of two wrapped Cauchy lobes and a floor, at φ, and its harmonics.
+    fn two_lobes(x: [f64; 5]) -> (impl Fn(f64) -> f64, [f64; PBD_HARMONICS]) {
+        let [m1, k1, m2, k2, floor] = x;
+        let wc =
+            |k: f64, phi: f64| (1.0 - k * k) / (2.0 * PI * (1.0 + k * k - 2.0 * k * phi.cos()));
+        let profile = move |phi: f64| m1 * wc(k1, phi) + m2 * wc(k2, phi) + floor / (2.0 * PI);
+        let h = std::array::from_fn(|n| {
+            m1 * k1.powi(n as i32) + m2 * k2.powi(n as i32) + if n == 0 { floor } else { 0.0 }
+        });
+        (profile, h)
+    }
+
+    #[test]
+    fn the_tilts_harmonics_are_the_tilted_profiles_by_quadrature() {
+        // tilted() against P(φ)(1 + Σ aₘ cos mφ) integrated over φ by the trapezoid rule
+        // (exact for these periodic profiles to ~κ^N), over random profiles and tilts
+        let mut rng = SplitMix64::seed_from_u64(21);
+        for _ in 0..200 {
+            let mut u = || rng.next_f64();
+            let (profile, h) = two_lobes([u(), 0.8 * u(), u(), 0.8 * u(), 0.3 * u()]);
+            let a = bounded(std::array::from_fn(|_| u() - 0.5));
+            let ln_k = u() - 0.5;
+            let got = tilted(&h, ln_k, a);
+            let n = 2048;
+            for (k, g) in got.iter().enumerate() {
+                let want: f64 = (0..n)
+                    .map(|i| {
+                        let phi = -PI + 2.0 * PI * (i as f64 + 0.5) / n as f64;
+                        profile(phi) * tilt_factor(&a, phi) * (k as f64 * phi).cos()
+                    })
+                    .sum::<f64>()
+                    * 2.0
+                    * PI
+                    / n as f64
+                    * ln_k.exp();
+                assert!(
+                    (g - want).abs() < 1e-9 * got[0],
+                    "{k}: {got:?} against {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_four_term_tilt_is_recovered_from_the_walks_harmonics() {
+        // Walk harmonics made as a four-term tilt of a profile: the fit of every term matches
+        // μ̂₀ … μ̂₄ and gives back the tilt; the fit of two matches μ̂₀ … μ̂₂
+        let mut rng = SplitMix64::seed_from_u64(22);
+        for _ in 0..400 {
+            let mut u = || rng.next_f64();
+            let (_, smooth) = two_lobes([u(), 0.9 * u(), u(), 0.9 * u(), 0.3 * u()]);
+            let a = bounded(std::array::from_fn(|m| (u() - 0.5) / (m + 1) as f64));
+            let ln_k = u() - 0.5;
+            let mean = tilted(&smooth, ln_k, a);
+            let (got_k, got) = fit_tilt(&mean, &smooth, TILT_TERMS);
+            assert!((got_k - ln_k).abs() < 1e-8, "{got_k} against {ln_k}");
+            for (g, w) in got.iter().zip(a) {
+                assert!((g - w).abs() < 1e-7, "{got:?} against {a:?}");
+            }
+            let (k2, two) = fit_tilt(&mean, &smooth, 2);
+            assert_eq!(&two[2..], [0.0; 2]);
+            let h = tilted(&smooth, k2, two);
+            if two.iter().map(|x| x.abs()).sum::<f64>() < MAX_TILT {
+                for n in 0..3 {
+                    assert!(
+                        (h[n] - mean[n]).abs() < 1e-9 * mean[0],
+                        "{h:?} against {mean:?}"
+                    );
+                }
+            }
+        }
     }
 }
