@@ -48,8 +48,9 @@ use super::{Component, BLOCK};
 use crate::error::{finite, in_range, Error, Result};
 use rayon::prelude::*;
 
-/// Harmonics per node: μ₀ … μ₄.
-pub const HARMONICS: usize = 5;
+/// Harmonics per node: μ₀ … μ₈ (a walk table's tilt of PBD matches μ₀ … μ₄, and its share
+/// of PBD's ridge near index matching μ₅ … μ₈: `table::walk_bake`).
+pub const HARMONICS: usize = 9;
 
 /// Batches of the standard errors (fewer when the walk has fewer blocks).
 pub const HARMONICS_BATCHES: usize = 32;
@@ -82,7 +83,7 @@ pub struct HarmonicsConfig {
 }
 
 /// The estimates of a [`harmonics`] walk: per component (single, multiple), row and node, the
-/// kernel averages of μ₀ … μ₄ and their standard errors.
+/// kernel averages of μ₀ … μ₈ and their standard errors.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WalkHarmonics {
     rows: usize,
@@ -104,7 +105,7 @@ impl WalkHarmonics {
         (row < self.rows && node < self.nodes).then(|| (c * self.rows + row) * self.nodes + node)
     }
 
-    /// Kernel averages of μ₀ … μ₄ of `component` at `row` (the order of
+    /// Kernel averages of μ₀ … μ₈ of `component` at `row` (the order of
     /// [`HarmonicsConfig::rho`]) and `node`, per unit power entering, reduced units; `None` for
     /// a row or node out of range, or a component other than single or multiple (the total is
     /// their sum; a half-space lets no unscattered light out).

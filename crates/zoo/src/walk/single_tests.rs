@@ -2,8 +2,8 @@
 //! code: the depth integral at normal incidence and the angular formula of the reflectance
 //! (tests.rs), adaptive quadrature over φ, and the walk's own single-scattering score.
 
-use super::harmonics::{unreduced_albedo, HARMONICS};
-use super::single::{surface_ridge_weight, SingleScattering};
+use super::harmonics::unreduced_albedo;
+use super::single::{surface_ridge_weight, SingleScattering, SINGLE_HARMONICS};
 use super::tests::{
     harmonics_radii, kernel_average, single_scattering_exitance, single_scattering_reflectance,
     walk_harmonics, FAST_PHOTONS,
@@ -118,7 +118,7 @@ fn oblique_harmonics_match_the_walks_single_scattering() {
         for node in (1..r.len()).filter(|&i| r[i] < 2.0) {
             let mean = h.mean(Component::Single, row, node).unwrap();
             let se = h.stderr(Component::Single, row, node).unwrap();
-            for n in 0..HARMONICS {
+            for n in 0..SINGLE_HARMONICS {
                 let exact = kernel_average(&r, node, |x| s.reduced_harmonics(a, x)[n]);
                 let z = (mean[n] - exact) / se[n];
                 assert!(
