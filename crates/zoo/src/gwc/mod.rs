@@ -10,4 +10,5 @@ mod two_lobe_fit;
 pub use bssrdf_runtime::gwc::*;
 pub use fit::{fit_anchors, fit_three_anchors, FitBranch, GwcFit, ANCHOR_COS};
 pub use minimax::{refine_minimax, MinimaxFit, MINIMAX_MAX_SAMPLES};
+pub(crate) use two_lobe_fit::solve_small;
 pub use two_lobe_fit::{fit as fit_two_lobes, fit_one_sign as fit_two_lobes_one_sign};

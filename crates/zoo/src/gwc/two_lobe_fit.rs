@@ -389,10 +389,15 @@ fn solve_cofactors(a: &[[f64; 4]; 3]) -> Option<[f64; 3]> {
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
-/// Solves the m × m system whose augmented rows are `a` (m ≤ 3, right-hand side in column 3)
-/// by Gaussian elimination with partial pivoting; `None` if singular.
+/// Solves the system of the first m equations in the first m unknowns whose augmented rows
+/// are `a` (m ≤ N, right-hand side in column N, W = N + 1) by Gaussian elimination with
+/// partial pivoting, the other unknowns 0; `None` if singular.
 #[inline(always)]
-fn solve_small(a: &mut [[f64; 4]; 3], m: usize) -> Option<[f64; 3]> {
+pub(crate) fn solve_small<const N: usize, const W: usize>(
+    a: &mut [[f64; W]; N],
+    m: usize,
+) -> Option<[f64; N]> {
+    debug_assert!(W == N + 1 && m <= N);
     let scale = (0..m).map(|i| a[i][i].abs()).fold(0.0, f64::max);
     for i in 0..m {
         let p = (i..m).max_by(|&x, &z| a[x][i].abs().total_cmp(&a[z][i].abs()))?;
@@ -409,10 +414,10 @@ fn solve_small(a: &mut [[f64; 4]; 3], m: usize) -> Option<[f64; 3]> {
             }
         }
     }
-    let mut x = [0.0; 3];
+    let mut x = [0.0; N];
     for i in (0..m).rev() {
         let s: f64 = (i + 1..m).map(|j| a[i][j] * x[j]).sum();
-        x[i] = (a[i][3] - s) / a[i][i];
+        x[i] = (a[i][N] - s) / a[i][i];
     }
     x.iter().all(|v| v.is_finite()).then_some(x)
 }

@@ -93,7 +93,7 @@ use super::{AngularTable, Grid, PARAMS_PER_NODE};
 use crate::error::{Error, Result};
 use crate::format::WalkComponent;
 use crate::fresnel::Moments;
-use crate::gwc::one_lobe_of;
+use crate::gwc::{one_lobe_of, solve_small};
 use crate::medium::Boundary;
 use crate::pbd::{Pbd, Rule};
 use crate::quadrature::GaussLegendre;
@@ -482,37 +482,9 @@ fn fit_tilt(mean: &[f64; HARMONICS], p: &[f64; PBD_HARMONICS], terms: usize) -> 
         }
         row[TILT_TERMS] = q * at(0) - at(n);
     }
-    let a = bounded(solve(system, terms).unwrap_or([0.0; TILT_TERMS]));
+    let a = bounded(solve_small(&mut system, terms).unwrap_or([0.0; TILT_TERMS]));
     let base = at(0) + (1..).zip(a).map(|(m, am)| am * moved(m, 0)).sum::<f64>();
     ((mean[0] / base).ln(), a)
-}
-
-/// Solves the first `n` equations in the first `n` unknowns of the augmented rows `a`
-/// (right-hand side in the last column) by Gaussian elimination with partial pivoting; the
-/// other unknowns 0. `None` if singular.
-fn solve(mut a: [[f64; TILT_TERMS + 1]; TILT_TERMS], n: usize) -> Option<Shape> {
-    let scale = (0..n).map(|i| a[i][i].abs()).fold(0.0, f64::max);
-    for i in 0..n {
-        let p = (i..n).max_by(|&x, &z| a[x][i].abs().total_cmp(&a[z][i].abs()))?;
-        a.swap(i, p);
-        let pivot = a[i][i];
-        if pivot.is_nan() || pivot.abs() <= 1e-12 * scale {
-            return None;
-        }
-        let row = a[i];
-        for below in a.iter_mut().take(n).skip(i + 1) {
-            let f = below[i] / pivot;
-            for (x, &y) in below[i..].iter_mut().zip(&row[i..]) {
-                *x -= f * y;
-            }
-        }
-    }
-    let mut x = [0.0; TILT_TERMS];
-    for i in (0..n).rev() {
-        let s: f64 = (i + 1..n).map(|j| a[i][j] * x[j]).sum();
-        x[i] = (a[i][TILT_TERMS] - s) / a[i][i];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// The walk's tilt of PBD with the share s of PBD's ridge it keeps, widened by w:
