@@ -518,7 +518,7 @@ type NodeTilt = (Tilt, [f64; PBD_HARMONICS]);
 /// The tilt (ln k, a₁ … a₄, s, w) of a node from the walk's energy over PBD's, ln(μ̂₀/P̄₀), in
 /// place of ln k: k = (μ̂₀/P̄₀) P̄₀/B̄, B̄ the energy of PBD with the share s of its ridge widened
 /// by w, tilted by its aₘ (kernel averages, or the node's harmonics where it has none).
-fn scale_of(m: &Measured, tilt: Tilt) -> Tilt {
+fn scale_of(m: &Measured, mut tilt: Tilt) -> Tilt {
     let (smooth, ridge) = if m.average[0] > 0.0 {
         (&m.average, &m.ridge[1])
     } else {
@@ -527,7 +527,6 @@ fn scale_of(m: &Measured, tilt: Tilt) -> Tilt {
     let (ratio, s, w) = (tilt[0], tilt[SHARE], tilt[WIDENING]);
     let full = with_share(smooth, ridge, 1.0, 0.0)[0];
     let base = tilted(&with_share(smooth, ridge, s, w), 0.0, shape(&tilt))[0];
-    let mut tilt = tilt;
     if full > 0.0 && base > 0.0 {
         tilt[0] = ratio + (full / base).ln();
     }
@@ -569,11 +568,11 @@ fn with_share(
 /// [`MAX_RIDGE_WIDENING`]), its μ̂₃ … μ̂₈ closest (χ² with their standard errors): the ridge
 /// is the profile's only part narrow enough to carry the high harmonics, and the walk's is
 /// weaker and wider than PBD's near index matching. Without a ridge, (s, w) = (1, 0) (PBD
-/// itself) and the tilt of `terms` harmonics that matches μ̂₀ … μ̂_`terms`.
-fn fit_ridge_tilt(m: &Measured, max_widening: f64, terms: usize) -> Tilt {
+/// itself) and the tilt of [`TILT_TERMS`] harmonics that matches μ̂₀ … μ̂₄.
+fn fit_ridge_tilt(m: &Measured, max_widening: f64) -> Tilt {
     let [_, ridge] = &m.ridge;
     if ridge.iter().all(|&x| x == 0.0) {
-        let (ln_k, a) = fit_tilt(&m.mean, &m.average, terms);
+        let (ln_k, a) = fit_tilt(&m.mean, &m.average, TILT_TERMS);
         return tilt_of(ln_k, a, 1.0, 0.0);
     }
     // The tilt at (s, w) and its misses of the harmonics above it in standard errors
@@ -747,7 +746,7 @@ fn row_tilts(
         .map(|&k| {
             let m = &measured[k];
             let rel = m.rel.unwrap_or(MAX_REL_STDERR);
-            let mut tilt = fit_ridge_tilt(m, control.max_widening, TILT_TERMS);
+            let mut tilt = fit_ridge_tilt(m, control.max_widening);
             if energy_form {
                 tilt[0] = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
             }
@@ -1077,8 +1076,7 @@ mod tests {
                 shape(&want),
             );
             let m = measured(mean, smooth, ridge);
-            // (a tilt of two harmonics with a ridge, whatever the terms asked for)
-            let got = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING, TILT_TERMS);
+            let got = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING);
             // a tilt of RIDGE_TILT_TERMS harmonics, whose harmonics are the walk's, to 10⁻⁶ of
             // μ̂₀, up to μ̂₈
             assert!(shape(&got)[RIDGE_TILT_TERMS..].iter().all(|&a| a == 0.0));
@@ -1129,7 +1127,7 @@ mod tests {
                     want[0],
                     shape(&want),
                 );
-                let got = fit_ridge_tilt(&measured(mean, smooth, ridge), 0.0, TILT_TERMS);
+                let got = fit_ridge_tilt(&measured(mean, smooth, ridge), 0.0);
                 assert_eq!(got[WIDENING], 0.0);
                 if widening == 0.0 {
                     for (g, w) in got.iter().zip(want) {
@@ -1180,18 +1178,15 @@ mod tests {
     fn without_a_ridge_the_tilt_is_pbds_alone() {
         let smooth = lobe(1.0, 0.6);
         let mean = tilted(&smooth, 0.2, [0.1, -0.05, 0.03, 0.02]);
-        for terms in [2, TILT_TERMS] {
-            let got = fit_ridge_tilt(
-                &measured(mean, smooth, [0.0; PBD_HARMONICS]),
-                MAX_RIDGE_WIDENING,
-                terms,
-            );
-            let (ln_k, a) = fit_tilt(&mean, &smooth, terms);
-            assert_eq!(got, tilt_of(ln_k, a, 1.0, 0.0));
-        }
+        let got = fit_ridge_tilt(
+            &measured(mean, smooth, [0.0; PBD_HARMONICS]),
+            MAX_RIDGE_WIDENING,
+        );
+        let (ln_k, a) = fit_tilt(&mean, &smooth, TILT_TERMS);
+        assert_eq!(got, tilt_of(ln_k, a, 1.0, 0.0));
         // and the energy form gives back the k of the fit
         let m = measured(mean, smooth, lobe(0.3, 0.99));
-        let fit = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING, TILT_TERMS);
+        let fit = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING);
         let ratio = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
         let mut energy_form = fit;
         energy_form[0] = ratio;
