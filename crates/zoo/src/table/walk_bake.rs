@@ -25,7 +25,9 @@
 //!    with averages takes the kernel's bias out: the kernel average differs from the value at
 //!    rᵢ by the profile's curvature over the kernel, as much as 7 % at r = 10 on the default
 //!    two-lobe grid, and PBD has the same curvature (the table's ρ_eff was 2–2.8 % high without
-//!    it, measured). Σ |aₘ| is kept ≤ [`MAX_TILT`], so the profile stays ≥ 0. The terms in
+//!    it, measured). A tilt whose factor 1 + Σ aₘ cos mφ would dip below
+//!    [`MIN_TILT_FACTOR`] is scaled back until it does not ([`bounded`]), so the profile stays
+//!    positive without cutting short a tilt that is large only where it adds up. The terms in
 //!    cos 3φ and cos 4φ carry what the walk's shape departs from PBD's beyond a tilt by cos φ
 //!    and cos 2φ: at η = 1, 60° the walk's μ̂₃ and μ̂₄ missed by a two-term tilt drift by 3–5
 //!    standard errors over a dozen nodes, and without them the sides of the profile came out
@@ -450,19 +452,47 @@ fn tilt_factor(a: &Shape, phi: f64) -> f64 {
         .sum::<f64>()
 }
 
-/// Largest Σ |aₘ| of a tilt: 1 + Σₘ aₘ cos mφ stays ≥ 0.05.
-const MAX_TILT: f64 = 0.95;
+/// Smallest value a tilt's factor 1 + Σₘ aₘ cos mφ may take: the tilted profile stays
+/// positive.
+const MIN_TILT_FACTOR: f64 = 0.05;
 
-/// `a` scaled back to Σ |aₘ| ≤ [`MAX_TILT`] where it goes beyond (a profile that stays ≥ 0),
-/// 0 where it is not finite.
+/// Azimuths from 0 to π (ends included) at which [`lowest_factor`] evaluates a tilt.
+const FACTOR_AZIMUTHS: usize = 256;
+
+/// A lower bound of 1 + Σₘ aₘ cos mφ over φ: its least value at [`FACTOR_AZIMUTHS`] azimuths
+/// h apart, less h²/8 · Σₘ m²|aₘ| (how far a function whose second derivative is bounded by
+/// that can dip below the chord between two of them). Tight to about 2·10⁻⁵ · Σₘ m²|aₘ|.
+fn lowest_factor(a: &Shape) -> f64 {
+    let h = PI / (FACTOR_AZIMUTHS - 1) as f64;
+    let curvature: f64 = (1..)
+        .zip(a)
+        .map(|(m, am)| f64::from(m * m) * am.abs())
+        .sum();
+    let least = (0..FACTOR_AZIMUTHS)
+        .map(|i| tilt_factor(a, i as f64 * h))
+        .fold(f64::INFINITY, f64::min);
+    least - h * h / 8.0 * curvature
+}
+
+/// `a` scaled back, where its factor would dip below [`MIN_TILT_FACTOR`] (by
+/// [`lowest_factor`]), to the scale at which it just reaches it; 0 where it is not finite.
+/// A tilt is scaled back only where its terms add up to nearly −1 at some azimuth: one whose
+/// terms do not (1 + 0.6 cos φ + 0.45 cos 2φ, least 0.45) keeps what a bound on Σ |aₘ| would
+/// cut.
 fn bounded(a: Shape) -> Shape {
     let size: f64 = a.iter().map(|x| x.abs()).sum();
     if !size.is_finite() {
-        [0.0; TILT_TERMS]
-    } else if size > MAX_TILT {
-        a.map(|x| x * MAX_TILT / size)
-    } else {
+        return [0.0; TILT_TERMS];
+    }
+    if size <= 1.0 - MIN_TILT_FACTOR {
+        return a;
+    }
+    // 1 + t·(lowest − 1) = MIN_TILT_FACTOR: the bound scales with a, the 1 does not
+    let dip = 1.0 - lowest_factor(&a);
+    if dip <= 1.0 - MIN_TILT_FACTOR {
         a
+    } else {
+        a.map(|x| x * (1.0 - MIN_TILT_FACTOR) / dip)
     }
 }
 
@@ -1256,7 +1286,7 @@ mod tests {
             let (k2, two) = fit_tilt(&mean, &smooth, 2);
             assert_eq!(&two[2..], [0.0; 2]);
             let h = tilted(&smooth, k2, two);
-            if two.iter().map(|x| x.abs()).sum::<f64>() < MAX_TILT {
+            if lowest_factor(&two) > MIN_TILT_FACTOR + 1e-9 {
                 for n in 0..3 {
                     assert!(
                         (h[n] - mean[n]).abs() < 1e-9 * mean[0],
@@ -1265,5 +1295,41 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_bounded_tilt_keeps_its_factor_above_the_floor_and_no_further_from_it() {
+        // 1 + Σ aₘ cos mφ of the bounded tilt on 20,001 azimuths (not the 256 of the bound):
+        // never below MIN_TILT_FACTOR; a tilt scaled back reaches to within 1e-3 of it (the bound
+        // is not much looser than the factor), one left alone is the same tilt
+        let fine = |a: &Shape| {
+            (0..=20_000)
+                .map(|i| tilt_factor(a, PI * f64::from(i) / 20_000.0))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut rng = SplitMix64::seed_from_u64(23);
+        let (mut scaled, mut kept) = (0, 0);
+        for i in 0..2000 {
+            let mut u = || rng.next_f64();
+            let spread = if i % 2 == 0 { 1.0 } else { 4.0 };
+            let a: Shape = std::array::from_fn(|m| spread * (u() - 0.5) / (m + 1) as f64);
+            let b = bounded(a);
+            let least = fine(&b);
+            assert!(least >= MIN_TILT_FACTOR, "{a:?} to {b:?}: {least}");
+            if b == a {
+                kept += 1;
+                assert!(lowest_factor(&a) >= MIN_TILT_FACTOR, "{a:?}");
+            } else {
+                scaled += 1;
+                assert!(least < MIN_TILT_FACTOR + 1e-3, "{a:?} to {b:?}: {least}");
+                let t = b[0] / a[0];
+                assert!(b.iter().zip(a).all(|(x, y)| (x - t * y).abs() < 1e-12));
+            }
+        }
+        assert!(scaled > 200 && kept > 200, "{scaled} scaled, {kept} kept");
+        // a tilt whose terms do not add up anywhere keeps what a bound on Σ |aₘ| would cut
+        let apart = [0.6, 0.45, 0.0, 0.0];
+        assert_eq!(bounded(apart), apart);
+        assert_eq!(bounded([f64::NAN, 0.1, 0.0, 0.0]), [0.0; TILT_TERMS]);
     }
 }
