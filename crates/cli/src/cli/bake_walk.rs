@@ -157,6 +157,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
     summary["median_rel_stderr"] = json!(report.median_rel_stderr);
     summary["p90_rel_stderr"] = json!(report.p90_rel_stderr);
     summary["rows_from_pbd"] = json!(report.rows_from_pbd);
+    summary["node_fit"] = json!(report.node_fit);
     let mut warnings = Vec::new();
     if report.rows_from_pbd > 0 {
         warnings.push(format!(

@@ -75,8 +75,13 @@ fn a_walk_bake_refuses_what_it_would_not_use() {
 }
 
 /// A small walk table (coarse grid, the fewest photons) at η = 1.33 and `g`, of the default
-/// component with `component` `None`, as `file`.
-fn walk_table(d: &std::path::Path, g: &str, component: Option<&str>, file: &str) {
+/// component with `component` `None`, as `file`; the bake's `--json` summary.
+fn walk_table(
+    d: &std::path::Path,
+    g: &str,
+    component: Option<&str>,
+    file: &str,
+) -> serde_json::Value {
     let mut args = vec![
         "bake",
         "--source",
@@ -90,13 +95,14 @@ fn walk_table(d: &std::path::Path, g: &str, component: Option<&str>, file: &str)
         "--photons",
         "131072",
         "-q",
+        "--json",
         "-o",
         file,
     ];
     if let Some(c) = component {
         args.extend(["--component", c]);
     }
-    ok(&bssrdf(d, &args));
+    serde_json::from_str(&ok(&bssrdf(d, &args))).unwrap()
 }
 
 #[test]
@@ -151,7 +157,18 @@ fn a_walk_table_goes_through_every_command() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     // The default component: the total, single scattering included
-    walk_table(d, "0.5", None, "w.bssrdf");
+    let summary = walk_table(d, "0.5", None, "w.bssrdf");
+    // the summary says how well the nodes hold their profiles, per θ node above 0, in two
+    // bands of radius (the coarse grid: every 15° from 15° to 90°)
+    let fits = summary["tables"][0]["node_fit"].as_array().unwrap();
+    assert_eq!(fits.len(), 6, "{summary}");
+    for fit in fits {
+        for band in ["near", "far"] {
+            assert!(fit[band]["nodes"].as_u64().unwrap() > 0, "{fit}");
+            let mean = fit[band]["mean"].as_f64().unwrap();
+            assert!((0.0..1.0).contains(&mean), "{fit}");
+        }
+    }
     // inspect names the model, its g and component, the walk's noise and how single
     // scattering was added, with its exit-direction assumption
     let inspect = ok(&bssrdf(d, &["inspect", "w.bssrdf"]));
@@ -160,6 +177,7 @@ fn a_walk_table_goes_through_every_command() {
         "{inspect}"
     );
     assert!(inspect.contains("median_rel_stderr"), "{inspect}");
+    assert!(inspect.contains("node_fit"), "{inspect}");
     assert!(
         inspect.contains("single_scattering") && inspect.contains("exit_directions"),
         "{inspect}"

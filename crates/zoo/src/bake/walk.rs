@@ -172,6 +172,10 @@ fn provenance(
                 "p90_rel_stderr": report.p90_rel_stderr,
                 "rows_from_pbd": report.rows_from_pbd,
                 "of": "the measured mu_0 of the nodes with rho' >= 0.1 and r in [0.01, 20] reduced mfp, before smoothing",
+            },
+            "node_fit": {
+                "by_theta": report.node_fit,
+                "of": format!("the stored two-lobe nodes against the profile each was fitted to (the tilted PBD, plus single scattering for a total table), at every theta node above 0 where light enters (not the limit of a beam in the surface), over the nodes with rho' >= 0.1 in two bands of radius: near, r in [0.01, {split}) reduced mfp (where single scattering is most of a total's profile near grazing incidence, and where the tilt's cos 3phi and cos 4phi terms follow the walk's noise, which the lobes smooth away), and far, r in [{split}, 20]; per node the mean over 18 bins 10 deg wide over [0, 180] deg of |stored / profile - 1|, each bin by its values at a quarter and three quarters of its width; mean and 90th percentile over the nodes (fractions). The part of the table's error that is the two lobes' and not the walk's", split = table::NODE_FIT_SPLIT_R),
             }
         }))?;
     if settings.bake_time {

@@ -888,13 +888,18 @@ fn two_lobe_cells(g: &TwoLobe, r: f64) -> [f64; 5] {
     [r * e, r * within_floor(beta, c, e), c, r * m3, r * m4]
 }
 
-/// The profile a lookup rebuilds at a node of `g` at radius `r` from its stored f32 values:
-/// from the node's shares of E in f32 ([`node_shares`]), capped at the node's sharpness
-/// ([`node_sharpness`]), as format-spec.md §10 has it. (A pair of nearly equal concentrations
-/// and large cancelling masses rebuilds from these into another profile than from its
-/// harmonics in f64.)
+/// The profile a lookup rebuilds at a node of `g` at radius `r` from its stored f32 values
+/// ([`stored_node`]). (A pair of nearly equal concentrations and large cancelling masses
+/// rebuilds from these into another profile than from its harmonics in f64.)
 fn stored_two_lobes(g: &TwoLobe, r: f64) -> TwoLobe {
-    let cell = two_lobe_cells(g, r).map(|v| v as f32);
+    stored_node(two_lobe_cells(g, r), r)
+}
+
+/// The profile a lookup rebuilds at a two-lobe node (E, E_β, c, r·μ₃, r·μ₄) at radius r > 0,
+/// from the cell in f32: the node's shares of E ([`node_shares`]), capped at its sharpness
+/// ([`node_sharpness`]), as format-spec.md §10 has it.
+pub(super) fn stored_node(cell: [f64; 5], r: f64) -> TwoLobe {
+    let cell = cell.map(|v| v as f32);
     let e_per_r = f64::from(cell[0]) / r;
     let m = node_shares(cell).map(|s| f64::from(s) * e_per_r);
     let rebuild = Rebuild::MergedRoots;

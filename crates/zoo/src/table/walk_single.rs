@@ -13,6 +13,7 @@
 //! minutes its walks take at g = 0.9.
 
 use super::two_lobe_azimuths;
+use super::walk_bake::{check_azimuths, CHECK_AZIMUTHS};
 use crate::error::Result;
 use crate::walk::single::{surface_ridge_weight, SingleScattering, SINGLE_HARMONICS};
 use rayon::prelude::*;
@@ -29,18 +30,23 @@ pub(super) struct SingleNode {
     pub harmonics: [f64; SINGLE_HARMONICS],
     /// S₁ at [`two_lobe_azimuths`]; 0 for a beam in the surface (all of it on the ridge).
     pub at_azimuths: [f64; AZIMUTHS],
+    /// S₁ at [`check_azimuths`], where the bake compares its stored node with the profile;
+    /// 0 for a beam in the surface.
+    pub at_check: [f64; CHECK_AZIMUTHS],
 }
 
 impl SingleNode {
     pub(super) const ZERO: SingleNode = SingleNode {
         harmonics: [0.0; SINGLE_HARMONICS],
         at_azimuths: [0.0; AZIMUTHS],
+        at_check: [0.0; CHECK_AZIMUTHS],
     };
 
     fn scaled(&self, factor: f64) -> SingleNode {
         SingleNode {
             harmonics: self.harmonics.map(|m| m * factor),
             at_azimuths: self.at_azimuths.map(|v| v * factor),
+            at_check: self.at_check.map(|v| v * factor),
         }
     }
 }
@@ -96,12 +102,13 @@ impl SinglePart {
                 let m = albedo * (-r / k).exp() * weight / (k * r);
                 SingleNode {
                     harmonics: [m; SINGLE_HARMONICS],
-                    at_azimuths: [0.0; AZIMUTHS],
+                    ..SingleNode::ZERO
                 }
             }
             None => SingleNode {
                 harmonics: self.exact.reduced_harmonics(albedo, r),
                 at_azimuths: two_lobe_azimuths().map(|phi| self.exact.reduced(albedo, r, phi)),
+                at_check: check_azimuths().map(|phi| self.exact.reduced(albedo, r, phi)),
             },
         }
     }
