@@ -76,10 +76,11 @@ fn total_bake() -> &'static (AngularTable, WalkBakeReport) {
 #[test]
 fn the_report_says_how_well_the_nodes_hold_their_profiles() {
     // Every θ node above 0 has its figures, from the nodes of ρ′ ≥ 0.1 in two bands of radius,
-    // [0.01, 0.1) and [0.1, 20]. Far out the profiles are smooth and two lobes hold them to a few
-    // per cent (1–2 % at 50,000 photons, whose noisier tilts are harder to hold); near the entry
-    // point the total's single scattering at grazing incidence, cut off towards φ = 90°
-    // (`total_nodes_hold_...` below), is far off them, and more so than the multiple table's
+    // [0.01, 0.1) and [0.1, 20]. Far out the profiles are smooth and two lobes hold them to
+    // 1–2 % of their energy (at 50,000 photons, whose noisier tilts are harder to hold); near
+    // the entry point the total's single scattering, which dominates there, is held to under
+    // 1 % at 30° but not at grazing incidence, where it is cut off towards φ = 90°
+    // (`total_nodes_hold_...` below: 7 % at 90°)
     let grid = config(PHOTONS).grid;
     let rows = grid.rho.iter().filter(|&&p| p >= 0.1).count();
     let radii = |band: &dyn Fn(f64) -> bool| grid.r.iter().filter(|&&r| band(r)).count();
@@ -101,14 +102,14 @@ fn the_report_says_how_well_the_nodes_hold_their_profiles() {
                 assert!(band.mean.is_finite() && band.mean >= 0.0, "{f:?}");
                 assert!(band.p90 >= 0.0 && band.p90.is_finite(), "{f:?}");
             }
-            assert!(f.far.mean < 0.04, "{f:?}");
+            assert!(f.far.mean < 0.03, "{f:?}");
         }
         println!("{fits:?}");
     }
-    let (multiple, total) = (&multiple_bake().1.node_fit, &total_bake().1.node_fit);
+    let total = &total_bake().1.node_fit;
     assert!(
-        total[3].near.mean > 0.1 && total[3].near.mean > 2.0 * multiple[3].near.mean,
-        "{total:?} against {multiple:?}"
+        total[0].near.mean < 0.01 && total[3].near.mean > 0.05,
+        "{total:?}"
     );
 }
 
