@@ -166,15 +166,15 @@ pub struct WalkBakeReport {
 /// How well the stored nodes of one θ node hold the profiles the bake fitted them to (the
 /// tilted PBD, plus single scattering for a total table), over the nodes with ρ′ ≥ 0.1 in two
 /// bands of radius: each node's error is the share of its energy the stored lobes put
-/// elsewhere ([`node_fit_error`], relative L1 over φ).
+/// elsewhere (relative L1 over φ: Σ |stored − profile| / Σ profile at 36 azimuths).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct NodeFit {
     /// The incidence, degrees.
     pub theta_deg: f64,
     /// r in [0.01, [`NODE_FIT_SPLIT_R`]) reduced mfp: where single scattering is most of a
-    /// total's profile near grazing incidence, and where the tilt's terms in cos 3φ and cos 4φ
-    /// follow the walk's noise, which two lobes smooth away (part of this band's figure is
-    /// that smoothing, not an error of the table's).
+    /// total's profile near grazing incidence, and where a multiple table's tilt follows the
+    /// walk's noise in μ̂₃, μ̂₄, which two lobes smooth away (most of this band's figure for a
+    /// multiple table: it halves with four times the photons, docs/walk-table.md).
     pub near: FitBand,
     /// r in [[`NODE_FIT_SPLIT_R`], 20] reduced mfp.
     pub far: FitBand,
