@@ -185,27 +185,20 @@ pub struct NodeFit {
 pub struct FitBand {
     /// Nodes measured.
     pub nodes: usize,
-    /// Mean over the nodes of their error (fraction); 0 without a node.
-    pub mean: f64,
-    /// 90th percentile of it; 0 without a node.
-    pub p90: f64,
+    /// Mean over the nodes of their error (fraction); `None` (null) without a node.
+    pub mean: Option<f64>,
+    /// 90th percentile of it; `None` (null) without a node.
+    pub p90: Option<f64>,
 }
 
 impl FitBand {
     fn of(mut errors: Vec<f64>) -> FitBand {
-        if errors.is_empty() {
-            return FitBand {
-                nodes: 0,
-                mean: 0.0,
-                p90: 0.0,
-            };
-        }
         errors.sort_by(f64::total_cmp);
         let n = errors.len();
         FitBand {
             nodes: n,
-            mean: errors.iter().sum::<f64>() / n as f64,
-            p90: errors[((n - 1) as f64 * 0.9).round() as usize],
+            mean: (n > 0).then(|| errors.iter().sum::<f64>() / n as f64),
+            p90: (n > 0).then(|| errors[((n - 1) as f64 * 0.9).round() as usize]),
         }
     }
 }
@@ -1486,5 +1479,11 @@ mod tests {
         }
         assert!(worst < 1e-3, "{worst}");
         assert_eq!(node_fit_error(&[1.0; 36], &[0.0; 36]), None);
+        // A band's figures; a band without a node has none (null), not 0
+        let band = FitBand::of(vec![0.3, 0.1, 0.2]);
+        assert_eq!(band.nodes, 3);
+        assert!((band.mean.unwrap() - 0.2).abs() < 1e-15 && band.p90 == Some(0.3));
+        let empty = FitBand::of(Vec::new());
+        assert_eq!((empty.nodes, empty.mean, empty.p90), (0, None, None));
     }
 }
