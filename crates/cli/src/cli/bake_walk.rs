@@ -165,6 +165,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
             report.rows_from_pbd
         ));
     }
+    warnings.extend(report.node_fit_warnings(component));
     Summary {
         output: &output,
         bytes,

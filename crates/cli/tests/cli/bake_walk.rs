@@ -160,6 +160,16 @@ fn a_walk_table_goes_through_every_command() {
     let summary = walk_table(d, "0.5", None, "w.bssrdf");
     // the summary says how well the nodes hold their profiles, per θ node above 0, in two
     // bands of radius (the coarse grid: every 15° from 15° to 90°)
+    // and warns where they miss them by more than 2 % of their energy: near the entry point at
+    // grazing incidence, single scattering's cut-off shape
+    let warnings = summary["warnings"].as_array().unwrap();
+    assert!(
+        warnings.iter().any(|w| {
+            let w = w.as_str().unwrap();
+            w.contains("at theta 90.0 deg") && w.contains("r 0.01-0.1 reduced mfp")
+        }),
+        "{summary}"
+    );
     let fits = summary["tables"][0]["node_fit"].as_array().unwrap();
     assert_eq!(fits.len(), 6, "{summary}");
     for fit in fits {

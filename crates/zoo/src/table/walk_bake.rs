@@ -206,6 +206,37 @@ impl FitBand {
 /// The radius (reduced mfp) between [`NodeFit`]'s two bands.
 pub const NODE_FIT_SPLIT_R: f64 = 0.1;
 
+/// The node fit above which a bake warns ([`WalkBakeReport::node_fit_warnings`]): nodes that
+/// miss their profiles by 2 % of their energy are off by more than the walk table's goal, 1.5
+/// times the noise of a 10⁷-photon walk (1.2–1.9 % at g = 0, docs/walk-table.md), on that alone.
+pub const NODE_FIT_WARNING: f64 = 0.02;
+
+impl WalkBakeReport {
+    /// One warning per θ node whose nodes miss their profiles by more than
+    /// [`NODE_FIT_WARNING`] of their energy on average: in the far band, and for a total table
+    /// (`component`) in the near band too (a multiple table's near band is mostly the walk's
+    /// noise, which the lobes smooth away; a total's is single scattering's shape).
+    pub fn node_fit_warnings(&self, component: WalkComponent) -> Vec<String> {
+        let over = |band: &FitBand| band.mean.filter(|&m| m > NODE_FIT_WARNING);
+        self.node_fit
+            .iter()
+            .filter_map(|fit| {
+                let far = over(&fit.far).map(|m| (m, "0.1-20"));
+                let near = over(&fit.near)
+                    .filter(|_| component == WalkComponent::Total)
+                    .map(|m| (m, "0.01-0.1"));
+                let (mean, band) = far.into_iter().chain(near).max_by(|a, b| a.0.total_cmp(&b.0))?;
+                Some(format!(
+                    "at theta {:.1} deg the stored nodes are {:.1} % of their energy away from the walk's profile they were fitted to, on average (r {band} reduced mfp; more than {:.0} %): two lobes do not hold the walk's shape there (docs/walk-table.md, \"What two lobes cannot hold\")",
+                    fit.theta_deg,
+                    100.0 * mean,
+                    100.0 * NODE_FIT_WARNING
+                ))
+            })
+            .collect()
+    }
+}
+
 /// A row's cells, the relative standard errors and the node fit errors it adds to the report,
 /// and whether the walk measured a node of it.
 type RowCells = (Vec<[f64; 5]>, Vec<f64>, [Vec<f64>; 2], bool);
@@ -1485,5 +1516,44 @@ mod tests {
         assert!((band.mean.unwrap() - 0.2).abs() < 1e-15 && band.p90 == Some(0.3));
         let empty = FitBand::of(Vec::new());
         assert_eq!((empty.nodes, empty.mean, empty.p90), (0, None, None));
+    }
+
+    #[test]
+    fn a_bake_warns_where_its_nodes_miss_their_profiles() {
+        // Far bands above 2 % warn for either component, near bands only for a total; a band
+        // without a node does not
+        let band = |mean: Option<f64>| FitBand {
+            nodes: usize::from(mean.is_some()),
+            mean,
+            p90: mean,
+        };
+        let fit = |theta_deg, near, far| NodeFit {
+            theta_deg,
+            near: band(near),
+            far: band(far),
+        };
+        let report = WalkBakeReport {
+            seconds: 1.0,
+            threads: 1,
+            photons: 1,
+            scattering_events: 1,
+            median_rel_stderr: 0.01,
+            p90_rel_stderr: 0.02,
+            rows_from_pbd: 0,
+            node_fit: vec![
+                fit(30.0, Some(0.05), Some(0.005)),
+                fit(60.0, Some(0.001), Some(0.019)),
+                fit(85.0, None, Some(0.035)),
+                fit(89.0, Some(0.07), Some(0.03)),
+            ],
+        };
+        let multiple = report.node_fit_warnings(WalkComponent::Multiple);
+        assert_eq!(multiple.len(), 2, "{multiple:?}");
+        assert!(multiple[0].contains("theta 85.0 deg") && multiple[0].contains("3.5 %"));
+        assert!(multiple[1].contains("theta 89.0 deg") && multiple[1].contains("3.0 %"));
+        let total = report.node_fit_warnings(WalkComponent::Total);
+        assert_eq!(total.len(), 3, "{total:?}");
+        assert!(total[0].contains("theta 30.0 deg") && total[0].contains("5.0 %"));
+        assert!(total[2].contains("7.0 %") && total[2].contains("r 0.01-0.1 reduced"));
     }
 }
