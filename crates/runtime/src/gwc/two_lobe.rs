@@ -50,7 +50,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use super::{cdf_wc, clamp_c, inv_cdf_wc, pdf_wc};
+use super::{cdf_wc, clamp_c, inv_cdf_wc};
 
 /// Largest concentration the two-lobe fit uses (`bssrdf_zoo::gwc::fit_two_lobes`): at (η, ρ′, θ) = (1, 0.9, 89°) PBD's sharp lobe has
 /// c ≈ 0.982 at small r.
@@ -168,8 +168,15 @@ impl TwoLobe {
         if !super::in_domain(phi) {
             return 0.0;
         }
-        (self.alpha + self.beta[0] * pdf_wc(phi, self.c[0]) + self.beta[1] * pdf_wc(phi, self.c[1]))
-            .max(0.0)
+        let [l1, l2] = self.lobes_at(phi);
+        (self.alpha + self.beta[0] * l1 + self.beta[1] * l2).max(0.0)
+    }
+
+    /// pdf_WC(φ; c₁) and pdf_WC(φ; c₂) at φ ∈ [−π, π] ([`pdf_wc`]'s values), from one
+    /// half-angle.
+    fn lobes_at(&self, phi: f64) -> [f64; 2] {
+        let (s, co) = super::half_angle(phi);
+        self.c.map(|c| super::pdf_wc_half(s, co, clamp_c(c)))
     }
 
     /// Weights of the sampler's mixture (floor, lobe 1, lobe 2), summing to 1: the uniform
@@ -201,7 +208,8 @@ impl TwoLobe {
             return 0.0;
         }
         let [p0, p1, p2] = self.mixture();
-        p0 / TAU + p1 * pdf_wc(phi, self.c[0]) + p2 * pdf_wc(phi, self.c[1])
+        let [l1, l2] = self.lobes_at(phi);
+        p0 / TAU + p1 * l1 + p2 * l2
     }
 
     /// Distribution function of [`TwoLobe::pdf`] from −π: 0 at −π (and below, or NaN), 1 at π.
