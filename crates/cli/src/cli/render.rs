@@ -374,7 +374,7 @@ fn check_outputs(args: &RenderArgs) -> Result<(), CliError> {
         .into_iter()
         .map(|(what, path, png)| {
             let what = if png {
-                format!("the PNG preview of {what}")
+                format!("{what}'s PNG preview")
             } else {
                 what.to_string()
             };

@@ -170,7 +170,7 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
 }
 
 /// Refuses, before the walks, figures that could not be written or would overwrite the
-/// --walk-table: `pareto.svg` and the profile figures already in the folder (the new ones are
+/// --walk-table or stdout: `pareto.svg` and the profile figures already in the folder (the new ones are
 /// named after the cases as the walks resolve them, `profiles-rho{ρ′}-theta{θ}.svg`).
 fn check_plots(dir: &Path, walk_table: Option<&Path>) -> Result<(), CliError> {
     let mut figures = vec![dir.join("pareto.svg")];
@@ -191,6 +191,11 @@ fn check_plots(dir: &Path, walk_table: Option<&Path>) -> Result<(), CliError> {
         .map(|t| ("--walk-table", t))
         .into_iter()
         .collect();
+    // stdout redirected into the folder has made its file already: it is among those listed
+    for (what, path) in &outputs {
+        let instead = "redirect stdout outside the --plot folder";
+        super::output::not_on_stdout(what, path, "its table (or --json report)", instead)?;
+    }
     super::output::check(&outputs, &inputs)
 }
 

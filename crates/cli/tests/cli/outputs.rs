@@ -166,7 +166,7 @@ fn outputs_never_overwrite_inputs_or_each_other() {
     fails_with(
         &run(with(&["-o", "x.png"])),
         2,
-        "-o x.png and the PNG preview of -o x.png are the same file",
+        "-o x.png and -o's PNG preview x.png are the same file",
     );
     assert!(!d.join("x.png").exists());
     ok(&run(with(&["-o", "a.exr"])));
@@ -410,4 +410,38 @@ fn zoo_plots_are_written_by_the_safe_writer() {
         2,
         "profiles-rho0.5-theta0.svg: it is a folder, not a regular file",
     );
+}
+
+/// zoo --plot writes its figures into a folder and its report on stdout: stdout redirected onto
+/// a figure (the shell makes the file before the command starts) is refused before the walks,
+/// and the report is never lost under a figure.
+#[cfg(target_os = "linux")]
+#[test]
+fn zoo_refuses_stdout_redirected_onto_one_of_its_figures() {
+    let dir = bare();
+    let d = dir.path();
+    std::fs::create_dir(d.join("plots")).unwrap();
+    let zoo = "$B zoo -q --photons 100 --cases 0.5:0 --models dipole";
+    for (script, needle) in [
+        (
+            format!("{zoo} --plot plots --json > plots/profiles-rho0.5-theta0.svg"),
+            "the --plot figure plots/profiles-rho0.5-theta0.svg is stdout, where the command writes its table (or --json report)",
+        ),
+        (
+            format!("cd plots && {zoo} --plot . > pareto.svg"),
+            "the --plot figure ./pareto.svg is stdout",
+        ),
+    ] {
+        let o = shell(d, &script);
+        assert_eq!(o.status.code(), Some(2), "{script}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{script}: {err}");
+    }
+    assert_eq!(std::fs::read(d.join("plots/pareto.svg")).unwrap(), b"");
+    // Redirected elsewhere, the same run writes its figures and its report
+    let o = shell(d, &format!("{zoo} --plot plots --json > report.json"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = std::fs::read_to_string(d.join("report.json")).unwrap();
+    assert!(serde_json::from_str::<serde_json::Value>(&report).is_ok());
+    assert!(std::fs::metadata(d.join("plots/pareto.svg")).unwrap().len() > 0);
 }
