@@ -9,6 +9,7 @@ use super::eval::MomentsArg;
 use super::library::{self, TableChoice};
 use super::{check_range, show, CliError};
 use bssrdf_zoo::bake::Baker;
+use bssrdf_zoo::format::{WalkComponent, WalkSource};
 use bssrdf_zoo::fresnel::{entry_transmittance, Moments};
 use bssrdf_zoo::medium::{ETA_MAX, ETA_MIN};
 use bssrdf_zoo::scene::DEFAULT_ETA;
@@ -48,7 +49,7 @@ pub struct InvertArgs {
     #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
     theta: f64,
     /// η in [0.75, 2.5]: with FILE, selects its table with this η (refused when it has none);
-    /// without, the η of the table baked [default: 1.33].
+    /// without, the η of the table baked (default 1.33).
     #[arg(long, allow_hyphen_values = true)]
     eta: Option<f64>,
     /// Index of the table in FILE (default: the one of --eta, else the first); only with FILE.
@@ -81,8 +82,23 @@ fn name(count: usize, k: usize) -> String {
     }
 }
 
-/// The refusal of one value, in the command line's words.
-fn refusal(flag: &str, theta_deg: f64, error: ReflectanceError) -> CliError {
+/// What a table's ρ_eff holds, as the refusal of a reflectance names it: multiple scattering
+/// (PBD, a walk table of that component), or single scattering too (a walk table's total).
+fn holds(walk: Option<WalkSource>) -> &'static str {
+    match walk.map(|w| w.component) {
+        Some(WalkComponent::Total) => "single and multiple scattering, the walk's total",
+        _ => "multiple scattering only",
+    }
+}
+
+/// The refusal of one value, in the command line's words; `walk`: the table's walk, if it was
+/// measured from one.
+fn refusal(
+    flag: &str,
+    theta_deg: f64,
+    walk: Option<WalkSource>,
+    error: ReflectanceError,
+) -> CliError {
     CliError::input(match error {
         ReflectanceError::OutOfRange {
             reflectance,
@@ -92,11 +108,12 @@ fn refusal(flag: &str, theta_deg: f64, error: ReflectanceError) -> CliError {
             rho_max,
             ..
         } => format!(
-            "{flag} {} is outside the valid range: [{}, {}], the diffuse reflectance (1 - F_r) rho_eff this table reaches at --theta {} (multiple scattering only; rho' from {} to {})",
+            "{flag} {} is outside the valid range: [{}, {}], the diffuse reflectance (1 - F_r) rho_eff this table reaches at --theta {} ({}; rho' from {} to {})",
             show(reflectance),
             show(min),
             show(max),
             show(theta_deg),
+            holds(walk),
             show(rho_min),
             show(rho_max)
         ),
@@ -162,7 +179,8 @@ pub fn run(args: InvertArgs) -> Result<ExitCode, CliError> {
                 .view()
                 .map_err(|e| CliError::input(e.to_string()))?;
             let moments = chosen.table.moments();
-            invert_and_print(&args, &view, moments, Some(chosen.index), None)
+            let walk = chosen.table.record().walk();
+            invert_and_print(&args, &view, moments, Some(chosen.index), walk, None)
         }
         None => {
             let eta = args.eta.unwrap_or(DEFAULT_ETA);
@@ -170,6 +188,7 @@ pub fn run(args: InvertArgs) -> Result<ExitCode, CliError> {
                 return Err(refusal(
                     "--reflectance",
                     args.theta,
+                    None,
                     ReflectanceError::NoLight { theta, eta },
                 ));
             }
@@ -182,23 +201,24 @@ pub fn run(args: InvertArgs) -> Result<ExitCode, CliError> {
             let baker = Baker::new(preset).with_moments(moments);
             let table = super::with_threads(args.threads, || baker.table(eta))?
                 .map_err(|e| CliError::input(e.to_string()))?;
-            invert_and_print(&args, &table.view(), moments, None, Some(grid_name))
+            invert_and_print(&args, &table.view(), moments, None, None, Some(grid_name))
         }
     }
 }
 
 /// Inverts every reflectance on `view` (all refused before anything is printed) and prints
-/// ρ′, comma-separated, or the JSON object.
+/// ρ′, comma-separated, or the JSON object. `walk`: the walk a file's table was measured with.
 fn invert_and_print(
     args: &InvertArgs,
     view: &TableRef<'_>,
     moments: Moments,
     table: Option<usize>,
+    walk: Option<WalkSource>,
     grid: Option<&str>,
 ) -> Result<ExitCode, CliError> {
     let theta = args.theta.to_radians();
     let values = &args.reflectance.0;
-    let refuse = |k: usize, e| refusal(&name(values.len(), k), args.theta, e);
+    let refuse = |k: usize, e| refusal(&name(values.len(), k), args.theta, walk, e);
     let range = view.reflectance_range(theta).map_err(|e| refuse(0, e))?;
     let rho: Vec<f64> = values
         .iter()
@@ -218,6 +238,7 @@ fn invert_and_print(
             "eta": view.eta(),
             "fresnel_moments": moments.name(),
             "table": table,
+            "walk_component": walk.map(|w| w.component.name()),
             "grid": grid,
             "theta_deg": args.theta,
             "transmittance": entry_transmittance(theta, view.eta()),

@@ -371,3 +371,35 @@ fn refusals_name_the_flag_and_its_range() {
     }
     assert!(!d.join("x.bssrdf").exists());
 }
+
+/// invert's range is the table's ρ_eff times the entry transmittance: multiple scattering for a
+/// PBD table, single scattering too for a walk table of the total, and the refusal and --json
+/// say which.
+#[test]
+fn invert_says_what_the_tables_reflectance_holds() {
+    let dir = bare();
+    let d = dir.path();
+    walk_table(d, "w.bssrdf");
+    fails_with(
+        &bssrdf(d, &["invert", "w.bssrdf", "--reflectance", "0.999"]),
+        2,
+        "this table reaches at --theta 0 (single and multiple scattering, the walk's total; rho' from 0.25 to 0.75)",
+    );
+    fails_with(
+        &bssrdf(d, &["invert", "t.bssrdf", "--reflectance", "0.999"]),
+        2,
+        "this table reaches at --theta 0 (multiple scattering only; rho' from 0 to 1)",
+    );
+    let walk: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        d,
+        &["invert", "w.bssrdf", "--reflectance", "0.93", "--json"],
+    )))
+    .unwrap();
+    assert_eq!(walk["walk_component"], "total", "{walk}");
+    let pbd: serde_json::Value = serde_json::from_str(&ok(&bssrdf(
+        d,
+        &["invert", "t.bssrdf", "--reflectance", "0.5", "--json"],
+    )))
+    .unwrap();
+    assert!(pbd["walk_component"].is_null(), "{pbd}");
+}
