@@ -89,11 +89,12 @@ pub struct BakeArgs {
     #[arg(long, value_enum, default_value = "pbd")]
     pub(super) source: SourceArg,
     /// Photons per θ node of a --source walk bake, for each group of albedo rows (the rows
-    /// above ρ′ = 0.999 take an eighth of them); the table's noise falls like 1/√photons.
+    /// above ρ′ = 0.999 take an eighth of them), in [131072, 10¹²], default 250000; the
+    /// table's noise falls like 1/√photons.
     #[arg(long, value_parser = super::values::whole::<u64>)]
     pub(super) photons: Option<u64>,
-    /// Seed of a --source walk bake's walks (the table is bit-identical for a seed on any
-    /// thread count).
+    /// Seed of a --source walk bake's walks, default 1 (the table is bit-identical for a seed
+    /// on any thread count).
     #[arg(long, value_parser = super::values::whole::<u64>)]
     pub(super) seed: Option<u64>,
     /// What a --source walk table holds: total (default), the walk's multiple scattering plus
@@ -126,7 +127,7 @@ pub struct BakeArgs {
     /// Henyey–Greenstein g of that material: one value or R,G,B (default 0); with --source
     /// walk, the walk's g (one value, default 0).
     #[arg(long, value_name = "G", value_parser = parse_g, allow_hyphen_values = true)]
-    pub(super) g: Option<[f64; 3]>,
+    pub(super) g: Option<GArg>,
     /// Diffuse reflectance per channel in [0, 1]: a material from the artist's parameters,
     /// inverted through the table's diffuse reflectance (1 − F_r) ρ_eff at θ = 0 (with --mfp;
     /// above the largest, clamped to ρ′ = 1 with a warning).
@@ -190,15 +191,26 @@ fn parse_rgb(text: &str) -> Result<[f64; 3], String> {
 }
 
 /// Parses "G" (every channel) or "R,G,B".
-fn parse_g(text: &str) -> Result<[f64; 3], String> {
-    match super::values::list::<f64>(text)?.as_slice() {
-        [g] => Ok([*g; 3]),
-        [r, g, b] => Ok([*r, *g, *b]),
-        other => Err(format!(
-            "expected one number or 3 comma-separated numbers (R,G,B), got {}",
-            other.len()
-        )),
-    }
+/// `--g` as given: its value per channel, and whether it was a list (R,G,B), which a walk
+/// bake refuses however equal its values.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct GArg {
+    pub(super) rgb: [f64; 3],
+    pub(super) listed: bool,
+}
+
+fn parse_g(text: &str) -> Result<GArg, String> {
+    let (rgb, listed) = match super::values::list::<f64>(text)?.as_slice() {
+        [g] => ([*g; 3], false),
+        [r, g, b] => ([*r, *g, *b], true),
+        other => {
+            return Err(format!(
+                "expected one number or 3 comma-separated numbers (R,G,B), got {}",
+                other.len()
+            ))
+        }
+    };
+    Ok(GArg { rgb, listed })
 }
 
 /// The library's bake of these arguments ([`bssrdf_zoo::bake`]).
@@ -439,7 +451,7 @@ fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<MaterialS
             "--name {name} is a material of the library (see `bssrdf materials`): choose another id"
         )));
     }
-    let g = args.g.unwrap_or([0.0; 3]);
+    let g = args.g.map_or([0.0; 3], |g| g.rgb);
     match (args.sigma_s, args.sigma_a, args.reflectance, args.mfp) {
         (Some(s), Some(a), _, _) => Material::from_coefficients(&name, s, a, g, eta)
             .map(|m| Some(MaterialSpec::new(m, "command line: --sigma-s/--sigma-a")))

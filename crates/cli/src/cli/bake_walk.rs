@@ -74,11 +74,12 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
     )?;
     let g = match args.g {
         None => 0.0,
-        Some([r, g, b]) if r.to_bits() == g.to_bits() && g.to_bits() == b.to_bits() => r,
-        Some(rgb) => {
+        Some(g) if !g.listed => g.rgb[0],
+        Some(g) => {
+            let [r, gg, b] = g.rgb.map(super::show);
             return Err(CliError::input(format!(
-                "--g {rgb:?}: a walk table holds one g; bake one table per g"
-            )))
+                "--g {r},{gg},{b}: a walk table holds one g, given as one value; bake one table per g"
+            )));
         }
     };
     super::check_g(g)?;

@@ -55,10 +55,12 @@ pub struct TableChoice {
     #[arg(long, value_parser = super::values::whole::<usize>)]
     pub table: Option<usize>,
     /// Relative index of refraction η in [0.75, 2.5]: selects the file's table with this η
-    /// (refused when the file has none); without a file, the medium's η (default 1.33).
+    /// (refused when the file has none); for `eval` without a file, the medium's η (default
+    /// 1.33).
     #[arg(long, allow_hyphen_values = true)]
     pub eta: Option<f64>,
-    /// A material of the library: ρ′, σ′t and η come from it, distances are in mm.
+    /// A material of the library: its η selects the file's table; for `eval` and `sample`, ρ′
+    /// and σ′t come from it too and distances are in mm.
     #[arg(long)]
     pub material: Option<String>,
     /// The material's colour channel [default: r] (only with --material).

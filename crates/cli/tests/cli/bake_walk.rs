@@ -28,7 +28,15 @@ fn a_walk_bake_refuses_what_it_would_not_use() {
         &["--eta", "3"],
         "--eta 3 is outside the valid range: [0.75, 2.5]",
     );
-    refused(&["--eta", "1.33", "--g", "0.1,0.2,0.3"], "one g");
+    refused(
+        &["--eta", "1.33", "--g", "0.1,0.2,0.3"],
+        "--g 0.1,0.2,0.3: a walk table holds one g, given as one value",
+    );
+    // A list is refused however equal its values: --g takes one value here
+    refused(
+        &["--eta", "1.33", "--g", "0.5,0.5,0.5"],
+        "--g 0.5,0.5,0.5: a walk table holds one g, given as one value",
+    );
     refused(
         &["--eta", "1.33", "--g", "1"],
         "--g 1 is outside the valid range: (-1, 1)",

@@ -517,10 +517,12 @@ impl Renderer {
     fn meta(&self, stats: &Stats) -> Vec<(String, String)> {
         let c = &self.config;
         let lum = stats.get(Part::Total, Band::Luminance);
-        let grid = match c.grid {
-            GridPreset::Coarse => "coarse",
-            GridPreset::Default => "default",
-            GridPreset::Fine => "fine",
+        // The grid of the table the render baked; none for the walk and a walk table (its own)
+        let grid = match (c.model, c.grid) {
+            (ModelKind::MonteCarlo | ModelKind::WalkTable, _) => "none",
+            (_, GridPreset::Coarse) => "coarse",
+            (_, GridPreset::Default) => "default",
+            (_, GridPreset::Fine) => "fine",
         };
         let orders = match (c.model, c.orders) {
             (ModelKind::MonteCarlo, Orders::All) => "single+multiple",

@@ -169,7 +169,8 @@ pub struct WalkBakeReport {
 /// elsewhere (relative L1 over φ: Σ |stored − profile| / Σ profile at 36 azimuths).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct NodeFit {
-    /// The incidence, degrees.
+    /// The incidence, degrees, to 10⁻⁴° (the axis holds it in f32 radians, 10 degrees as
+    /// 9.9999997…; f32 steps there are 10⁻⁵° and finer).
     pub theta_deg: f64,
     /// r in [0.01, [`NODE_FIT_SPLIT_R`]) reduced mfp: where single scattering is most of a
     /// total's profile near grazing incidence, and where a multiple table's tilt follows the
@@ -233,9 +234,14 @@ impl WalkBakeReport {
                     .map(|m| (m, "0.01-0.1"));
                 let (mean, band) = far.into_iter().chain(near).max_by(|a, b| a.0.total_cmp(&b.0))?;
                 Some(format!(
-                    "at theta {:.1} deg the stored nodes are {:.1} % of their energy away from the walk's profile they were fitted to, on average (r {band} reduced mfp; more than {:.0} %): two lobes do not hold the walk's shape there (docs/walk-table.md, \"What two lobes cannot hold\")",
+                    "at theta {:.1} deg the stored nodes are {:.1} % of their energy away from the profile they were fitted to (PBD tilted to the walk's harmonics{}), on average (r {band} reduced mfp; more than {:.0} %): two lobes do not hold the walk's shape there (docs/walk-table.md, \"What two lobes cannot hold\")",
                     fit.theta_deg,
                     100.0 * mean,
+                    if component == WalkComponent::Total {
+                        ", plus single scattering"
+                    } else {
+                        ""
+                    },
                     100.0 * NODE_FIT_WARNING
                 ))
             })
@@ -397,7 +403,7 @@ pub fn bake_walk(
         let [near, far] = fit_errors;
         if !near.is_empty() || !far.is_empty() {
             node_fit.push(NodeFit {
-                theta_deg: theta.to_degrees(),
+                theta_deg: (theta.to_degrees() * 1e4).round() / 1e4,
                 near: FitBand::of(near),
                 far: FitBand::of(far),
             });
@@ -1551,9 +1557,11 @@ mod tests {
         assert_eq!(multiple.len(), 2, "{multiple:?}");
         assert!(multiple[0].contains("theta 85.0 deg") && multiple[0].contains("3.5 %"));
         assert!(multiple[1].contains("theta 89.0 deg") && multiple[1].contains("3.0 %"));
+        assert!(multiple[0].contains("(PBD tilted to the walk's harmonics)"));
         let total = report.node_fit_warnings(WalkComponent::Total);
         assert_eq!(total.len(), 3, "{total:?}");
         assert!(total[0].contains("theta 30.0 deg") && total[0].contains("5.0 %"));
         assert!(total[2].contains("7.0 %") && total[2].contains("r 0.01-0.1 reduced"));
+        assert!(total[0].contains("(PBD tilted to the walk's harmonics, plus single scattering)"));
     }
 }

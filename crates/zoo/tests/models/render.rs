@@ -271,6 +271,7 @@ fn the_exr_file_opens_in_a_standard_reader() {
     assert_eq!(attribute("bssrdf:theta_deg"), "60");
     assert_eq!(attribute("bssrdf:seed"), "7");
     assert_eq!(attribute("bssrdf:extent_mm"), "12");
+    assert_eq!(attribute("bssrdf:grid"), "coarse");
     // And our own reader gives the picture back.
     let back = render::exr::read_picture(&path).unwrap();
     assert_eq!(back.rgb(), r.picture.rgb());
@@ -313,6 +314,8 @@ fn the_walk_can_image_multiple_scattering_alone() {
     let sum = |r: &Render| r.picture.rgb().iter().map(|&v| f64::from(v)).sum::<f64>();
     assert!(sum(&multiple) < sum(&all));
     assert_eq!(multiple.picture.get("bssrdf:orders"), Some("multiple"));
+    // The walk bakes no table: its picture names no grid
+    assert_eq!(all.picture.get("bssrdf:grid"), Some("none"));
 }
 
 #[test]
