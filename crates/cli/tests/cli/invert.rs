@@ -77,7 +77,8 @@ fn invert_gives_the_librarys_reduced_albedo_and_its_json_keys() {
             "rho_prime",
             "table",
             "theta_deg",
-            "transmittance"
+            "transmittance",
+            "walk_component"
         ]
     );
     assert_eq!(v["table"], 0);
