@@ -83,9 +83,9 @@ impl TwoLobe {
     }
 
     /// The profile of a table cell: E/r = 2πα + β₁ + β₂ and the lobes (β, c), with c clamped
-    /// as in [`pdf_wc`], β NaN taken as 0, no lobe where neither β is positive, E/r negative or
-    /// not finite as 0, and both β scaled by one factor where the profile would dip below 0
-    /// (module docs). One negative β beside a positive one is kept: a signed pair.
+    /// as in [`pdf_wc`](super::pdf_wc), β NaN taken as 0, no lobe where neither β is positive,
+    /// E/r negative or not finite as 0, and both β scaled by one factor where the profile would
+    /// dip below 0 (module docs). One negative β beside a positive one is kept: a signed pair.
     pub fn from_table(e_per_r: f64, beta: [f64; 2], c: [f64; 2]) -> Self {
         let c = c.map(clamp_c);
         let mut beta = beta.map(|b| if b.is_finite() { b } else { 0.0 });
@@ -172,8 +172,8 @@ impl TwoLobe {
         (self.alpha + self.beta[0] * l1 + self.beta[1] * l2).max(0.0)
     }
 
-    /// pdf_WC(φ; c₁) and pdf_WC(φ; c₂) at φ ∈ [−π, π] ([`pdf_wc`]'s values), from one
-    /// half-angle.
+    /// pdf_WC(φ; c₁) and pdf_WC(φ; c₂) at φ ∈ [−π, π] ([`pdf_wc`](super::pdf_wc)'s values),
+    /// from one half-angle.
     fn lobes_at(&self, phi: f64) -> [f64; 2] {
         let (s, co) = super::half_angle(phi);
         self.c.map(|c| super::pdf_wc_half(s, co, clamp_c(c)))
