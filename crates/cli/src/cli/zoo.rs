@@ -170,8 +170,8 @@ pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
 }
 
 /// Refuses, before the walks, figures that could not be written or would overwrite the
-/// --walk-table or stdout: `pareto.svg` and the profile figures already in the folder (the new ones are
-/// named after the cases as the walks resolve them, `profiles-rho{ρ′}-theta{θ}.svg`).
+/// --walk-table or stdout: `pareto.svg` and the profile figures already in the folder (the new
+/// ones are named after the cases as the walks resolve them, `profiles-rho{ρ′}-theta{θ}.svg`).
 fn check_plots(dir: &Path, walk_table: Option<&Path>) -> Result<(), CliError> {
     let mut figures = vec![dir.join("pareto.svg")];
     if let Ok(entries) = std::fs::read_dir(dir) {

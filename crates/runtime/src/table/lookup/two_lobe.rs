@@ -235,10 +235,9 @@ impl TableRef<'_> {
         let blend = Blend::new(&albedo, rho, theta);
         let s = self.slice_of(&albedo.energy, &theta_weights, blend);
         let acc = self.window(&s, first);
-        let (e, lobe, c) = self.cell_from::<true>(acc, first, r_eval, &w, blend);
-        let Cell::Profile([e_per_r, ..]) = Cell::profile(e, lobe, c, r_eval) else {
-            return Some(0.0);
-        };
+        // E/r as `Cell::profile` takes it (the one lobe's β and c are not needed here)
+        let (e, _, _) = self.cell_from::<true>(acc, first, r_eval, &w, blend);
+        let e_per_r = (e / r_eval).max(0.0);
         let shares = self.harmonic_shares(&s, second, first);
         Some(
             self.two_lobe_cell(|| acc, &shares, first, r_eval, &w, e_per_r)
