@@ -159,6 +159,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
     summary["p90_rel_stderr"] = json!(report.p90_rel_stderr);
     summary["rows_from_pbd"] = json!(report.rows_from_pbd);
     summary["node_fit"] = json!(report.node_fit);
+    summary["walk_miss"] = json!(report.walk_miss);
     let mut warnings = Vec::new();
     if report.rows_from_pbd > 0 {
         warnings.push(format!(
@@ -166,6 +167,7 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
             report.rows_from_pbd
         ));
     }
+    warnings.extend(report.walk_miss_warnings());
     warnings.extend(report.node_fit_warnings(component));
     Summary {
         output: &output,

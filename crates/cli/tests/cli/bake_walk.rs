@@ -178,6 +178,25 @@ fn a_walk_table_goes_through_every_command() {
         }),
         "{summary}"
     );
+    // and how far the profiles the nodes were fitted to are from the walk's own harmonics,
+    // per θ node where light enters (θ = 0 too), here within the walk's noise: no warning
+    let misses = summary["tables"][0]["walk_miss"].as_array().unwrap();
+    assert_eq!(misses.len(), 7, "{summary}");
+    for miss in misses {
+        assert!(miss["nodes"].as_u64().unwrap() > 0, "{miss}");
+        assert!(miss["rms"].as_f64().unwrap() < 0.02, "{miss}");
+        assert!(
+            (0.3..3.0).contains(&miss["chi2"].as_f64().unwrap()),
+            "{miss}"
+        );
+    }
+    assert!(
+        !warnings.iter().any(|w| w
+            .as_str()
+            .unwrap()
+            .contains("walk's own measured harmonics")),
+        "{summary}"
+    );
     let fits = summary["tables"][0]["node_fit"].as_array().unwrap();
     assert_eq!(fits.len(), 6, "{summary}");
     for fit in fits {
@@ -196,6 +215,7 @@ fn a_walk_table_goes_through_every_command() {
     );
     assert!(inspect.contains("median_rel_stderr"), "{inspect}");
     assert!(inspect.contains("node_fit"), "{inspect}");
+    assert!(inspect.contains("walk_miss"), "{inspect}");
     assert!(
         inspect.contains("single_scattering") && inspect.contains("exit_directions"),
         "{inspect}"

@@ -80,6 +80,13 @@
 //! scattering included; near grazing incidence two lobes do not hold single scattering's shape
 //! (docs/walk-table.md, "The total").
 //!
+//! # What the bake reports of itself
+//! Per θ node, how far the stored lobes are from the profiles they were fitted to
+//! ([`NodeFit`]: the format's part of the error) and how far those profiles are from the walk's
+//! own measured harmonics beyond its noise ([`WalkMiss`]: the tilt's part, which the lobes
+//! inherit), with a warning where either is above what the table's goal allows
+//! ([`WalkBakeReport::node_fit_warnings`], [`WalkBakeReport::walk_miss_warnings`]).
+//!
 //! # Row groups
 //! A walk's cost per photon grows with its largest albedo (scattering events per photon at
 //! θ = 60°, η = 1.33, g = 0: about 130 up to ρ′ = 0.99, 430 up to 0.999, 5,000–7,300 up to 1,
@@ -161,6 +168,48 @@ pub struct WalkBakeReport {
     /// the stored two-lobe nodes are from the profile they were fitted to: the part of the
     /// table's error that is the format's and not the walk's.
     pub node_fit: Vec<NodeFit>,
+    /// Per θ node where light enters, how far the profiles the nodes were fitted to are from
+    /// the walk's own measured harmonics: the part of the table's error that is the model of
+    /// the walk's shape (PBD tilted), beyond the walk's noise.
+    pub walk_miss: Vec<WalkMiss>,
+}
+
+/// The radii, reduced mfp, over which [`WalkMiss`] compares the profiles with the walk (the
+/// far band of [`NodeFit`]: nearer, the multiple scattering's high harmonics are mostly noise).
+pub const WALK_MISS_R: [f64; 2] = [NODE_FIT_SPLIT_R, 20.0];
+
+/// How far the profiles of one θ node's nodes with ρ′ ≥ 0.1 and r in [`WALK_MISS_R`] (those the
+/// walk measured well enough to tilt) are from the walk's measured harmonics μ̂₁ … μ̂₈, kernel
+/// averages against kernel averages. The profile is the one the stored lobes were fitted to,
+/// before the single scattering of a total table (which is exact): what [`NodeFit`] measures
+/// comes on top.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct WalkMiss {
+    /// The incidence, degrees, as in [`NodeFit`].
+    pub theta_deg: f64,
+    /// Nodes compared.
+    pub nodes: usize,
+    /// The relative root mean square over φ of the profile less the walk, beyond the walk's
+    /// noise (√ of the nodes' unbiased estimates, weighted by their precision; 0 where that
+    /// mean is below 0, that is within the noise); `None` (null) without a node.
+    pub rms: Option<f64>,
+    /// Mean over the nodes of χ² per harmonic, Σₙ (Δμₙ/σₙ)²/8: about 1 where the profiles are
+    /// the walk's within its noise; `None` (null) without a node.
+    pub chi2: Option<f64>,
+}
+
+impl WalkMiss {
+    fn of(theta_deg: f64, nodes: &[NodeMiss]) -> WalkMiss {
+        let n = nodes.len();
+        let weight: f64 = nodes.iter().map(|m| m.weight).sum();
+        let excess = nodes.iter().map(|m| m.weight * m.excess).sum::<f64>() / weight;
+        WalkMiss {
+            theta_deg,
+            nodes: n,
+            rms: (n > 0).then(|| excess.max(0.0).sqrt()),
+            chi2: (n > 0).then(|| nodes.iter().map(|m| m.chi2).sum::<f64>() / n as f64),
+        }
+    }
 }
 
 /// How well the stored nodes of one θ node hold the profiles the bake fitted them to (the
@@ -218,7 +267,42 @@ pub const NODE_FIT_SPLIT_R: f64 = 0.1;
 /// times the noise of a 10⁷-photon walk (1.2–1.9 % at g = 0, docs/walk-table.md), on that alone.
 pub const NODE_FIT_WARNING: f64 = 0.02;
 
+/// The miss of the walk above which a bake warns ([`WalkBakeReport::walk_miss_warnings`]), as
+/// [`WalkMiss::rms`]: profiles 2 % RMS off the walk beyond its noise are off by more than the
+/// walk table's goal on that alone, as for [`NODE_FIT_WARNING`].
+pub const WALK_MISS_WARNING: f64 = 0.02;
+
+/// The χ² per harmonic ([`WalkMiss::chi2`]) a θ node's miss must also exceed for a warning: a
+/// miss the walk tells from its noise (within it χ² is about 1: 0.8–1.1 over every θ node of
+/// the default bakes at η = 1.33, docs/walk-table.md).
+pub const WALK_MISS_CHI2: f64 = 2.0;
+
 impl WalkBakeReport {
+    /// One warning per θ node whose profiles miss the walk's measured harmonics by more than
+    /// [`WALK_MISS_WARNING`] RMS beyond its noise, with χ² per harmonic above
+    /// [`WALK_MISS_CHI2`]: there the tilt of PBD does not follow the walk's shape, and no fit
+    /// of the lobes mends that.
+    pub fn walk_miss_warnings(&self) -> Vec<String> {
+        self.walk_miss
+            .iter()
+            .filter_map(|miss| {
+                let (rms, chi2) = (miss.rms?, miss.chi2?);
+                (rms > WALK_MISS_WARNING && chi2 > WALK_MISS_CHI2).then(|| {
+                    format!(
+                        "at theta {:.1} deg the profile the nodes were fitted to (PBD tilted to the walk's harmonics) is {:.1} % RMS over phi away from the walk's own measured harmonics beyond its noise (chi2 {:.1} per harmonic, over {} nodes at r {}-{} reduced mfp; more than {:.0} %): the table inherits that miss, whatever its lobes do (docs/walk-table.md, \"The bake's own measure of it\")",
+                        miss.theta_deg,
+                        100.0 * rms,
+                        chi2,
+                        miss.nodes,
+                        WALK_MISS_R[0],
+                        WALK_MISS_R[1],
+                        100.0 * WALK_MISS_WARNING
+                    )
+                })
+            })
+            .collect()
+    }
+
     /// One warning per θ node whose nodes miss their profiles by more than
     /// [`NODE_FIT_WARNING`] of their energy on average: in the far band, and for a total table
     /// (`component`) in the near band too (a multiple table's near band is mostly the walk's
@@ -249,9 +333,9 @@ impl WalkBakeReport {
     }
 }
 
-/// A row's cells, the relative standard errors and the node fit errors it adds to the report,
-/// and whether the walk measured a node of it.
-type RowCells = (Vec<[f64; 5]>, Vec<f64>, [Vec<f64>; 2], bool);
+/// A row's cells, the relative standard errors, the node fit errors and the profile's misses
+/// of the walk it adds to the report, and whether the walk measured a node of it.
+type RowCells = (Vec<[f64; 5]>, Vec<f64>, [Vec<f64>; 2], Vec<NodeMiss>, bool);
 
 /// Points of the kernel averages of PBD on each side of a node, in ln r.
 const CONTROL_POINTS: usize = 3;
@@ -294,6 +378,7 @@ pub fn bake_walk(
     let r_max = grid.r[n_r - 1];
     let mut rows_from_pbd = 0;
     let mut node_fit = Vec::new();
+    let mut walk_miss = Vec::new();
     let rules = (
         GaussLegendre::new(CONTROL_POINTS),
         GaussLegendre::new(CONTROL_AZIMUTHS),
@@ -318,6 +403,7 @@ pub fn bake_walk(
             )?),
         };
         let mut fit_errors = [Vec::new(), Vec::new()];
+        let mut theta_misses = Vec::new();
         for (group, (rows, share)) in groups.iter().enumerate() {
             if rows.is_empty() {
                 continue;
@@ -357,7 +443,12 @@ pub fn bake_walk(
                         ridge: ridge.as_ref(),
                         max_widening: max_ridge_widening(config.component),
                     };
-                    let (tilts, rel, measured) = row_tilts(&h, k, &grid.r, &control);
+                    let RowTilts {
+                        tilts,
+                        rel,
+                        misses,
+                        measured,
+                    } = row_tilts(&h, k, &grid.r, &control);
                     let albedo = unreduced_albedo(grid.rho[i], config.g);
                     let single = single.as_ref().map(|part| (part, albedo));
                     let (out, fits) = row_cells(&tilts, &grid.r, &control, single)?;
@@ -376,11 +467,22 @@ pub fn bake_walk(
                         reported(&fits, &|r| (0.01..NODE_FIT_SPLIT_R).contains(&r)),
                         reported(&fits, &|r| (NODE_FIT_SPLIT_R..=20.0).contains(&r)),
                     ];
-                    Ok((out, noise, fits, measured))
+                    let misses = if grid.rho[i] < 0.1 {
+                        Vec::new()
+                    } else {
+                        (0..n_r)
+                            .filter(|&node| {
+                                (WALK_MISS_R[0]..=WALK_MISS_R[1]).contains(&grid.r[node])
+                            })
+                            .filter_map(|node| misses[node])
+                            .collect()
+                    };
+                    Ok((out, noise, fits, misses, measured))
                 })
                 .collect();
             for (&i, row) in rows.iter().zip(cells) {
-                let (harm, noise, fits, measured) = row?;
+                let (harm, noise, fits, misses, measured) = row?;
+                theta_misses.extend(misses);
                 rel_stderr.extend(noise);
                 for (band, fits) in fit_errors.iter_mut().zip(fits) {
                     band.extend(fits);
@@ -401,9 +503,11 @@ pub fn bake_walk(
             }
         }
         let [near, far] = fit_errors;
+        let theta_deg = (theta.to_degrees() * 1e4).round() / 1e4;
+        walk_miss.push(WalkMiss::of(theta_deg, &theta_misses));
         if !near.is_empty() || !far.is_empty() {
             node_fit.push(NodeFit {
-                theta_deg: (theta.to_degrees() * 1e4).round() / 1e4,
+                theta_deg,
                 near: FitBand::of(near),
                 far: FitBand::of(far),
             });
@@ -429,6 +533,7 @@ pub fn bake_walk(
         p90_rel_stderr: quantile(0.9),
         rows_from_pbd,
         node_fit,
+        walk_miss,
     };
     Ok((table, report))
 }
@@ -827,12 +932,7 @@ const REFINE_STEPS: usize = 60;
 /// The tilt of every node of row `row` (module docs; `None` at r = 0 and where PBD is 0), the
 /// relative standard error of each node's μ̂₀, and whether any node was measured well enough
 /// to tilt (if none was, the row is PBD's).
-fn row_tilts(
-    h: &WalkHarmonics,
-    row: usize,
-    r: &[f64],
-    control: &Control,
-) -> (Vec<Option<NodeTilt>>, Vec<Option<f64>>, bool) {
+fn row_tilts(h: &WalkHarmonics, row: usize, r: &[f64], control: &Control) -> RowTilts {
     let (gl, azimuths) = control.rules;
     let pbd_at = |x: f64| control_harmonics(control.pbd, x, control.theta, azimuths, control.ridge);
     let ridge_at = |x: f64| {
@@ -899,7 +999,7 @@ fn row_tilts(
     // is PBD's (no tilt).
     let slope = tail_slope(&tilts, &reliable, r);
     let max_step = TAIL_MAX_FACTOR.ln();
-    let node_tilts = (0..r.len())
+    let node_tilts: Vec<Option<NodeTilt>> = (0..r.len())
         .map(|node| {
             let here = &measured[node];
             if r[node] == 0.0 || with_share(&here.at_node, &here.ridge[0], 1.0, 0.0)[0] <= 0.0 {
@@ -939,7 +1039,71 @@ fn row_tilts(
         })
         .collect();
     let rel = measured.iter().map(|m| m.rel).collect();
-    (node_tilts, rel, !reliable.is_empty())
+    // How far each measured node's profile is from the walk's own harmonics
+    let misses = (0..r.len())
+        .map(|node| {
+            let m = &measured[node];
+            let (tilt, _) = node_tilts[node].as_ref()?;
+            m.reliable().then(|| NodeMiss::of(m, tilt))?
+        })
+        .collect();
+    RowTilts {
+        tilts: node_tilts,
+        rel,
+        misses,
+        measured: !reliable.is_empty(),
+    }
+}
+
+/// What [`row_tilts`] finds of a row, node by node.
+struct RowTilts {
+    /// The smoothed tilts (`None` at r = 0 and where PBD is 0).
+    tilts: Vec<Option<NodeTilt>>,
+    /// The relative standard error of each node's μ̂₀.
+    rel: Vec<Option<f64>>,
+    /// At each node the walk measured well enough to tilt, the tilted profile's miss of the
+    /// walk's harmonics ([`NodeMiss`]).
+    misses: Vec<Option<NodeMiss>>,
+    /// Whether any node was measured well enough to tilt (if none was, the row is PBD's).
+    measured: bool,
+}
+
+/// How far the profile a node is fitted to (PBD with its share of the ridge, tilted: the
+/// smoothed tilt, as stored) is from the walk's own measured harmonics μ̂₁ … μ̂₈ at the node,
+/// kernel averages against kernel averages. By Parseval the relative mean square of the
+/// difference over φ, ∫ Δ² dφ / (2π · mean²), is (Δμ₀² + 2 Σₙ Δμₙ²)/μ̂₀²; the walk's noise
+/// adds 2 Σ σₙ² to its expectation, which is taken out. Δμ₀ is left out: the tilt's scale
+/// matches it but for the smoothing, and the energy is checked apart (ρ_eff against the walk).
+#[derive(Debug, Clone, Copy)]
+struct NodeMiss {
+    /// 2 Σₙ (Δμₙ² − σₙ²) / μ̂₀², n = 1 … 8: unbiased for the relative mean square miss.
+    excess: f64,
+    /// The inverse of its variance under noise alone, 1 / (8 Σₙ σₙ⁴ / μ̂₀⁴) (a normal
+    /// Δμₙ of variance σₙ² has Var(2Δμₙ²) = 8σₙ⁴): what a node weighs in the θ node's mean.
+    weight: f64,
+    /// Σₙ (Δμₙ/σₙ)² / 8: about 1 where the profile is the walk's within its noise.
+    chi2: f64,
+}
+
+impl NodeMiss {
+    fn of(m: &Measured, tilt: &Tilt) -> Option<NodeMiss> {
+        let p = with_share(&m.average, &m.ridge[1], tilt[SHARE], tilt[WIDENING]);
+        let h = tilted(&p, tilt[0], shape(tilt));
+        let e0 = m.mean[0];
+        let (mut excess, mut var, mut chi2) = (0.0, 0.0, 0.0);
+        for ((hn, mean), se) in h.iter().zip(m.mean).zip(m.se).skip(1) {
+            let (d, se) = ((hn - mean) / e0, se / e0);
+            excess += 2.0 * (d * d - se * se);
+            var += 8.0 * se.powi(4);
+            chi2 += (d / se).powi(2);
+        }
+        let chi2 = chi2 / (HARMONICS - 1) as f64;
+        (e0 > 0.0 && excess.is_finite() && var > 0.0 && chi2.is_finite()).then_some(NodeMiss {
+            excess,
+            weight: 1.0 / var,
+            chi2,
+        })
+    }
 }
 
 /// The cells (E, E_β, c, r·μ₃, r·μ₄) of a row from its nodes' tilts (module docs): at r = 0
@@ -1481,6 +1645,121 @@ mod tests {
         assert_eq!(bounded([f64::NAN, 0.1, 0.0, 0.0]), [0.0; TILT_TERMS]);
     }
 
+    /// A node whose profile (PBD's harmonics `profile`, untilted: no ridge, ln k = 0, a = 0)
+    /// the walk measured as `walk`, with standard errors `se`.
+    fn untilted(profile: [f64; PBD_HARMONICS], walk: [f64; HARMONICS], se: f64) -> NodeMiss {
+        let m = Measured {
+            mean: walk,
+            se: [se; HARMONICS],
+            rel: Some(se / walk[0]),
+            at_node: profile,
+            average: profile,
+            ridge: [[0.0; PBD_HARMONICS]; 2],
+        };
+        NodeMiss::of(&m, &tilt_of(0.0, [0.0; TILT_TERMS], 1.0, 0.0)).unwrap()
+    }
+
+    #[test]
+    fn the_walk_miss_is_the_relative_rms_of_the_difference_over_phi() {
+        // Two profiles of the same energy, each a floor and a wrapped Cauchy lobe cut to the
+        // harmonics the walk measures; their relative RMS difference over φ by the midpoint
+        // rule (exact for these trigonometric polynomials), against the miss from their
+        // harmonics by Parseval, the walk's noise negligible
+        let harmonics = |beta: f64, kappa: f64| -> [f64; PBD_HARMONICS] {
+            std::array::from_fn(|n| match n {
+                0 => 1.0,
+                n if n < HARMONICS => beta * kappa.powi(n as i32),
+                _ => 0.0,
+            })
+        };
+        let profile = |mu: &[f64; PBD_HARMONICS], phi: f64| {
+            (mu[0]
+                + 2.0
+                    * (1..HARMONICS)
+                        .map(|n| mu[n] * (n as f64 * phi).cos())
+                        .sum::<f64>())
+                / (2.0 * PI)
+        };
+        for (a, b) in [
+            ((0.5, 0.6), (0.4, 0.7)),
+            ((0.9, 0.9), (0.6, 0.8)),
+            ((0.2, 0.3), (0.2, 0.3)),
+        ] {
+            let (f, g) = (harmonics(a.0, a.1), harmonics(b.0, b.1));
+            let points = 64;
+            let mean_square = (0..points)
+                .map(|i| {
+                    let phi = 2.0 * PI * (i as f64 + 0.5) / points as f64 - PI;
+                    (profile(&f, phi) - profile(&g, phi)).powi(2)
+                })
+                .sum::<f64>()
+                / points as f64;
+            let by_quadrature = mean_square.sqrt() / (1.0 / (2.0 * PI));
+            let walk = std::array::from_fn(|n| g[n]);
+            let miss = WalkMiss::of(0.0, &[untilted(f, walk, 1e-12)]);
+            let rms = miss.rms.unwrap();
+            assert!(
+                (rms - by_quadrature).abs() <= 1e-9 + 1e-9 * by_quadrature,
+                "{rms} {by_quadrature}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_walk_miss_takes_out_the_walks_noise_and_chi2_tells_a_miss_from_it() {
+        // 2,000 nodes whose walk is the profile plus normal noise of σ = 2 % of μ₀ in every
+        // harmonic: within the noise the RMS miss comes out near 0 (not the noise's own 2·8
+        // σ²) and χ² near 1; with the walk off the profile by δ₃ = 0.03 and δ₅ = −0.02 (an RMS
+        // miss of √(2 (δ₃² + δ₅²)) = 5.1 %), the RMS is that, and χ² has the misses' share
+        let mut rng = SplitMix64::seed_from_u64(11);
+        let mut normal = move || {
+            let (u, v) = (rng.next_f64(), rng.next_f64());
+            (-2.0 * (1.0 - u).ln()).sqrt() * (2.0 * PI * v).cos()
+        };
+        let profile: [f64; PBD_HARMONICS] = std::array::from_fn(|n| {
+            if n < HARMONICS {
+                0.7f64.powi(n as i32)
+            } else {
+                0.0
+            }
+        });
+        let sigma = 0.02;
+        for (offset, expected) in [
+            ([0.0, 0.0], 0.0),
+            ([0.03, -0.02], (2.0f64 * (0.03 * 0.03 + 0.02 * 0.02)).sqrt()),
+        ] {
+            let nodes: Vec<NodeMiss> = (0..2000)
+                .map(|_| {
+                    let walk = std::array::from_fn(|n| {
+                        let off = match n {
+                            3 => offset[0],
+                            5 => offset[1],
+                            _ => 0.0,
+                        };
+                        profile[n] - off + if n > 0 { sigma * normal() } else { 0.0 }
+                    });
+                    untilted(profile, walk, sigma)
+                })
+                .collect();
+            let miss = WalkMiss::of(0.0, &nodes);
+            let (rms, chi2) = (miss.rms.unwrap(), miss.chi2.unwrap());
+            if expected == 0.0 {
+                assert!(rms < 0.005, "{miss:?}");
+                assert!((chi2 - 1.0).abs() < 0.05, "{miss:?}");
+            } else {
+                assert!(
+                    (rms - expected).abs() < 0.05 * expected,
+                    "{miss:?} {expected}"
+                );
+                // 1 for the noise, plus (δ₃/σ)² + (δ₅/σ)² = 2.25 + 1 over the 8 harmonics
+                assert!((chi2 - 1.40625).abs() < 0.05, "{miss:?}");
+            }
+        }
+        // No node: no figures (null), not 0
+        let none = WalkMiss::of(10.0, &[]);
+        assert_eq!((none.nodes, none.rms, none.chi2), (0, None, None));
+    }
+
     #[test]
     fn a_node_that_is_its_profile_has_no_fit_error_and_a_scaled_one_its_scale() {
         // The stored node of a profile that two lobes hold exactly (a two-lobe profile) rebuilds
@@ -1552,6 +1831,7 @@ mod tests {
                 fit(85.0, None, Some(0.035)),
                 fit(89.0, Some(0.07), Some(0.03)),
             ],
+            walk_miss: Vec::new(),
         };
         let multiple = report.node_fit_warnings(WalkComponent::Multiple);
         assert_eq!(multiple.len(), 2, "{multiple:?}");
@@ -1563,5 +1843,32 @@ mod tests {
         assert!(total[0].contains("theta 30.0 deg") && total[0].contains("5.0 %"));
         assert!(total[2].contains("7.0 %") && total[2].contains("r 0.01-0.1 reduced"));
         assert!(total[0].contains("(PBD tilted to the walk's harmonics, plus single scattering)"));
+        // The profiles' miss of the walk warns above 2 % RMS where χ² tells it from the noise;
+        // a θ node without a node does not
+        let miss = |theta_deg, rms: Option<f64>, chi2: Option<f64>| WalkMiss {
+            theta_deg,
+            nodes: usize::from(rms.is_some()),
+            rms,
+            chi2,
+        };
+        let report = WalkBakeReport {
+            walk_miss: vec![
+                miss(60.0, Some(0.001), Some(0.9)),
+                miss(74.0, Some(0.043), Some(3.6)),
+                miss(80.0, Some(0.05), Some(1.5)),
+                miss(85.0, Some(0.015), Some(9.0)),
+                miss(89.0, Some(0.24), Some(26.4)),
+                miss(90.0, None, None),
+            ],
+            ..report
+        };
+        let warnings = report.walk_miss_warnings();
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].contains("theta 74.0 deg") && warnings[0].contains("4.3 % RMS"));
+        assert!(
+            warnings[0].contains("chi2 3.6 per harmonic"),
+            "{warnings:?}"
+        );
+        assert!(warnings[1].contains("theta 89.0 deg") && warnings[1].contains("24.0 % RMS"));
     }
 }

@@ -340,6 +340,48 @@ fn total_nodes_hold_the_multiple_plus_the_exact_single_scattering() {
 }
 
 #[test]
+fn the_report_says_where_the_tilt_of_pbd_misses_the_walk() {
+    // At η = 1 and g = 0.9 the walk's multiple scattering at grazing incidence is far more
+    // forward than PBD's, and PBD tilted by a few harmonics does not follow it (the table is
+    // 19–34 % off the walk at 89°, docs/walk-table.md): the bake's comparison of its profiles
+    // with the walk's measured harmonics sees it there, and nowhere at η = 1.33 (the bake of
+    // the tests above), where the profiles are the walk's within its noise
+    let default = GridPreset::Default.grid(1.0, Lobes::Two);
+    let config = WalkBake {
+        eta: 1.0,
+        g: 0.9,
+        grid: Grid {
+            rho: vec![0.0, 0.08, 0.3, 0.5, 0.7, 0.9],
+            theta: [0.0, 60.0, 89.0f64].map(f64::to_radians).to_vec(),
+            r: default.r,
+        },
+        photons: 50_000,
+        seed: 7,
+        theta_sampling: false,
+        component: WalkComponent::Multiple,
+    };
+    let report = bake_walk(&config, &|_| {}).unwrap().1;
+    let misses = &report.walk_miss;
+    let thetas: Vec<f64> = misses.iter().map(|m| m.theta_deg).collect();
+    assert_eq!(thetas, [0.0, 60.0, 89.0], "{misses:?}");
+    for m in misses {
+        assert!(m.nodes > 0, "{m:?}");
+    }
+    let (rms, chi2) = (misses[2].rms.unwrap(), misses[2].chi2.unwrap());
+    assert!(rms > 0.1 && chi2 > 5.0, "{misses:?}");
+    let warnings = report.walk_miss_warnings();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("at theta 89.0 deg"), "{warnings:?}");
+    for bake in [multiple_bake(), total_bake()] {
+        for m in &bake.1.walk_miss {
+            assert!(m.rms.unwrap() < 0.02 && m.chi2.unwrap() < 1.5, "{m:?}");
+        }
+        assert_eq!(bake.1.walk_miss.len(), 5);
+        assert!(bake.1.walk_miss_warnings().is_empty());
+    }
+}
+
+#[test]
 #[ignore = "a measurement (about a minute): the two-lobe fit of total nodes at η = 1 and g = 0.9"]
 fn total_nodes_at_index_matching_and_strong_forward_scattering() {
     // As `total_nodes_hold_the_multiple_plus_the_exact_single_scattering`, printed, for small
