@@ -142,7 +142,8 @@ pub struct BakeArgs {
     #[arg(long, value_name = "ID")]
     pub(super) name: Option<String>,
     /// Output file (default: MATERIAL.bssrdf for one material or --name, SCENE.bssrdf for
-    /// SCENE.toml, table-etaE.bssrdf for --eta E, walk-etaE-gG.bssrdf for --source walk).
+    /// SCENE.toml (its last extension replaced: shot.v1.toml gives shot.v1.bssrdf),
+    /// table-etaE.bssrdf for --eta E, walk-etaE-gG.bssrdf for --source walk).
     #[arg(short, long, value_name = "FILE")]
     pub(super) output: Option<PathBuf>,
     /// Grid preset.

@@ -20,7 +20,13 @@ pub fn run(
 ) -> Result<ExitCode, CliError> {
     let output = match &args.output {
         Some(o) => o.clone(),
-        None => PathBuf::from(path.file_stem().unwrap_or_default()).with_extension("bssrdf"),
+        // SCENE.toml gives SCENE.bssrdf: only the last extension goes (`shot.v1.toml` is
+        // `shot.v1.bssrdf`, never `shot.bssrdf`, which `shot.v2.toml` would overwrite)
+        None => {
+            let mut name = path.file_stem().unwrap_or_default().to_os_string();
+            name.push(".bssrdf");
+            PathBuf::from(name)
+        }
     };
     super::bake::check_output(args, &output)?;
     let text = std::fs::read_to_string(path)

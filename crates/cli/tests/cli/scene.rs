@@ -277,6 +277,24 @@ fn particle_scenes_drop_the_theta_sampling_section() {
 }
 
 #[test]
+fn the_default_output_replaces_only_the_last_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = "integrator = \"particle\"\n[[material]]\nname = \"skin1\"\n";
+    for name in ["shot.v1.toml", "shot.v2.toml"] {
+        std::fs::write(d.join(name), scene).unwrap();
+        let s = json(&bssrdf(
+            d,
+            &["bake", "--scene", name, "--grid", "coarse", "--json", "-q"],
+        ));
+        assert_eq!(s["output"], name.replace(".toml", ".bssrdf"));
+    }
+    // Two files, neither overwriting the other; no shot.bssrdf
+    assert!(d.join("shot.v1.bssrdf").is_file() && d.join("shot.v2.bssrdf").is_file());
+    assert!(!d.join("shot.bssrdf").exists());
+}
+
+#[test]
 fn inline_scene_materials_and_stderr_without_a_terminal() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
