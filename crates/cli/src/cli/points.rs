@@ -1,8 +1,11 @@
 //! The points CSV of `eval --points`: the columns `bssrdf sample` writes (`rho`, `theta_deg`,
 //! `r` in reduced mean free paths or `r_mm` with --material, `phi_deg`), read whole and
 //! checked before anything is printed. Other columns (sample's `pdf`, `phi_prime_deg`, a
-//! user's labels) are copied through to the output unchanged; a column named twice, or the
-//! output's own `value`, is refused. A UTF-8 byte-order mark and quoted fields are accepted.
+//! user's labels) are copied through to the output unchanged, as bytes (spaces and bytes that
+//! are not UTF-8 kept); a column named twice, or the output's own `value`, is refused. A UTF-8
+//! byte-order mark and quoted fields are accepted; spaces around a header name and around the
+//! numbers read are ignored. Errors name the physical line of the row: every line ending
+//! (`\n`, `\r\n`, a lone `\r`) counts, blank lines too.
 
 use super::CliError;
 use std::io::Write;
@@ -36,8 +39,8 @@ pub struct Rows {
     /// The line of each row in the input (1-based), for errors.
     pub lines: Vec<u64>,
     pub points: Vec<Point>,
-    headers: csv::StringRecord,
-    records: Vec<csv::StringRecord>,
+    headers: csv::ByteRecord,
+    records: Vec<csv::ByteRecord>,
     r_column: &'static str,
 }
 
@@ -56,12 +59,12 @@ impl Rows {
     pub fn write_with_values(&self, out: &mut impl Write, values: &[f64]) -> std::io::Result<()> {
         let mut writer = csv::Writer::from_writer(out);
         let mut header = self.headers.clone();
-        header.push_field("value");
-        writer.write_record(&header).map_err(io_error)?;
+        header.push_field(b"value");
+        writer.write_byte_record(&header).map_err(io_error)?;
         for (record, value) in self.records.iter().zip(values) {
             let mut row = record.clone();
-            row.push_field(&format!("{value:e}"));
-            writer.write_record(&row).map_err(io_error)?;
+            row.push_field(format!("{value:e}").as_bytes());
+            writer.write_byte_record(&row).map_err(io_error)?;
         }
         writer.flush()
     }
@@ -71,6 +74,60 @@ fn io_error(e: csv::Error) -> std::io::Error {
     match e.into_kind() {
         csv::ErrorKind::Io(e) => e,
         other => std::io::Error::other(format!("{other:?}")),
+    }
+}
+
+/// A field without the spaces around it (Unicode white space when the field is UTF-8, ASCII
+/// white space otherwise).
+fn trimmed(field: &[u8]) -> &[u8] {
+    match std::str::from_utf8(field) {
+        Ok(text) => text.trim().as_bytes(),
+        Err(_) => field.trim_ascii(),
+    }
+}
+
+/// Physical line numbers of the records of one input. The csv reader's own line is where its
+/// read of a record began, before the blank lines it skips, and counts `\n` only; here the
+/// line is the one the record's first field is on, counting `\n`, `\r\n` and a lone `\r`.
+struct Lines<'a> {
+    bytes: &'a [u8],
+    /// The bytes before this offset are counted
+    counted: usize,
+    /// The line the byte at `counted` is on, 1-based
+    line: u64,
+}
+
+impl<'a> Lines<'a> {
+    fn new(bytes: &'a [u8]) -> Self {
+        Self {
+            bytes,
+            counted: 0,
+            line: 1,
+        }
+    }
+
+    /// The line of the record the reader started reading at `position` (offsets never go
+    /// back: records come in order).
+    fn of(&mut self, position: Option<&csv::Position>) -> u64 {
+        let bytes = self.bytes;
+        let start = position
+            .and_then(|p| usize::try_from(p.byte()).ok())
+            .unwrap_or(self.counted)
+            .clamp(self.counted, bytes.len());
+        // Skip the blank lines the reader skipped: the record starts at the next other byte
+        let first = bytes[start..]
+            .iter()
+            .position(|b| !matches!(b, b'\r' | b'\n'))
+            .map_or(bytes.len(), |i| start + i);
+        let head = &bytes[self.counted..first];
+        for (i, &b) in head.iter().enumerate() {
+            // `first` is never inside a "\r\n": its byte is neither
+            if b == b'\n' || (b == b'\r' && head.get(i + 1) != Some(&b'\n')) {
+                self.line += 1;
+            }
+        }
+        self.counted = first;
+        self.line
     }
 }
 
@@ -96,21 +153,36 @@ pub fn read(path: &Path, material_rho: Option<f64>) -> Result<Rows, CliError> {
         std::fs::read(path)
             .map_err(|e| CliError::input(format!("cannot read points file {name}: {e}")))?
     };
-    let bad = |e: csv::Error| CliError::input(format!("points file {name}: {e}"));
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(bytes.as_slice());
-    let headers = reader.headers().map_err(bad)?.clone();
-    if headers.is_empty() || (headers.len() == 1 && headers[0].is_empty()) {
+    let mut lines_of = Lines::new(&bytes);
+    let bad = |e: csv::Error, lines_of: &mut Lines| match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            pos,
+            expected_len,
+            len,
+        } => CliError::input(format!(
+            "{name}:{}: the row has {len} fields, the header {expected_len}",
+            lines_of.of(pos.as_ref())
+        )),
+        _ => CliError::input(format!("points file {name}: {e}")),
+    };
+    // Not trimmed: the columns copied through stay as they are; the ones read are trimmed here
+    let mut reader = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
+    let headers = reader
+        .byte_headers()
+        .map_err(|e| bad(e, &mut lines_of))?
+        .clone();
+    let names: Vec<&[u8]> = headers.iter().map(trimmed).collect();
+    if names.is_empty() || (names.len() == 1 && names[0].is_empty()) {
         return Err(CliError::input(format!(
             "points file {name} is empty: it needs a header naming its columns"
         )));
     }
-    let position = |column: &str| headers.iter().position(|h| h == column);
-    for (i, h) in headers.iter().enumerate() {
-        if headers.iter().take(i).any(|earlier| earlier == h) {
+    let position = |column: &str| names.iter().position(|h| *h == column.as_bytes());
+    for (i, h) in names.iter().enumerate() {
+        if names.iter().take(i).any(|earlier| earlier == h) {
             return Err(CliError::input(format!(
-                "points file {name}: column {h:?} appears twice in the header"
+                "points file {name}: column {:?} appears twice in the header",
+                String::from_utf8_lossy(h)
             )));
         }
     }
@@ -153,11 +225,11 @@ pub fn read(path: &Path, material_rho: Option<f64>) -> Result<Rows, CliError> {
     let phi_at = position("phi_deg").ok_or_else(|| missing("phi_deg"))?;
 
     let (mut points, mut lines, mut records) = (Vec::new(), Vec::new(), Vec::new());
-    for record in reader.records() {
-        let record = record.map_err(bad)?;
-        let line = record.position().map_or(0, |p| p.line());
+    for record in reader.byte_records() {
+        let record = record.map_err(|e| bad(e, &mut lines_of))?;
+        let line = lines_of.of(record.position());
         let number = |at: usize, column: &str| -> Result<f64, CliError> {
-            let text = record.get(at).unwrap_or("");
+            let text = String::from_utf8_lossy(trimmed(record.get(at).unwrap_or_default()));
             text.parse().map_err(|_| {
                 CliError::input(format!(
                     "{name}:{line}: column {column} = {text:?} is not a number"

@@ -438,7 +438,10 @@ fn points_files_are_read_whole_and_checked_first() {
             "rho,theta_deg,r_mm,phi_deg\n0.9,0,1,0\n",
             "column r_mm is in mm, which needs --material",
         ),
-        ("rho,theta_deg,r,phi_deg\n0.9,0,1\n", "points file stdin"),
+        (
+            "rho,theta_deg,r,phi_deg\n0.9,0,1\n",
+            "stdin:2: the row has 3 fields, the header 4",
+        ),
         ("", "is empty"),
         // A row of empty fields is a row: refused, not dropped (rows in = rows out)
         (
@@ -454,6 +457,69 @@ fn points_files_are_read_whole_and_checked_first() {
         2,
         "points file pts is a folder",
     );
+}
+
+#[test]
+fn points_errors_name_the_physical_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let eval = ["eval", "--points", "-", "--quadrature", "fast"];
+    let header = "rho,theta_deg,r,phi_deg";
+    for (input, needle) in [
+        // Blank lines count: the bad row is the file's sixth line
+        (
+            format!("{header}\n0.9,0,1,0\n\n\n\n0.9,95,1,0\n"),
+            "stdin:6: column theta_deg 95",
+        ),
+        // Every line ending counts: a lone \r, and \r\n once
+        (
+            format!("{header}\r0.9,0,1,0\r0.9,95,1,0\r"),
+            "stdin:3: column theta_deg",
+        ),
+        (
+            format!("{header}\r\n0.9,0,1,0\r\n\r\n0.9,95,1,0\r\n"),
+            "stdin:4: column theta_deg",
+        ),
+        // A quoted field over two lines: the next row starts on line 4
+        (
+            format!("{header},note\n0.9,0,1,0,\"a\nb\"\n0.9,95,1,0,c\n"),
+            "stdin:4: column theta_deg",
+        ),
+        // A row with the wrong number of fields, in the same form
+        (
+            format!("{header}\n0.9,0,1,0\n\n0.9,0,1\n"),
+            "stdin:4: the row has 3 fields, the header 4",
+        ),
+    ] {
+        let o = with_stdin(d, &eval, &input);
+        fails_with(&o, 2, needle);
+        assert!(
+            !text(&o.stderr).contains("CSV error"),
+            "{}",
+            text(&o.stderr)
+        );
+    }
+}
+
+#[test]
+fn points_columns_not_read_are_copied_through_as_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A quoted field with spaces, a byte that is not UTF-8, spaces around a number and a name
+    let input: &[u8] = b"rho,theta_deg, r ,phi_deg,label,raw\n0.9,0, 1 ,0,\" x \",\xff\xfeab\n";
+    std::fs::write(d.join("p.csv"), input).unwrap();
+    let o = bssrdf(d, &["eval", "--points", "p.csv", "--quadrature", "fast"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let expected: &[u8] = b"rho,theta_deg, r ,phi_deg,label,raw,value\n0.9,0, 1 ,0, x ,\xff\xfeab,";
+    assert!(o.stdout.starts_with(expected), "{:?}", text(&o.stdout));
+    // The value is the one of the same point without the extra columns
+    let plain = ok(&with_stdin(
+        d,
+        &["eval", "--points", "-", "--quadrature", "fast"],
+        "rho,theta_deg,r,phi_deg\n0.9,0,1,0\n",
+    ));
+    let last = |out: &str| out.trim_end().rsplit(',').next().unwrap().to_string();
+    assert_eq!(last(&text(&o.stdout)), last(&plain));
 }
 
 // ---- Negative numbers, bins, threads, progress ----
