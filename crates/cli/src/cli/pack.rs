@@ -23,7 +23,7 @@ pub struct UnpackArgs {
     /// Library file to convert.
     file: PathBuf,
     /// Output (default: rewrite FILE in place, atomically; a link is followed, the file's
-    /// permissions kept).
+    /// permissions kept). An output that is FILE, by any name, is refused: leave -o out.
     #[arg(short, long)]
     output: Option<PathBuf>,
 }
@@ -48,7 +48,7 @@ pub fn unpack(args: UnpackArgs) -> Result<ExitCode, CliError> {
 /// Packs at `level`, or unpacks without one.
 fn convert(args: &UnpackArgs, level: Option<i32>) -> Result<ExitCode, CliError> {
     let output = args.output.clone().unwrap_or_else(|| args.file.clone());
-    if output == args.file {
+    if args.output.is_none() {
         // In place: FILE is replaced through a temporary file, which needs a path to a regular
         // file. Through a descriptor (`/dev/stdin` redirected from the file, or a pipe) the
         // output would be written into the input it is read from.
@@ -68,6 +68,8 @@ fn convert(args: &UnpackArgs, level: Option<i32>) -> Result<ExitCode, CliError> 
             )));
         }
     } else {
+        // Any -o that is FILE, however spelled (`-o FILE` too), is refused like every output
+        // on an input: in place is asked for by leaving -o out
         super::output::check(&[("-o", &output)], &[("FILE", &args.file)])?;
     }
     let done = match level {

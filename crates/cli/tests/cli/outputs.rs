@@ -271,6 +271,23 @@ fn pack_and_unpack_never_write_into_their_input() {
             "$B pack t.bssrdf -o ./t.bssrdf",
             "-o ./t.bssrdf is the input",
         ),
+        // The same spelling as FILE is FILE too (in place is -o left out)
+        (
+            "$B pack t.bssrdf -o t.bssrdf",
+            "-o t.bssrdf is the input FILE",
+        ),
+        (
+            "$B unpack t.bssrdf -o t.bssrdf",
+            "-o t.bssrdf is the input FILE",
+        ),
+        (
+            "$B unpack t.bssrdf -o ./t.bssrdf",
+            "-o ./t.bssrdf is the input",
+        ),
+        (
+            "ln -sf t.bssrdf link.bssrdf && $B pack link.bssrdf -o t.bssrdf",
+            "-o t.bssrdf is the input FILE link.bssrdf",
+        ),
         (
             "$B pack no-such.bssrdf --level 99",
             "--level 99 is outside the valid range: [-131072, 22]",
