@@ -1,5 +1,5 @@
 //! Checks on the files a command writes, before its work: each one writable as what it is,
-//! no two outputs on one file, no output on an input.
+//! not `-`, no two outputs on one file, no output on an input.
 
 use super::CliError;
 use std::path::{Path, PathBuf};
@@ -26,6 +26,12 @@ fn identity(path: &Path) -> PathBuf {
 pub fn check(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<(), CliError> {
     // A folder (or a device that is no stream) is refused now, not after the work
     for (what, path) in outputs {
+        // "-" reads as stdout but would be a file named "-": stdout is /dev/stdout here
+        if path.as_os_str() == "-" {
+            return Err(CliError::input(format!(
+                "{what} - would be a file named \"-\", not stdout: write to stdout with /dev/stdout, or to that file with ./-"
+            )));
+        }
         bssrdf_zoo::format::check_writable(path).map_err(|e| CliError::input(e.to_string()))?;
         // Messages (warnings, errors) go to stderr: a file written there would mix with them
         if is_stream_of(path, "/dev/stderr") {

@@ -241,6 +241,39 @@ fn dev_stdout_is_written_through_on_a_pipe_and_on_a_file() {
     assert_eq!(v["bytes"].as_u64(), Some(size), "{o}");
 }
 
+/// An output given as "-" is refused by every command that writes a file: it would be a file
+/// named "-", not stdout.
+#[test]
+fn an_output_named_dash_is_refused() {
+    let dir = bare();
+    let d = dir.path();
+    for args in [
+        vec!["pack", "t.bssrdf", "-o", "-"],
+        vec!["unpack", "t.bssrdf", "-o", "-"],
+        vec!["bake", "--eta", "1.33", "--grid", "coarse", "-q", "-o", "-"],
+        vec![
+            "walk",
+            "--albedo",
+            "0.9",
+            "--photons",
+            "1000",
+            "--profile",
+            "-",
+        ],
+    ] {
+        let what = args[args.len() - 2];
+        fails_with(
+            &bssrdf(d, &args),
+            2,
+            &format!("{what} - would be a file named \"-\", not stdout"),
+        );
+        assert!(!d.join("-").exists(), "{args:?}");
+    }
+    // A file named "-" is ./-
+    ok(&bssrdf(d, &["pack", "t.bssrdf", "-o", "./-"]));
+    assert!(d.join("-").is_file());
+}
+
 /// pack and unpack rewrite FILE in place through a temporary file; never through a descriptor
 /// that leads to the input (it would be written into itself, and a pipe would never end), and
 /// an -o that is the input is refused as for every command.
