@@ -154,13 +154,16 @@ fn table_json(t: &TableDiff) -> Value {
 }
 
 /// Compares the two files and prints the report; exit 1 when they differ.
-pub fn run(args: DiffArgs) -> Result<ExitCode, CliError> {
+pub fn run(mut args: DiffArgs) -> Result<ExitCode, CliError> {
     for (name, value) in [
         ("tolerance", args.tolerance),
         ("abs-tolerance", args.abs_tolerance),
     ] {
         super::check_range(&format!("--{name}"), value, 0.0..)?;
     }
+    // −0 is 0 (and printed as 0, in the JSON too)
+    args.tolerance += 0.0;
+    args.abs_tolerance += 0.0;
     let tolerance = Tolerance::new(args.tolerance, args.abs_tolerance)
         .map_err(|e| CliError::input(e.to_string()))?;
     let a = super::library::open(&args.a, args.mmap)?;

@@ -242,6 +242,34 @@ fn a_scene_bake_matches_the_full_bake_on_its_rows() {
 }
 
 #[test]
+fn negative_zero_tolerances_are_zero() {
+    let dir = pair();
+    let d = dir.path();
+    let args = [
+        "diff",
+        "a.bssrdf",
+        "b.bssrdf",
+        "--tolerance",
+        "-0",
+        "--abs-tolerance",
+        "-0.0",
+    ];
+    let o = bssrdf(d, &args);
+    assert_eq!(code(&o), Some(1));
+    assert!(
+        text(&o.stdout).contains("(tolerance 0 relative, 0 absolute;"),
+        "{}",
+        text(&o.stdout)
+    );
+    let o = bssrdf(d, &[&args[..], &["--json"]].concat());
+    let j = json(&o);
+    for key in ["tolerance", "abs_tolerance"] {
+        let t = j[key].as_f64().unwrap();
+        assert!(t == 0.0 && t.is_sign_positive(), "{key}: {}", j[key]);
+    }
+}
+
+#[test]
 fn missing_or_corrupt_files_and_bad_tolerances_exit_2() {
     let dir = pair();
     let d = dir.path();
