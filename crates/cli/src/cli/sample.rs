@@ -5,6 +5,7 @@
 
 use super::library::{self, TableChoice};
 use super::CliError;
+use bssrdf_zoo::format::Library;
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use clap::Args;
 use std::io::Write;
@@ -75,8 +76,9 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
     };
     if args.path_tracing && !view.has_theta_sampling() {
         return Err(CliError::input(format!(
-            "{} was baked without the theta-sampling table (--no-theta-sampling): path tracing needs it",
-            args.file.display()
+            "{} {}: path tracing needs it",
+            args.file.display(),
+            no_theta_sampling(&library)
         )));
     }
     // One CSV row per draw; `None` where nothing can be drawn.
@@ -136,4 +138,23 @@ fn no_sample(rho: f64, theta: Option<f64>) -> CliError {
         Some(t) => format!("no light leaves at rho {rho}, theta {t}: nothing to sample (rho = 0 scatters nothing, and no light enters beyond the critical angle)"),
         None => format!("no light leaves at rho {rho}: nothing to sample"),
     })
+}
+
+/// Why a file has no theta-sampling table, as its provenance tells: a scene bake for particle
+/// tracing keeps none, a plain bake drops it with --no-theta-sampling.
+fn no_theta_sampling(library: &Library) -> &'static str {
+    let settings = library.provenance().and_then(|p| p.get("settings"));
+    let integrator = settings
+        .and_then(|s| s.pointer("/scene/integrator"))
+        .and_then(|i| i.as_str());
+    let theta_sampling = settings
+        .and_then(|s| s.get("theta_sampling"))
+        .and_then(|t| t.as_bool());
+    match (integrator, theta_sampling) {
+        (Some("particle"), _) => {
+            "was baked from a scene with integrator = \"particle\", which keeps no theta-sampling table (integrator = \"path\" keeps it)"
+        }
+        (_, Some(false)) => "was baked without the theta-sampling table (--no-theta-sampling)",
+        _ => "has no theta-sampling table",
+    }
 }

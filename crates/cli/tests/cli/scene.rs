@@ -273,7 +273,48 @@ fn particle_scenes_drop_the_theta_sampling_section() {
             "2",
         ],
     );
-    fails_with(&o, 2, &["theta-sampling"]);
+    // The message names the real reason: the scene's integrator, not --no-theta-sampling
+    fails_with(
+        &o,
+        2,
+        &[
+            "p.bssrdf was baked from a scene with integrator = \"particle\", which keeps no theta-sampling table",
+            "path tracing needs it",
+        ],
+    );
+    assert!(!text(&o.stderr).contains("--no-theta-sampling"));
+    // A plain bake without it names the flag
+    ok(&bssrdf(
+        d,
+        &[
+            "bake",
+            "--eta",
+            "1.33",
+            "--grid",
+            "coarse",
+            "--no-theta-sampling",
+            "-q",
+            "-o",
+            "nt.bssrdf",
+        ],
+    ));
+    let o = bssrdf(
+        d,
+        &[
+            "sample",
+            "nt.bssrdf",
+            "--rho",
+            "0.5",
+            "--path-tracing",
+            "-n",
+            "2",
+        ],
+    );
+    fails_with(
+        &o,
+        2,
+        &["nt.bssrdf was baked without the theta-sampling table (--no-theta-sampling)"],
+    );
 }
 
 #[test]
