@@ -89,7 +89,7 @@ pub struct BakeArgs {
     #[arg(long, value_enum, default_value = "pbd")]
     pub(super) source: SourceArg,
     /// Photons per θ node of a --source walk bake, for each group of albedo rows (the rows
-    /// above ρ′ = 0.999 take an eighth of them), in [131072, 10¹²], default 250000; the
+    /// above ρ′ = 0.999 take an eighth of them), in [131072, 1e12], default 250000; the
     /// table's noise falls like 1/√photons.
     #[arg(long, value_parser = super::values::whole::<u64>)]
     pub(super) photons: Option<u64>,

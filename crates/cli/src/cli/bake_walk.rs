@@ -4,6 +4,7 @@
 //! multiple scattering, `--component multiple` keeps the latter alone.
 
 use super::bake::{table_summary, BakeArgs, ComponentArg, LobesArg, Summary};
+use super::values::show_whole;
 use super::CliError;
 use bssrdf_zoo::bake::{bake_walk_library, BakeError, BakeGrid, WalkSettings};
 use bssrdf_zoo::format::Compression;
@@ -86,7 +87,10 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
     let photons = args.photons.unwrap_or(DEFAULT_WALK_PHOTONS);
     if !(MIN_WALK_PHOTONS..=MAX_WALK_PHOTONS).contains(&photons) {
         return Err(CliError::input(format!(
-            "--photons {photons} is outside the valid range: [{MIN_WALK_PHOTONS}, {MAX_WALK_PHOTONS}] (the rows above rho' = 0.999 walk 1/{WALK_LAST_GROUP_SHARE} of them, and their standard errors need 16 blocks of {} photons)",
+            "--photons {} is outside the valid range: [{}, {}] (the rows above rho' = 0.999 walk 1/{WALK_LAST_GROUP_SHARE} of them, and their standard errors need 16 blocks of {} photons)",
+            show_whole(photons),
+            show_whole(MIN_WALK_PHOTONS),
+            show_whole(MAX_WALK_PHOTONS),
             bssrdf_zoo::walk::BLOCK
         )));
     }

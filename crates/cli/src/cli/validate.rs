@@ -10,6 +10,7 @@
 //! checked case is ok; exit 1 otherwise (a run that checked nothing is not a pass).
 
 use super::library::{self, TableChoice};
+use super::values::show_whole;
 use super::CliError;
 use bssrdf_zoo::table::{validate, FileTable, ValidationRow, REPORT_TABLE_2};
 use clap::Args;
@@ -69,8 +70,9 @@ impl Status {
 pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
     if !(1..=MAX_SAMPLES).contains(&args.samples) {
         return Err(CliError::input(format!(
-            "--samples {} is outside the valid range: [1, {MAX_SAMPLES}]",
-            args.samples
+            "--samples {} is outside the valid range: [1, {}]",
+            show_whole(args.samples as u64),
+            show_whole(MAX_SAMPLES as u64)
         )));
     }
     if let Some(p) = args.max_mean_error {

@@ -12,6 +12,17 @@ pub fn show(v: f64) -> String {
     bssrdf_zoo::error::number(v)
 }
 
+/// A whole number (a count, a range's end) as messages print it: through [`show`], so
+/// `1e12` and `131072` as the help writes them, or in digits where its f64 is not exact.
+pub fn show_whole(n: u64) -> String {
+    let x = n as f64;
+    if x < 9007199254740992.0 || x as u64 == n {
+        show(x)
+    } else {
+        n.to_string()
+    }
+}
+
 /// An albedo band's edge as messages and tables print it: to 4 decimals (a scene bake's bands
 /// end at its kept rows, f32 values such as 0.47971081733703613; `--json` keeps them whole).
 pub fn show_band(v: f64) -> String {

@@ -97,11 +97,19 @@ fn validate_refuses_values_outside_their_domain() {
             needle,
         );
     }
+    // The range as --help writes it
     fails_with(
         &bssrdf(dir.path(), &["validate", "t.bssrdf", "--samples", "0"]),
         2,
-        "--samples 0",
+        "--samples 0 is outside the valid range: [1, 1e8]",
     );
+    fails_with(
+        &bssrdf(dir.path(), &["validate", "t.bssrdf", "--samples", "1e9"]),
+        2,
+        "--samples 1e9 is outside the valid range: [1, 1e8]",
+    );
+    let help = ok(&bssrdf(dir.path(), &["validate", "--help"]));
+    assert!(help.contains("in [1, 1e8]"), "{help}");
 }
 
 /// A case passes only when its mean error is within the bound by two standard errors of the
