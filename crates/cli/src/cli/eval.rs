@@ -226,7 +226,8 @@ fn unreachable_model(model: ModelKind) -> Result<f64, CliError> {
 }
 
 /// r is a finite number ≥ 0; every positive r, subnormals included, has a finite value, but
-/// burley's at subnormal r, whose 1/r growth passes f64's largest number (docs/cli.md). At
+/// burley's at subnormal r, whose 1/r growth passes f64's largest number, and pbd's on φ = 0
+/// when the refracted beam runs in the surface (θ = 90° at η = 1), +∞ there (docs/cli.md). At
 /// r = 0 each model gives its limit: +∞ where it diverges (pbd like ln(1/r), burley like 1/r;
 /// in JSON `"value": null, "limit": "inf"`), and the table models the value at which they cap that growth, 10⁻⁹
 /// times the first radial node (finite, documented in `TableRef::eval`).

@@ -97,6 +97,33 @@ fn eval_json_values_are_numbers_or_null_with_their_limit() {
     assert!(one["limit"].is_null(), "{one}");
 }
 
+/// The one r > 0 where pbd is infinite (docs/cli.md, docs/accuracy.md): the refracted beam in
+/// the surface (η = 1, θ = 90°) passes through the exit point on φ = 0; any other φ is finite.
+#[test]
+fn pbd_with_the_beam_in_the_surface_is_infinite_on_phi_0_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let eval = |phi: &str, json: bool| {
+        let mut args = vec![
+            "eval", "--model", "pbd", "--eta", "1", "--rho", "0.5", "--theta", "90", "--r", "1",
+            "--phi", phi,
+        ];
+        if json {
+            args.push("--json");
+        }
+        ok(&bssrdf(dir.path(), &args))
+    };
+    for phi in ["0", "-0", "360"] {
+        assert_eq!(eval(phi, false).trim(), "inf", "{phi}");
+        let j: serde_json::Value = serde_json::from_str(eval(phi, true).trim()).unwrap();
+        assert!(j["value"].is_null(), "{j}");
+        assert_eq!(j["limit"], "inf", "{j}");
+    }
+    for phi in ["1", "1e-300", "180"] {
+        let v: f64 = eval(phi, false).trim().parse().unwrap();
+        assert!(v.is_finite() && v > 0.0, "{phi}: {v}");
+    }
+}
+
 // ---- The kept albedo rows: checked before any output, tables chosen by them ----
 
 /// A scene of apple (η 1.3) whose channels keep two disjoint runs of rows: two tables of
