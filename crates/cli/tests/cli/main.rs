@@ -7,6 +7,7 @@ mod basics;
 mod common;
 mod completions;
 mod diff;
+mod doc_numbers;
 mod edges;
 mod files;
 mod invert;
