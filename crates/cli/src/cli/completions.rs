@@ -38,7 +38,7 @@ const EXIT_STATUS: [(&str, &str); 3] = [
     ),
     (
         "1",
-        "a check failed: validate found errors above the bounds, diff found differences, bake's own check found a table above its bound (nothing written unless --accept-error)",
+        "a check failed: validate found a case above its bound, a case it could not tell (too few points: inconclusive) or nothing to check; diff found differences; bake's own check found a table above its bound (nothing written unless --accept-error)",
     ),
     (
         "2",

@@ -58,7 +58,12 @@ fn man_pages_generate() {
     }
     let bake = std::fs::read_to_string(dir.path().join("pages/bssrdf-bake.1")).unwrap();
     assert!(bake.contains("scene"));
-    assert!(std::fs::read_to_string(dir.path().join("pages/bssrdf.1"))
-        .unwrap()
-        .contains("EXIT STATUS"));
+    let top = std::fs::read_to_string(dir.path().join("pages/bssrdf.1")).unwrap();
+    assert!(top.contains("EXIT STATUS"));
+    // Exit 1 from validate is not only a case above its bound (docs/cli.md, "Exit status")
+    let top = top.replace("\\-", "-");
+    assert!(
+        top.contains("too few points: inconclusive) or nothing to check"),
+        "{top}"
+    );
 }
