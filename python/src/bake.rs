@@ -194,6 +194,9 @@ fn parse_material(item: &Bound<'_, PyAny>) -> PyResult<MaterialSpec> {
             .ok_or_else(|| PyValueError::new_err(format!("the material's dict has no {key:?}")))
     };
     let name: String = required("name")?.extract()?;
+    // A built-in material's name (any case, an alias) would be two materials of one name
+    bssrdf_zoo::scene::check_new_id(&name, &materials::Library::builtin())
+        .map_err(errors::value)?;
     let eta: f64 = required("eta")?.extract()?;
     let g: [f64; 3] = match dict.get_item("g")? {
         Some(g) => rgb(&g)?,

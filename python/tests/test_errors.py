@@ -208,3 +208,18 @@ def test_arrays_of_more_dimensions_than_taken_and_negative_zero(table):
     # -0 in is 0, and no -0 comes out
     assert np.signbit(bz.models.eval("dipole", -0.0, 0.3, 1.0, 0.0)) == np.False_
     assert np.signbit(table.medium(-0.0, 2.0).rho_prime) == np.False_
+
+
+def test_a_dict_material_takes_no_built_in_name():
+    """As `bssrdf bake --name` and a scene's inline material refuse it: in any case, an alias
+    too (`bssrdf eval --material SKIN1` would find the built-in, not the record)."""
+    coefficients = {"sigma_s": 2.0, "sigma_a": 0.01, "eta": 1.33}
+    artist = {"reflectance": 0.5, "mfp": 1.0, "eta": 1.33}
+    for name, builtin in [("skin1", "skin1"), ("SKIN1", "skin1"), ("skimmilk", "skim-milk")]:
+        for parameters in (coefficients, artist):
+            needle = f'names the library material "{builtin}"'
+            with pytest.raises(ValueError, match=re.escape(needle)):
+                bz.bake_materials([{"name": name, **parameters}], "coarse")
+    # The built-in by its name is the built-in material, not a shadow of it
+    assert "skin1" in bz.builtin_materials()
+

@@ -447,7 +447,7 @@ fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<MaterialS
         bssrdf_zoo::medium::ETA_MIN..=bssrdf_zoo::medium::ETA_MAX,
     )?;
     let name = args.name.clone().unwrap_or_else(|| "custom".to_string());
-    if library.get(&name).is_ok() {
+    if bssrdf_zoo::scene::check_new_id(&name, library).is_err() {
         return Err(CliError::input(format!(
             "--name {name} is a material of the library (see `bssrdf materials`): choose another id"
         )));

@@ -480,15 +480,8 @@ fn resolve(
             second: "reflectance/mfp",
         });
     }
-    // An inline material takes a new id: a library one's (or its alias) would be two materials
-    // of one name, and lookups by name would find the library's
     if coefficients || diffuse {
-        if let Ok(m) = library.get(name) {
-            return Err(SceneError::InlineTakesLibraryName {
-                material: owned(),
-                library: m.id().to_string(),
-            });
-        }
+        check_new_id(name, library)?;
     }
     let pair = |a: Option<[f64; 3]>, b: Option<[f64; 3]>, na, nb| match (a, b) {
         (Some(a), Some(b)) => Ok((a, b)),
@@ -716,6 +709,21 @@ fn show(v: &Value) -> String {
         Value::Boolean(b) => b.to_string(),
         Value::Table(_) => "{ … }".to_string(),
         Value::Datetime(d) => format!("{d:?}"),
+    }
+}
+
+/// Refuses `name` as the id of a material given by its coefficients or the artist's parameters
+/// when it names a material of `library`, as [`Library::get`] finds one (any case, spaces or
+/// underscores for hyphens, an alias): the file would hold two materials of one name, and a
+/// lookup by name would find the library's. The one check of scene manifests, `bssrdf bake
+/// --name` and the Python package's bakes.
+pub fn check_new_id(name: &str, library: &Library) -> Result<(), SceneError> {
+    match library.get(name) {
+        Ok(m) => Err(SceneError::InlineTakesLibraryName {
+            material: name.to_string(),
+            library: m.id().to_string(),
+        }),
+        Err(_) => Ok(()),
     }
 }
 
