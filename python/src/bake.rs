@@ -261,7 +261,7 @@ fn run(
     }
     if let Some(path) = &path {
         py.detach(|| baked.builder().write_atomic(path, Compression::None))
-            .map_err(errors::format)?;
+            .map_err(errors::written)?;
     }
     let library = baked.into_library().map_err(errors::bake)?;
     Ok(Library::new(library, path))

@@ -1,7 +1,8 @@
 //! The library's errors as Python exceptions, each with the library's message: a file the
 //! operating system refuses is an `OSError` (`FileNotFoundError`, `PermissionError`, … by its
 //! kind), a file that is not a valid library is a `FormatError` (a `ValueError`), and every
-//! other refusal (a value outside its domain, an unknown name) is a `ValueError`.
+//! other refusal (a value outside its domain, an unknown name, a record the file's writer
+//! refuses) is a `ValueError`.
 
 use bssrdf_zoo::bake::BakeError;
 use bssrdf_zoo::embed::EmbedError;
@@ -38,6 +39,16 @@ pub fn format(e: FileError) -> PyErr {
     }
 }
 
+/// An error of writing a file: `OSError` (by kind) for the operating system's refusals, and
+/// `ValueError` for what the writer was given (a record the format cannot hold): nothing was
+/// read, so no `FormatError`.
+pub fn written(e: FileError) -> PyErr {
+    match e {
+        FileError::Io { .. } => format(e),
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
 /// An error of the handles: the file's (see [`format`]), a table the file describes badly
 /// (`FormatError`), or a value (`ValueError`).
 pub fn embed(e: EmbedError) -> PyErr {
@@ -50,10 +61,11 @@ pub fn embed(e: EmbedError) -> PyErr {
     }
 }
 
-/// An error of a bake: writing or opening its library (see [`embed`]), else a value.
+/// An error of a bake: building or writing its library (see [`written`]), opening it (see
+/// [`embed`]), else a value.
 pub fn bake(e: BakeError) -> PyErr {
     match e {
-        BakeError::Format(e) => format(e),
+        BakeError::Format(e) => written(e),
         BakeError::Embed(e) => embed(e),
         _ => PyValueError::new_err(e.to_string()),
     }

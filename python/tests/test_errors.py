@@ -1,6 +1,7 @@
 """Every refusal as a Python exception with the library's message."""
 
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -222,4 +223,28 @@ def test_a_dict_material_takes_no_built_in_name():
                 bz.bake_materials([{"name": name, **parameters}], "coarse")
     # The built-in by its name is the built-in material, not a shadow of it
     assert "skin1" in bz.builtin_materials()
+
+
+def test_records_the_file_would_refuse_are_value_errors_before_the_bake():
+    """A duplicate or a source too long is the caller's argument, not an invalid file read
+    (FormatError); refused before any table is baked: the grid's own refusal, which the bake
+    raises, does not come first."""
+    wax = {"name": "wax", "sigma_s": 2.0, "sigma_a": 0.01, "eta": 1.4}
+    unbakeable = {"rho": [0.5, 0.2], "theta": [0.0, 0.5], "r": [0.0, 0.5, 1.0, 2.0]}
+    for materials, needle in [
+        ([wax, wax], 'material "wax" is listed twice'),
+        (["skin1", "skin1"], 'material "skin1" is listed twice'),
+        (["skin1", "Skin1"], 'material "skin1" is listed twice'),
+        ([{**wax, "source": "x" * 257}], 'material "wax": source is 257 bytes'),
+        ([{**wax, "source": "a\nb"}], "control character"),
+    ]:
+        for grid in ((3, 3, 6), unbakeable):
+            with pytest.raises(ValueError, match=re.escape(needle)) as caught:
+                bz.bake_materials(materials, grid)
+            assert not isinstance(caught.value, bz.FormatError)
+    # 256 bytes are kept
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a grid this coarse misses the check's bound
+        library = bz.bake_materials([{**wax, "source": "x" * 256}], (3, 3, 6))
+    assert library.material("wax").source == "x" * 256
 

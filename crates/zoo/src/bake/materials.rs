@@ -4,7 +4,7 @@ use super::{BakeError, BakedLibrary, BakedMaterial, Baker, OnProgress};
 use crate::format::{self, LibraryBuilder};
 use crate::materials::Material;
 use crate::scene::artist::{self, ReflectanceCurve};
-use crate::scene::check_source;
+use crate::scene::{check_source, SceneError};
 use crate::table::AngularTable;
 
 /// A material to bake into a library: given by its coefficients, or by the artist's
@@ -30,8 +30,8 @@ enum Spec {
 }
 
 impl MaterialSpec {
-    /// A material by its coefficients; `source` (at most 256 bytes, which the file's writer
-    /// checks) says where they come from.
+    /// A material by its coefficients; `source` (at most 256 bytes, without control
+    /// characters, which [`Baker::bake`] checks) says where they come from.
     pub fn new(material: Material, source: impl Into<String>) -> Self {
         MaterialSpec(Spec::Coefficients {
             material: Box::new(material),
@@ -93,6 +93,13 @@ impl MaterialSpec {
         }
     }
 
+    /// Where its coefficients come from, as its record will say.
+    fn source(&self) -> &str {
+        match &self.0 {
+            Spec::Coefficients { source, .. } | Spec::Diffuse { source, .. } => source,
+        }
+    }
+
     /// η of the material.
     pub fn eta(&self) -> f64 {
         match &self.0 {
@@ -150,13 +157,22 @@ impl Baker {
     /// Bakes a library: one table per distinct η of `materials` and `etas` (every albedo row,
     /// in increasing η), each checked ([`table::check`](crate::table::check)), and one record
     /// per material, in the order given, on the table of its η. `progress` is called as the
-    /// tables go (module docs). Runs on the current rayon pool.
+    /// tables go (module docs). Runs on the current rayon pool. A material given twice (by
+    /// id) or a source the file cannot keep ([`check_source`]) is refused
+    /// ([`BakeError::Scene`]) before any table is baked.
     pub fn bake(
         &self,
         materials: &[MaterialSpec],
         etas: &[f64],
         progress: Option<OnProgress<'_>>,
     ) -> Result<BakedLibrary, BakeError> {
+        // The records' rules, checked now rather than by the file's writer after the bake
+        for (k, spec) in materials.iter().enumerate() {
+            check_source(spec.id(), spec.source())?;
+            if materials[..k].iter().any(|m| m.id() == spec.id()) {
+                return Err(SceneError::Duplicate(spec.id().to_string()).into());
+            }
+        }
         let mut all: Vec<f64> = materials.iter().map(MaterialSpec::eta).collect();
         all.extend_from_slice(etas);
         all.sort_by(f64::total_cmp);

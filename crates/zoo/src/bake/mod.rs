@@ -134,7 +134,8 @@ pub enum BakeError {
     /// The grid's albedo axis cannot be planned on (a scene bake).
     #[error("the grid's albedo axis: {0}")]
     Axis(crate::Error),
-    /// A scene's plan failed, or a material's `source` is longer than a file keeps.
+    /// A scene's plan failed, a material's `source` is one a file cannot keep, or a material
+    /// is given twice.
     #[error(transparent)]
     Scene(Box<SceneError>),
     /// A material given by the artist's parameters cannot be inverted through its table.

@@ -209,3 +209,32 @@ fn the_provenance_records_the_rules_of_two_lobes_and_of_grazing_nodes_only_where
         [true, false, true]
     );
 }
+
+#[test]
+fn records_the_file_would_refuse_are_refused_before_any_table() {
+    // A grid whose bake fails at once: the records' refusal comes first, so no table was baked
+    let unbakeable = Grid {
+        rho: vec![0.5, 0.2],
+        theta: vec![0.0, 0.5],
+        r: vec![0.0, 0.5, 1.0, 2.0],
+    };
+    let baker = Baker::new(unbakeable);
+    let wax =
+        materials::Material::from_coefficients("wax", [2.0; 3], [0.01; 3], [0.0; 3], 1.4).unwrap();
+    let spec = |source: &str| MaterialSpec::new(wax.clone(), source);
+    for (specs, needle) in [
+        (vec![spec(""), spec("")], "material \"wax\" is listed twice"),
+        (vec![spec(&"x".repeat(257))], "source is 257 bytes"),
+        (vec![spec("a\nb")], "control character"),
+    ] {
+        let err = baker.bake(&specs, &[], None).unwrap_err();
+        assert!(
+            matches!(err, bssrdf_zoo::bake::BakeError::Scene(_))
+                && err.to_string().contains(needle),
+            "{err}"
+        );
+    }
+    // The same grid's own refusal, with records the file keeps
+    let err = baker.bake(&[spec("")], &[], None).unwrap_err();
+    assert!(err.to_string().contains("cannot bake the table"), "{err}");
+}
