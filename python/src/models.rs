@@ -42,10 +42,11 @@ struct Built {
 /// (`bssrdf bake --source walk`); `g` defaults to its g (else 0). `mc` runs a walk of `photons`
 /// photons (default 100,000) from `seed` (default 1) for each (ρ′, θ), as
 /// `bssrdf eval --model mc` does. An argument the model does not use is refused (`table` and
-/// `grid` but for the table models, `grid` with `table`, `photons` and `seed` but for `mc`,
-/// `moments` for `mc` and `walk-table` or other than the table's). A model is built once for
-/// each run of points sharing its parameters. Where no light enters (η < 1 beyond the critical
-/// angle) every model gives 0, at points that are in their domain.
+/// `grid` but for the table models, `grid` with `table`, `g` but for `mc` and `walk-table`,
+/// `photons` and `seed` but for `mc`, `moments` for `mc` and `walk-table` or other than the
+/// table's). A model is built once for each run of points sharing its parameters. Where no
+/// light enters (η < 1 beyond the critical angle) every model gives 0, at points that are in
+/// their domain.
 #[pyfunction]
 #[pyo3(signature = (name, rho, theta, r, phi, *, eta = None, g = None, sigma_t = None, moments = None, table = None, grid = None, photons = None, seed = None))]
 #[allow(clippy::too_many_arguments)]
@@ -87,6 +88,11 @@ pub fn model_eval<'py>(
             "grid=",
             grid.is_some() && table.is_some(),
             "the bake's, and table= is given",
+        ),
+        (
+            "g=",
+            g.is_some() && !matches!(kind, ModelKind::MonteCarlo | ModelKind::WalkTable),
+            "the mc and walk-table models' (the walk's anisotropy)",
         ),
         ("photons=", photons.is_some() && !mc, "the mc model's"),
         ("seed=", seed.is_some() && !mc, "the mc model's"),

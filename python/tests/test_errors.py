@@ -248,3 +248,17 @@ def test_records_the_file_would_refuse_are_value_errors_before_the_bake():
         library = bz.bake_materials([{**wax, "source": "x" * 256}], (3, 3, 6))
     assert library.material("wax").source == "x" * 256
 
+
+def test_g_is_refused_by_the_models_without_a_walk(table):
+    """g sets the walk's phase function: the diffusion and table models have none, and took it
+    without a bit of difference."""
+    for name in ["dipole", "dirpole", "burley", "pbd", "pbd-fast", "table", "perpendicular"]:
+        extra = {"table": table} if name in ("table", "perpendicular") else {}
+        needle = f"g= is the mc and walk-table models' (the walk's anisotropy), not the {name} model's"
+        for g in (0.99, 0.0):
+            with pytest.raises(ValueError, match=re.escape(needle)):
+                bz.models.eval(name, 0.5, 0.3, 1.0, 0.0, g=g, **extra)
+        # Not given: the default call
+        assert bz.models.eval(name, 0.5, 0.3, 1.0, 0.0, **extra) > 0.0
+    assert bz.models.eval("mc", 0.5, 0.3, 1.0, 0.0, g=0.5, photons=100) >= 0.0
+
