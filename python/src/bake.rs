@@ -1,7 +1,7 @@
 //! `bake` and `bake_materials`: the library bake (`bssrdf_zoo::bake::Baker`, the pipeline of
 //! `bssrdf bake`), in memory, optionally written to a file, with the GIL released.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use bssrdf_zoo::bake::{BakeGrid, Baker, MaterialSpec};
 use bssrdf_zoo::format::Compression;
@@ -227,9 +227,16 @@ fn rgb(value: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
     }
 }
 
-/// Runs the bake on `threads` threads (all cores when None) with the GIL released, warns of
-/// its warnings and of a table above the check's bound, writes `path` if given and returns
-/// the library in memory.
+/// Refuses, before any work, an output `path` the write would refuse (a folder, a path ending
+/// in /, a new file in a folder that does not exist), as `bssrdf bake -o` does: an `OSError`
+/// by its cause, naming `path`.
+pub fn check_output(path: &Path) -> PyResult<()> {
+    bssrdf_zoo::format::check_writable(path).map_err(errors::written)
+}
+
+/// Checks `path`, then runs the bake on `threads` threads (all cores when None) with the GIL
+/// released, warns of its warnings and of a table above the check's bound, writes `path` if
+/// given and returns the library in memory.
 fn run(
     py: Python<'_>,
     baker: Baker,
@@ -238,6 +245,9 @@ fn run(
     threads: Option<usize>,
     path: Option<PathBuf>,
 ) -> PyResult<Library> {
+    if let Some(path) = &path {
+        check_output(path)?;
+    }
     let baked = py
         .detach(|| crate::on_threads(threads, || baker.bake(specs, etas, None)))?
         .map_err(errors::bake)?;

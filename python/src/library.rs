@@ -144,8 +144,10 @@ impl Library {
         Ok(Some(py.import("json")?.call_method1("loads", (text,))?))
     }
 
-    /// Writes the library to `path` atomically (a mappable, uncompressed file).
+    /// Writes the library to `path` atomically (a mappable, uncompressed file); a path the
+    /// write would refuse is refused first, naming it (`bake`'s `path=` check).
     fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        crate::bake::check_output(&path)?;
         py.detach(|| self.inner.write(&path)).map_err(errors::embed)
     }
 

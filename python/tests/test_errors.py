@@ -262,3 +262,28 @@ def test_g_is_refused_by_the_models_without_a_walk(table):
         assert bz.models.eval(name, 0.5, 0.3, 1.0, 0.0, **extra) > 0.0
     assert bz.models.eval("mc", 0.5, 0.3, 1.0, 0.0, g=0.5, photons=100) >= 0.0
 
+
+def test_an_output_path_is_checked_before_the_bake(tmp_path, library):
+    """As `bssrdf bake -o`: named as given (not the temporary file), before any work (the
+    grid's own refusal, raised by the bake, does not come first), nothing left behind."""
+    unbakeable = {"rho": [0.5, 0.2], "theta": [0.0, 0.5], "r": [0.0, 0.5, 1.0, 2.0]}
+    (tmp_path / "file").write_bytes(b"")
+    (tmp_path / "folder").mkdir()
+    cases = [
+        (tmp_path / "nosuch" / "x.bssrdf", FileNotFoundError, "its folder"),
+        (str(tmp_path / "x") + "/", IsADirectoryError, "the path names a folder (it ends in /)"),
+        (tmp_path / "folder", IsADirectoryError, "it is a folder, not a regular file"),
+        (tmp_path / "file" / "x.bssrdf", NotADirectoryError, "Not a directory"),
+    ]
+    for path, kind, reason in cases:
+        needle = f"cannot write {path}: {reason}"
+        for call in (
+            lambda: bz.bake(1.33, unbakeable, path=path),
+            lambda: bz.bake_materials(["skin1"], unbakeable, path=path),
+            lambda: library.write(path),
+        ):
+            with pytest.raises(kind, match=re.escape(needle)) as caught:
+                call()
+            assert ".tmp" not in str(caught.value)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "folder"]
+    assert list((tmp_path / "folder").iterdir()) == []

@@ -56,11 +56,17 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> FormatResult<()> {
 /// Refuses, before any work is done for it, an output that [`write_file_atomic`] would refuse
 /// for what it is or where it is: an existing folder, another file that is neither regular nor
 /// a stream, or a new file in a folder that does not exist (a permission shows at the write
-/// itself).
+/// itself). Each refusal names `path` and carries the I/O kind of its cause (`IsADirectory`,
+/// `NotADirectory`, `NotFound`), as the write itself would fail.
 pub fn check_writable(path: &Path) -> FormatResult<()> {
-    let refuse = |why: String| FormatError::io("write", path, io::Error::other(why));
+    let refuse = |kind: io::ErrorKind, why: String| {
+        FormatError::io("write", path, io::Error::new(kind, why))
+    };
     if path.as_os_str().as_encoded_bytes().ends_with(b"/") {
-        return Err(refuse("the path names a folder (it ends in /)".into()));
+        return Err(refuse(
+            io::ErrorKind::IsADirectory,
+            "the path names a folder (it ends in /)".into(),
+        ));
     }
     match fs::metadata(path) {
         Ok(meta) if meta.is_file() || is_stream(&meta.file_type()) => Ok(()),
@@ -74,11 +80,14 @@ pub fn check_writable(path: &Path) -> FormatResult<()> {
             };
             match fs::metadata(&folder) {
                 Ok(meta) if meta.is_dir() => Ok(()),
-                Ok(_) => Err(refuse(format!("{} is not a folder", folder.display()))),
-                Err(e) if e.kind() == io::ErrorKind::NotFound => Err(refuse(format!(
-                    "its folder {} does not exist",
-                    folder.display()
-                ))),
+                Ok(_) => Err(refuse(
+                    io::ErrorKind::NotADirectory,
+                    format!("{} is not a folder", folder.display()),
+                )),
+                Err(e) if e.kind() == io::ErrorKind::NotFound => Err(refuse(
+                    io::ErrorKind::NotFound,
+                    format!("its folder {} does not exist", folder.display()),
+                )),
                 Err(e) => Err(FormatError::io("write", path, e)),
             }
         }
@@ -87,15 +96,21 @@ pub fn check_writable(path: &Path) -> FormatResult<()> {
     }
 }
 
-/// The refusal of an output that is not a regular file (nor a stream).
+/// The refusal of an output that is not a regular file (nor a stream): `IsADirectory` for a
+/// folder.
 fn not_regular(path: &Path, meta: &fs::Metadata) -> FormatError {
+    let kind = if meta.is_dir() {
+        io::ErrorKind::IsADirectory
+    } else {
+        io::ErrorKind::Other
+    };
     FormatError::io(
         "write",
         path,
-        io::Error::other(format!(
-            "it is {}, not a regular file",
-            describe(&meta.file_type())
-        )),
+        io::Error::new(
+            kind,
+            format!("it is {}, not a regular file", describe(&meta.file_type())),
+        ),
     )
 }
 
@@ -346,6 +361,30 @@ mod tests {
             err.to_string().contains("more than 40 symbolic links"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn check_writable_refuses_with_the_kind_of_the_cause_naming_the_path() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        fs::write(d.join("file"), b"").unwrap();
+        let kind = |path: &Path| match check_writable(path) {
+            Err(FormatError::Io {
+                path: named,
+                source,
+                ..
+            }) => {
+                assert_eq!(named, path);
+                source.kind()
+            }
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(kind(&d.join("nosuch/x.bin")), io::ErrorKind::NotFound);
+        assert_eq!(kind(&d.join("x/")), io::ErrorKind::IsADirectory);
+        assert_eq!(kind(d), io::ErrorKind::IsADirectory);
+        assert_eq!(kind(&d.join("file/x.bin")), io::ErrorKind::NotADirectory);
+        assert!(check_writable(&d.join("file")).is_ok());
+        assert!(check_writable(&d.join("new.bin")).is_ok());
     }
 
     #[test]
