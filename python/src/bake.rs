@@ -235,8 +235,8 @@ pub fn check_output(path: &Path) -> PyResult<()> {
 }
 
 /// Checks `path`, then runs the bake on `threads` threads (all cores when None) with the GIL
-/// released, warns of its warnings and of a table above the check's bound, writes `path` if
-/// given and returns the library in memory.
+/// released, warns of its warnings and of a table above the check's bound or whose check saw
+/// no region, writes `path` if given and returns the library in memory.
 fn run(
     py: Python<'_>,
     baker: Baker,
@@ -263,10 +263,17 @@ fn run(
         warn(message.clone())?;
     }
     for table in baked.tables().iter().filter(|t| !t.check().passes()) {
+        // A check that saw no region is no finding of 0 regions above the bound
+        let finding = match table.check().nothing_checked() {
+            Some(note) => format!(": {note}"),
+            None => format!(
+                " is above the bake check's bound in {} region(s)",
+                table.check().failures().count()
+            ),
+        };
         warn(format!(
-            "the table at eta = {} is above the bake check's bound in {} region(s): see the library's provenance[\"accuracy\"]",
+            "the table at eta = {}{finding}: see the library's provenance[\"accuracy\"]",
             table.eta(),
-            table.check().failures().count()
         ))?;
     }
     if let Some(path) = &path {

@@ -125,3 +125,21 @@ def test_the_gil_is_released_during_lookups_and_bakes(table):
 
     assert ticks_during(lambda: table.eval(rho, 0.5, 1.0, 0.0)) > 100
     assert ticks_during(lambda: quiet(bz.bake, 1.33, grid=(16, 6, 16), threads=1)) > 100
+
+
+def test_a_check_that_saw_no_region_says_so_and_inspect_too(cli, tmp_path):
+    """ρ′ nodes only below the check's first band (0.001): no region checked is neither a
+    finding of 0 regions above the bound nor a pass."""
+    grid = {"rho": [0.0, 0.0005], "theta": [0.0, 0.5, 1.0, 1.5], "r": [0.0, 0.5, 1.0, 2.0, 4.0]}
+    path = tmp_path / "dark.bssrdf"
+    note = "no region of the check lies in the table's albedo rows (it covers rho' from 1e-3 to 1): nothing was checked"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        library = bz.bake(1.33, grid, path=path)
+    messages = [str(w.message) for w in caught]
+    assert messages == [f'the table at eta = 1.33: {note}: see the library\'s provenance["accuracy"]']
+    assert library.provenance["accuracy"]["tables"][0]["regions"] == []
+    inspected = cli("inspect", path)
+    assert "    eta 1.33: bound mean 1 %" in inspected
+    assert f"      {note}\n" in inspected
+    assert "theta deg" not in inspected  # no empty table of regions

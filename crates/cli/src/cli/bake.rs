@@ -298,12 +298,8 @@ impl Session {
         let mut failures = Vec::new();
         for result in baked.tables().iter().map(|t| t.check()) {
             // A table whose rows leave no region to check is not a pass
-            if result.regions.is_empty() {
-                failures.push(format!(
-                    "  eta {}: no region of the check lies in the table's albedo rows (it covers rho' from {} to 1): nothing was checked",
-                    super::show(result.eta),
-                    super::show(bssrdf_zoo::table::RHO_BANDS[0])
-                ));
+            if let Some(note) = result.nothing_checked() {
+                failures.push(format!("  eta {}: {note}", super::show(result.eta)));
             }
             for r in result.failures() {
                 failures.push(format!(

@@ -254,6 +254,11 @@ fn check_lines(accuracy: &serde_json::Value) -> Option<Vec<String>> {
             100.0 * bounds.coverage_rel_error,
             bounds.peak_fraction
         ));
+        // No region to list: not an empty table, which would read as a pass
+        if let Some(note) = table.nothing_checked() {
+            lines.push(format!("  {note}"));
+            continue;
+        }
         lines.push(format!(
             "  {:>11} {:>11} {:>6} {:>8} {:>8} {:>8} {:>8}  {:>5} {:>8} {:>5}",
             "rho",

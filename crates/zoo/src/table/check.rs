@@ -163,6 +163,19 @@ impl TableCheck {
     pub fn failures(&self) -> impl Iterator<Item = &RegionCheck> {
         self.regions.iter().filter(|r| !r.passes(&self.bounds))
     }
+
+    /// Why the check saw nothing, where no region lies in the table's albedo rows (all of them
+    /// below [`RHO_BANDS`]' first edge): neither a pass nor regions above the bound, and every
+    /// report of the check says so (`bssrdf bake`, `bssrdf inspect`, the Python bakes). `None`
+    /// where a region was checked.
+    pub fn nothing_checked(&self) -> Option<String> {
+        self.regions.is_empty().then(|| {
+            format!(
+                "no region of the check lies in the table's albedo rows (it covers rho' from {} to 1): nothing was checked",
+                crate::error::number(RHO_BANDS[0])
+            )
+        })
+    }
 }
 
 /// Runs the check on `table`, baked with `moments`, against `bounds` (module docs).

@@ -238,3 +238,22 @@ fn records_the_file_would_refuse_are_refused_before_any_table() {
     let err = baker.bake(&[spec("")], &[], None).unwrap_err();
     assert!(err.to_string().contains("cannot bake the table"), "{err}");
 }
+
+#[test]
+fn a_check_whose_rows_lie_below_its_regions_says_nothing_was_checked() {
+    let grid = Grid {
+        rho: vec![0.0, 0.0005],
+        theta: vec![0.0, 0.5, 1.0, 1.5],
+        r: vec![0.0, 0.5, 1.0, 2.0, 4.0],
+    };
+    let baked = Baker::new(grid).bake(&[], &[1.33], None).unwrap();
+    let check = baked.tables()[0].check();
+    assert!(check.regions.is_empty() && !check.passes());
+    let note = check.nothing_checked().unwrap();
+    assert!(note.contains("nothing was checked"), "{note}");
+    // A check that saw regions has no such note
+    let seen = Baker::new(Grid::ferrier(6, 4, 10))
+        .bake(&[], &[1.33], None)
+        .unwrap();
+    assert_eq!(seen.tables()[0].check().nothing_checked(), None);
+}
