@@ -35,12 +35,13 @@
 //!    analytic ridge of grazing incidence near index matching (`table::ridge`: cos θ′ < 0.3,
 //!    below η ≈ 1.0483; not for the beam in the surface), the walk's own forward ridge is
 //!    weaker and wider than PBD's (at η = 1, θ = 89°, ρ′ = 0.9 the walk over PBD is 0.3 within
-//!    10° of φ = 0 and 0.6–1.6 elsewhere), which no smooth tilt follows: there the tilt has two
-//!    terms (a₃ = a₄ = 0) matching μ̂₀ … μ̂₂, and P is PBD less
+//!    10° of φ = 0 and 0.6–1.6 elsewhere), which no smooth tilt follows: there, where the
+//!    ridge has its full weight (cos θ′ ≤ 0.1), the tilt has two terms (a₃ = a₄ = 0) matching
+//!    μ̂₀ … μ̂₂, and four where it ramps in ([`ridge_tilt_terms`]), and P is PBD less
 //!    the ridge's flux part R (its narrow lobe; the broad fluence lobes stay) plus a share s of
 //!    R widened by w, P − R + s R_w ([`Ridge::widened`]: every lobe's concentration times
 //!    e^{−w}), with s ∈ [0, [`MAX_RIDGE_SHARE`]] and w ∈ [0, [`MAX_RIDGE_WIDENING`]] those whose
-//!    tilt matching μ̂₀ … μ̂₂ matches μ̂₃ … μ̂₈ best (χ² with their standard errors: the narrow
+//!    tilt matches the harmonics above its own best (χ² with their standard errors: the narrow
 //!    ridge is the part of the profile that carries the high harmonics; [`fit_ridge_tilt`]; with
 //!    μ̂₃ and μ̂₄ alone the 89° cases at η = 1 were 1.07–1.12 times as far from the walk). A tilt
 //!    of four harmonics there, with the share fitted to μ̂₅ … μ̂₈, followed their noise
@@ -442,6 +443,8 @@ pub fn bake_walk(
                         rules: &rules,
                         ridge: ridge.as_ref(),
                         max_widening: max_ridge_widening(config.component),
+                        ridge_tilt_terms: crate::fresnel::refracted_cos(theta, eta)
+                            .map_or(RIDGE_TILT_TERMS, ridge_tilt_terms),
                     };
                     let RowTilts {
                         tilts,
@@ -596,6 +599,8 @@ struct Control<'a> {
     ridge: Option<&'a Ridge>,
     /// The most the walk's share of the ridge may be widened ([`fit_ridge_tilt`]).
     max_widening: f64,
+    /// The harmonics of the tilt beside the ridge's share ([`ridge_tilt_terms`]).
+    ridge_tilt_terms: usize,
 }
 
 /// The most harmonics of a tilt, 1 + a₁ cos φ + … + a₄ cos 4φ ([`fit_tilt`]).
@@ -803,14 +808,14 @@ fn with_share(
     std::array::from_fn(|n| smooth[n] + s * (-w * n as f64).exp() * ridge[n])
 }
 
-/// The tilt of [`RIDGE_TILT_TERMS`] harmonics of PBD less its ridge plus the share s of it
-/// widened by w whose kernel averages have the walk's μ̂₀ … μ̂₂ ([`fit_tilt`]) and, of the
-/// shares s ∈ [0, MAX_RIDGE_SHARE] and widenings w ∈ [0, `max_widening`] (at most
-/// [`MAX_RIDGE_WIDENING`]), its μ̂₃ … μ̂₈ closest (χ² with their standard errors): the ridge
+/// The tilt of `terms` harmonics ([`ridge_tilt_terms`]) of PBD less its ridge plus the share
+/// s of it widened by w whose kernel averages have the walk's μ̂₀ … μ̂_terms ([`fit_tilt`])
+/// and, of the shares s ∈ [0, MAX_RIDGE_SHARE] and widenings w ∈ [0, `max_widening`] (at most
+/// [`MAX_RIDGE_WIDENING`]), the harmonics above them, up to μ̂₈, closest (χ² with their standard errors): the ridge
 /// is the profile's only part narrow enough to carry the high harmonics, and the walk's is
 /// weaker and wider than PBD's near index matching. Without a ridge, (s, w) = (1, 0) (PBD
 /// itself) and the tilt of [`TILT_TERMS`] harmonics that matches μ̂₀ … μ̂₄.
-fn fit_ridge_tilt(m: &Measured, max_widening: f64) -> Tilt {
+fn fit_ridge_tilt(m: &Measured, max_widening: f64, terms: usize) -> Tilt {
     let [_, ridge] = &m.ridge;
     if ridge.iter().all(|&x| x == 0.0) {
         let (ln_k, a) = fit_tilt(&m.mean, &m.average, TILT_TERMS);
@@ -819,8 +824,8 @@ fn fit_ridge_tilt(m: &Measured, max_widening: f64) -> Tilt {
     // The tilt at (s, w) and its misses of the harmonics above it in standard errors
     let fit = |s: f64, w: f64| {
         let p = with_share(&m.average, ridge, s, w);
-        let (ln_k, a) = fit_tilt(&m.mean, &p, RIDGE_TILT_TERMS);
-        (misses(m, &tilted(&p, ln_k, a), RIDGE_TILT_TERMS), (ln_k, a))
+        let (ln_k, a) = fit_tilt(&m.mean, &p, terms);
+        (misses(m, &tilted(&p, ln_k, a), terms), (ln_k, a))
     };
     let chi2 = |s: f64, w: f64| {
         let z = fit(s, w).0;
@@ -919,12 +924,27 @@ fn dot(u: &[f64; HARMONICS], v: &[f64; HARMONICS]) -> f64 {
     u.iter().zip(v).map(|(a, b)| a * b).sum()
 }
 
-/// Harmonics of the tilt where PBD has a ridge ([`fit_ridge_tilt`]). With more, the tilt and
-/// the share trade off against each other and the fit follows the noise of the harmonics left
-/// to the share: at η = 1, 89° the zoo's mean errors were 1.02–1.17 times those of two terms
-/// with three (the share fitted to μ̂₄ … μ̂₈) and 1.1–1.9 times with four (μ̂₅ … μ̂₈; the ridge
-/// up to twice the walk's within 10° of φ = 0 at r = 0.04–0.14).
+/// Harmonics of the tilt where PBD has its ridge at full weight ([`fit_ridge_tilt`],
+/// [`ridge_tilt_terms`]). With more, the tilt and the share trade off against each other and
+/// the fit follows the noise of the harmonics left to the share: at η = 1, 89° the zoo's mean
+/// errors were 1.02–1.17 times those of two terms with three (the share fitted to μ̂₄ … μ̂₈) and
+/// 1.1–1.9 times with four (μ̂₅ … μ̂₈; the ridge up to twice the walk's within 10° of φ = 0 at
+/// r = 0.04–0.14).
 const RIDGE_TILT_TERMS: usize = 2;
+
+/// The harmonics of the tilt beside the ridge's share at cos θ′ = `cos_t`: [`RIDGE_TILT_TERMS`]
+/// where the ridge has its full weight (cos θ′ ≤ [`ridge::FULL_WEIGHT_COS`]), [`TILT_TERMS`]
+/// where it ramps in. There the ridge is a small part of the profile and the two terms left
+/// the walk's shape beyond the share: at η = 1 (74° and 78°) the profiles missed the walk's
+/// harmonics by 3.5–4.1 % RMS at g = 0 and 18–23 % at g = 0.9 (`walk_miss`), against 0–2.5 %
+/// and 8–10 % with four (docs/walk-table.md).
+fn ridge_tilt_terms(cos_t: f64) -> usize {
+    if cos_t <= ridge::FULL_WEIGHT_COS {
+        RIDGE_TILT_TERMS
+    } else {
+        TILT_TERMS
+    }
+}
 
 /// Levenberg–Marquardt steps of [`fit_ridge_tilt`] at most.
 const REFINE_STEPS: usize = 60;
@@ -982,7 +1002,7 @@ fn row_tilts(h: &WalkHarmonics, row: usize, r: &[f64], control: &Control) -> Row
         .map(|&k| {
             let m = &measured[k];
             let rel = m.rel.unwrap_or(MAX_REL_STDERR);
-            let mut tilt = fit_ridge_tilt(m, control.max_widening);
+            let mut tilt = fit_ridge_tilt(m, control.max_widening, control.ridge_tilt_terms);
             if energy_form {
                 tilt[0] = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
             }
@@ -1396,9 +1416,16 @@ mod tests {
         // Walk harmonics made as a tilt of a broad profile plus a share of a narrow ridge,
         // widened: the fit finds harmonics the walk's and, over their whole range, the share,
         // the widening and the tilt that made them
+        // (two harmonics where the ridge has full weight, four where it ramps in)
         let mut rng = SplitMix64::seed_from_u64(11);
-        for _ in 0..400 {
+        for (k, terms) in [RIDGE_TILT_TERMS, TILT_TERMS]
+            .into_iter()
+            .cycle()
+            .take(400)
+            .enumerate()
+        {
             let mut u = || rng.next_f64();
+            let high = if terms == TILT_TERMS { 1.0 } else { 0.0 };
             let broad = lobe(1.0, 0.2 + 0.5 * u());
             let floor = 0.3 * u();
             let smooth: [f64; PBD_HARMONICS] =
@@ -1408,7 +1435,12 @@ mod tests {
             let widening = MAX_RIDGE_WIDENING * u();
             let want = tilt_of(
                 u() - 0.5,
-                [0.6 * (u() - 0.5), 0.3 * (u() - 0.5), 0.0, 0.0],
+                [
+                    0.6 * (u() - 0.5),
+                    0.3 * (u() - 0.5),
+                    high * 0.2 * (u() - 0.5),
+                    high * 0.1 * (u() - 0.5),
+                ],
                 share,
                 widening,
             );
@@ -1418,10 +1450,10 @@ mod tests {
                 shape(&want),
             );
             let m = measured(mean, smooth, ridge);
-            let got = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING);
-            // a tilt of RIDGE_TILT_TERMS harmonics, whose harmonics are the walk's, to 10⁻⁶ of
-            // μ̂₀, up to μ̂₈
-            assert!(shape(&got)[RIDGE_TILT_TERMS..].iter().all(|&a| a == 0.0));
+            let got = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING, terms);
+            // a tilt of `terms` harmonics, whose harmonics are the walk's, to 10⁻⁶ of μ̂₀, up
+            // to μ̂₈
+            assert!(shape(&got)[terms..].iter().all(|&a| a == 0.0), "{k}");
             let h = tilted(
                 &with_share(&smooth, &ridge, got[SHARE], got[WIDENING]),
                 got[0],
@@ -1439,6 +1471,21 @@ mod tests {
                     assert!((g - w).abs() < 1e-4, "{got:?} against {want:?}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn the_tilt_beside_the_ridge_has_four_terms_where_the_ridge_ramps_in() {
+        use crate::table::ridge::{weight, FULL_WEIGHT_COS, ZERO_WEIGHT_COS};
+        for cos_t in [1e-5, 0.05, FULL_WEIGHT_COS] {
+            assert_eq!(
+                (weight(cos_t), ridge_tilt_terms(cos_t)),
+                (1.0, RIDGE_TILT_TERMS)
+            );
+        }
+        for cos_t in [FULL_WEIGHT_COS + 1e-9, 0.2, ZERO_WEIGHT_COS - 1e-9] {
+            assert!(weight(cos_t) < 1.0);
+            assert_eq!(ridge_tilt_terms(cos_t), TILT_TERMS);
         }
     }
 
@@ -1469,7 +1516,7 @@ mod tests {
                     want[0],
                     shape(&want),
                 );
-                let got = fit_ridge_tilt(&measured(mean, smooth, ridge), 0.0);
+                let got = fit_ridge_tilt(&measured(mean, smooth, ridge), 0.0, RIDGE_TILT_TERMS);
                 assert_eq!(got[WIDENING], 0.0);
                 if widening == 0.0 {
                     for (g, w) in got.iter().zip(want) {
@@ -1523,12 +1570,13 @@ mod tests {
         let got = fit_ridge_tilt(
             &measured(mean, smooth, [0.0; PBD_HARMONICS]),
             MAX_RIDGE_WIDENING,
+            RIDGE_TILT_TERMS,
         );
         let (ln_k, a) = fit_tilt(&mean, &smooth, TILT_TERMS);
         assert_eq!(got, tilt_of(ln_k, a, 1.0, 0.0));
         // and the energy form gives back the k of the fit
         let m = measured(mean, smooth, lobe(0.3, 0.99));
-        let fit = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING);
+        let fit = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING, RIDGE_TILT_TERMS);
         let ratio = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
         let mut energy_form = fit;
         energy_form[0] = ratio;
