@@ -936,8 +936,9 @@ const RIDGE_TILT_TERMS: usize = 2;
 /// where the ridge has its full weight (cos θ′ ≤ [`ridge::FULL_WEIGHT_COS`]), [`TILT_TERMS`]
 /// where it ramps in. There the ridge is a small part of the profile and the two terms left
 /// the walk's shape beyond the share: at η = 1 (74° and 78°) the profiles missed the walk's
-/// harmonics by 3.5–4.1 % RMS at g = 0 and 18–23 % at g = 0.9 (`walk_miss`), against 0–2.5 %
-/// and 8–10 % with four (docs/walk-table.md).
+/// harmonics by 3.5–4.1 % RMS at g = 0 and 18–23 % at g = 0.9 (`walk_miss`), against 1.8–2.3 %
+/// and 7–9 % with four, and the total table at 75° and 80° went from 1.05–1.40 to 0.92–1.29
+/// times the floor of 10⁷-photon walks (docs/walk-table.md).
 fn ridge_tilt_terms(cos_t: f64) -> usize {
     if cos_t <= ridge::FULL_WEIGHT_COS {
         RIDGE_TILT_TERMS
