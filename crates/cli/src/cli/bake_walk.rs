@@ -84,6 +84,8 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
         }
     };
     super::check_g(g)?;
+    // −0 is 0: in the file's record, the default file name and the summary
+    let g = g + 0.0;
     let photons = args.photons.unwrap_or(DEFAULT_WALK_PHOTONS);
     if !(MIN_WALK_PHOTONS..=MAX_WALK_PHOTONS).contains(&photons) {
         return Err(CliError::input(format!(

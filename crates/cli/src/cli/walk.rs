@@ -62,10 +62,12 @@ fn parse_bins(text: &str) -> Result<[f64; 4], String> {
     super::values::exactly(text, "R_MIN,R_MAX,NR,NPHI")
 }
 
-pub fn run(args: WalkArgs) -> Result<ExitCode, CliError> {
+pub fn run(mut args: WalkArgs) -> Result<ExitCode, CliError> {
     // The walk's own checks name its parameters; these name the flags
     super::check_range("--albedo", args.albedo, 0.0..=1.0)?;
     super::check_g(args.g)?;
+    // −0 is 0, and printed so (in the JSON too)
+    (args.albedo, args.g, args.theta) = (args.albedo + 0.0, args.g + 0.0, args.theta + 0.0);
     super::check_range("--eta", args.eta, ETA_MIN..=ETA_MAX)?;
     if let Some(tau) = args.slab {
         super::check_range("--slab", tau, (Bound::Excluded(0.0), Bound::Unbounded))?;

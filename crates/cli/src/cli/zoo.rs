@@ -53,9 +53,11 @@ pub struct ZooArgs {
     quiet: bool,
 }
 
-pub fn run(args: ZooArgs) -> Result<ExitCode, CliError> {
+pub fn run(mut args: ZooArgs) -> Result<ExitCode, CliError> {
     super::check_range("--eta", args.eta, ETA_MIN..=ETA_MAX)?;
     super::check_g(args.g)?;
+    // −0 is 0, and printed so
+    args.g += 0.0;
     super::check_photons(args.photons)?;
     let mut config = CompareConfig::new(args.eta, args.g, args.photons, args.seed);
     if !args.models.is_empty() {

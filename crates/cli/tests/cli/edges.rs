@@ -289,6 +289,45 @@ fn no_nan_and_no_negative_zero_is_printed() {
         ],
     );
     assert!(!text(&out.stdout).contains("-0.0"), "{}", text(&out.stdout));
+    // and so are the walk's and the zoo's
+    let o = ok(&bssrdf(
+        d,
+        &[
+            "walk",
+            "--albedo",
+            "-0",
+            "--g",
+            "-0",
+            "--theta",
+            "-0",
+            "--photons",
+            "1000",
+            "--json",
+            "-q",
+        ],
+    ));
+    let v: serde_json::Value = serde_json::from_str(o.trim()).unwrap();
+    for key in ["albedo", "g", "theta_deg"] {
+        assert!(v[key].as_f64().unwrap().is_sign_positive(), "{key}: {o}");
+    }
+    let o = ok(&bssrdf(
+        d,
+        &[
+            "zoo",
+            "--g",
+            "-0",
+            "--photons",
+            "1000",
+            "--cases",
+            "0.5:0",
+            "--models",
+            "mc",
+            "--json",
+            "-q",
+        ],
+    ));
+    let v: serde_json::Value = serde_json::from_str(o.trim()).unwrap();
+    assert!(v["g"].as_f64().unwrap().is_sign_positive(), "{o}");
     // A material file's −0 is listed as 0
     let zz = "id = \"zz\"\nname = \"Z\"\neta = 1.45\ncoefficients = \"unreduced\"\nsigma_s = [1.0, 1.1, 1.2]\nsigma_a = [0.01, -0.0, 0.05]\ng = [0, 0, -0.0]\n";
     std::fs::write(d.join("zz.toml"), zz).unwrap();
