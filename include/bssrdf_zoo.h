@@ -12,7 +12,9 @@
  * checked against the Rust exports by crates/capi/tests/capi/header.rs.
  *
  * Units: coefficients in mm^-1, distances in mm, S and densities per mm^2, angles in radians.
- * theta is the incidence angle from the normal BEFORE refraction, in [0, pi/2]. The exit point
+ * theta is the incidence angle from the normal BEFORE refraction, in [0, pi/2]; a table takes
+ * the range of its theta axis widened by f32 rounding at each end (its last node, pi/2 in f32,
+ * is pi/2 + 1.4e-7: an angle up to there is the node, one beyond it is refused). The exit point
  * lies at polar coordinates (r, phi) around the entry point, phi = 0 forward: in the plane of
  * incidence, on the side the refracted beam travels to. S_p is multiple scattering per unit
  * area per unit power entering the medium (no entry Fresnel factor).
@@ -86,7 +88,8 @@ extern "C" {
  * never extrapolated. */
 #define BSSRDF_ERROR_OUT_OF_RANGE 6
 /* Nothing to sample: no energy stored (rho' = 0, light beyond the critical angle), theta
- * outside the table, a radial uniform outside [0, 1] or at 0 (the entry point), a uniform
+ * outside the table, a radial uniform outside [0, 1), at 0 (the entry point) or at 1 (the
+ * last radius, where the density is 0), a uniform
  * that is not finite (NaN, +-inf), or, for path sampling, a table baked without theta
  * sampling. The message names the cause. */
 #define BSSRDF_ERROR_NO_SAMPLE 7
@@ -209,8 +212,8 @@ int bssrdf_channel_pdf(const bssrdf_channel *channel, double theta, double r_mm,
                        double *out_pdf);
 
 /* Draws the exit point for incidence theta from two uniforms in [0, 1). The sample's pdf
- * equals bssrdf_channel_pdf there. BSSRDF_ERROR_NO_SAMPLE where there is nothing to sample,
- * and, on a table whose radii start at 0 (every baked one), for u_r = 0 (or below about
+ * is bssrdf_channel_pdf there to rounding (within 1e-13 relative; not always the same bits).
+ * BSSRDF_ERROR_NO_SAMPLE where there is nothing to sample, and, on a table whose radii start at 0 (every baked one), for u_r = 0 (or below about
  * 1e-320), which draws the entry point itself (r = 0, where the density per area is
  * infinite): with uniforms of 53 bits, once in 2^53 draws. */
 int bssrdf_channel_sample(const bssrdf_channel *channel, double theta, double u_r, double u_phi,

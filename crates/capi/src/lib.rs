@@ -628,15 +628,23 @@ fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option
         );
         return Failure::inline(code, why);
     }
+    if u_r >= 1.0 {
+        return Failure::inline(code, format_args!("no sample: u_r = {u_n} {PAST_THE_END}"));
+    }
     let why = format_args!(
         "no sample at theta = {theta_n} rad, u_r = {u_n}: the draw fell where the table holds no energy"
     );
     Failure::inline(code, why)
 }
 
+/// Why a radial uniform of 1 draws nothing: the uniforms are in [0, 1), and 1 inverts the
+/// radial distribution at its end, the last radius, where the density is 0.
+const PAST_THE_END: &str =
+    "is the end of [0, 1): it draws the last radius, where the table holds no energy";
+
 /// The failure of a path draw with nothing to sample, naming its cause, formatted without
 /// allocating: no θ sampling in the table, a uniform that is not finite, u[0] or u[1] outside
-/// [0, 1], or no
+/// [0, 1], the radial uniform u[1] at 0 (the entry point) or 1 (the last radius), or no
 /// energy stored for the medium (ρ′) at any θ.
 #[cold]
 fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {
@@ -653,6 +661,18 @@ fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {
     }
     if let Some(k) = u[..2].iter().position(|u| !(0.0..=1.0).contains(u)) {
         let why = format_args!("no sample: u[{k}] = {} is outside [0, 1]", Number(u[k]));
+        return Failure::inline(code, why);
+    }
+    // (as `no_sample`'s u_r)
+    if u[1] < 1e-300 {
+        let why = format_args!(
+            "no sample: u[1] = {} draws the entry point itself (r = 0, of infinite density per area)",
+            Number(u[1])
+        );
+        return Failure::inline(code, why);
+    }
+    if u[1] >= 1.0 {
+        let why = format_args!("no sample: u[1] = {} {PAST_THE_END}", Number(u[1]));
         return Failure::inline(code, why);
     }
     let why = format_args!(
