@@ -13,8 +13,8 @@
  *
  * Units: coefficients in mm^-1, distances in mm, S and densities per mm^2, angles in radians.
  * theta is the incidence angle from the normal BEFORE refraction, in [0, pi/2]; a table takes
- * the range of its theta axis widened by f32 rounding at each end (its last node, pi/2 in f32,
- * is pi/2 + 1.4e-7: an angle up to there is the node, one beyond it is refused). The exit point
+ * the range of its f32 theta axis widened by half an f32 step at each end (at pi/2: the node
+ * pi/2 + 4.4e-8, then up to pi/2 + 1.4e-7 as the node; beyond, refused). The exit point
  * lies at polar coordinates (r, phi) around the entry point, phi = 0 forward: in the plane of
  * incidence, on the side the refracted beam travels to. S_p is multiple scattering per unit
  * area per unit power entering the medium (no entry Fresnel factor).
