@@ -341,7 +341,11 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
                 "no sample: u_phi = -inf is not finite",
             ),
             (0.0, 0.5, "no sample: u_r = 0 draws the entry point itself"),
-            (1.0, 0.5, "no sample: u_r = 1 is the end of [0, 1): it draws the last radius"),
+            (
+                1.0,
+                0.5,
+                "no sample: u_r = 1 is the end of [0, 1): it draws the last radius",
+            ),
         ] {
             let status = bssrdf_channel_sample(red, 0.3, u_r, u_phi, &mut sample);
             expect(status, BSSRDF_ERROR_NO_SAMPLE, cause);
@@ -426,7 +430,10 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
         // the radial uniform at either end of [0, 1): the entry point, the last radius
         for (u1, cause) in [
             (0.0, "no sample: u[1] = 0 draws the entry point itself"),
-            (1.0, "no sample: u[1] = 1 is the end of [0, 1): it draws the last radius"),
+            (
+                1.0,
+                "no sample: u[1] = 1 is the end of [0, 1): it draws the last radius",
+            ),
         ] {
             let status =
                 bssrdf_channel_sample_path(red, [0.5, u1, 0.5, 0.5].as_ptr(), &mut path_sample);
