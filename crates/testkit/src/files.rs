@@ -38,9 +38,10 @@ pub fn synthetic_table(
             }
         }
     }
+    // A running integral over θ, 0 at the first angle (format-spec.md §10)
     let theta_cdf = albedo.then(|| {
         rho.iter()
-            .flat_map(|&p| theta.iter().map(move |&th| p * (0.8 + 0.1 * th.cos())))
+            .flat_map(|&p| theta.iter().map(move |&th| p * th * (0.8 + 0.1 * th.cos())))
             .collect()
     });
     TableData {

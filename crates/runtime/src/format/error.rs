@@ -340,6 +340,15 @@ pub enum FormatError {
         previous: f32,
         value: f32,
     },
+    /// A `theta-cdf` value is negative or below the one before it along θ: a running integral
+    /// of ρ_eff ≥ 0 never is.
+    #[error("table {table}: theta-cdf at node {node:?} (rho, theta) is {value} after {previous}: a running integral over theta is >= 0 and never decreases")]
+    ThetaCdfDecreasing {
+        table: usize,
+        node: (usize, usize),
+        previous: f32,
+        value: f32,
+    },
     /// An axis is not strictly increasing.
     #[error("table {table}: axis {axis} is not strictly increasing at index {index} ({previous} then {value})")]
     AxisNotIncreasing {
@@ -481,6 +490,7 @@ impl FormatError {
             FormatError::NegativeProfile { .. } => "negative-profile",
             FormatError::SignedFloorNotDeclared { .. } => "signed-floor-not-declared",
             FormatError::RadialCdfDecreasing { .. } => "radial-cdf-decreasing",
+            FormatError::ThetaCdfDecreasing { .. } => "theta-cdf-decreasing",
             FormatError::AxisNotIncreasing { .. } => "axis-not-increasing",
             FormatError::AxisOutOfRange { .. } => "axis-out-of-range",
             FormatError::EmptyName { .. } => "empty-name",

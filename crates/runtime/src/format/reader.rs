@@ -12,8 +12,8 @@ use super::error::{FormatError, FormatResult};
 use super::map::AlignedBuf;
 use super::provenance::Provenance;
 use super::records::{
-    check_axis, check_finite, check_gwc_nodes, check_radial_cdf, check_reserved, Material,
-    TableHeader,
+    check_axis, check_finite, check_gwc_nodes, check_radial_cdf, check_reserved, check_theta_cdf,
+    Material, TableHeader,
 };
 use super::spec::{
     align_up, crc32, required_features, AxisKind, Codec, Dtype, RawEntry, RawHeader, RawMaterial,
@@ -163,7 +163,7 @@ fn f32_view(bytes: &[u8]) -> Cow<'_, [f32]> {
 
 /// The values of one table's sections, in kind order: every value finite, for `gwc-params`
 /// every node valid, with negative floors allowed when the file sets required feature bit 1,
-/// and for `radial-cdf` every row a running integral (≥ 0, never decreasing). One pass over each section; skipped by [`Verify::HeaderOnly`] like the
+/// and for `radial-cdf` and `theta-cdf` every row a running integral (≥ 0, never decreasing). One pass over each section; skipped by [`Verify::HeaderOnly`] like the
 /// CRCs, and run by [`super::Library::verify`].
 fn check_table_values<'a>(
     t: usize,
@@ -182,6 +182,10 @@ fn check_table_values<'a>(
             Some(kind @ SectionKind::RadialCdf) => {
                 check_finite_bytes(t, kind, bytes)?;
                 check_radial_cdf(t, &slot.header, &f32_view(bytes))?
+            }
+            Some(kind @ SectionKind::ThetaCdf) => {
+                check_finite_bytes(t, kind, bytes)?;
+                check_theta_cdf(t, &slot.header, &f32_view(bytes))?
             }
             Some(kind) => check_finite_bytes(t, kind, bytes)?,
             None => {}

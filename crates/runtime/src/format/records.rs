@@ -512,8 +512,42 @@ pub(crate) fn check_radial_cdf(
     // Dimensions are validated to be ≥ 1; `max` only keeps this free of panics regardless.
     let n_r = (header.n_r as usize).max(1);
     let n_theta = (header.n_theta as usize).max(1);
+    match first_fall(values, n_r) {
+        None => Ok(()),
+        Some((row, k, previous, value)) => Err(FormatError::RadialCdfDecreasing {
+            table,
+            node: (row / n_theta, row % n_theta, k),
+            previous,
+            value,
+        }),
+    }
+}
+
+/// Checks that every ρ′ row of a `theta-cdf` section is what a running integral over θ of
+/// ρ_eff ≥ 0 is (format-spec.md §10), as [`check_radial_cdf`] along r: its values ≥ 0 and
+/// never decreasing along θ. A path tracer draws θ by inverting it.
+pub(crate) fn check_theta_cdf(
+    table: usize,
+    header: &TableHeader,
+    values: &[f32],
+) -> FormatResult<()> {
+    let n_theta = (header.n_theta as usize).max(1);
+    match first_fall(values, n_theta) {
+        None => Ok(()),
+        Some((row, j, previous, value)) => Err(FormatError::ThetaCdfDecreasing {
+            table,
+            node: (row, j),
+            previous,
+            value,
+        }),
+    }
+}
+
+/// The first value, in rows of `len`, that is below 0 or below the one before it in its row
+/// (NaN included): (row, index in the row, the value before it or 0, the value).
+fn first_fall(values: &[f32], len: usize) -> Option<(usize, usize, f32, f32)> {
     // One branch-free pass (it vectorises), then the first failure named where there is one
-    let fast = values.chunks_exact(n_r).all(|row| {
+    let fast = values.chunks_exact(len).all(|row| {
         let rising = row[1..]
             .iter()
             .zip(row)
@@ -521,24 +555,19 @@ pub(crate) fn check_radial_cdf(
         rising & (row[0] >= 0.0)
     });
     if fast {
-        return Ok(());
+        return None;
     }
-    for (row, cdf) in values.chunks_exact(n_r).enumerate() {
+    for (row, cdf) in values.chunks_exact(len).enumerate() {
         let mut previous = 0.0f32;
         for (k, &value) in cdf.iter().enumerate() {
             // Not ≥ (NaN included)
             if value.partial_cmp(&previous).is_none_or(|o| o.is_lt()) {
-                return Err(FormatError::RadialCdfDecreasing {
-                    table,
-                    node: (row / n_theta, row % n_theta, k),
-                    previous,
-                    value,
-                });
+                return Some((row, k, previous, value));
             }
             previous = value;
         }
     }
-    Ok(())
+    None
 }
 
 /// Checks that an axis is finite, strictly increasing and within its quantity's range.
@@ -720,6 +749,27 @@ mod tests {
             match check_radial_cdf(7, &h, &values) {
                 Err(FormatError::RadialCdfDecreasing {
                     table: 7, node: n, ..
+                }) => {
+                    assert_eq!(n, node, "{values:?}")
+                }
+                other => panic!("{values:?}: {other:?}"),
+            }
+        }
+    }
+
+    /// The same rule along θ, per ρ′ row.
+    #[test]
+    fn theta_cdf_rows_are_running_integrals() {
+        let h = header(2, 3, 1);
+        assert!(check_theta_cdf(0, &h, &[0.0, 0.0, 1.0, 0.0, 0.5, 0.5]).is_ok());
+        for (values, node) in [
+            ([0.0, 0.5, 0.4, 0.0, 1.0, 2.0], (0, 2)),
+            ([0.0, 0.5, 1.0, -1e-30, 1.0, 2.0], (1, 0)),
+            ([0.0, 0.5, 1.0, 0.0, f32::NAN, 2.0], (1, 1)),
+        ] {
+            match check_theta_cdf(3, &h, &values) {
+                Err(FormatError::ThetaCdfDecreasing {
+                    table: 3, node: n, ..
                 }) => {
                     assert_eq!(n, node, "{values:?}")
                 }

@@ -14,8 +14,8 @@ use super::library::Library;
 use super::provenance::Provenance;
 use super::reader::{f32_values, first_signed_node, Verify};
 use super::records::{
-    check_axis, check_finite, check_gwc_nodes, check_radial_cdf, has_signed_floor, Material,
-    TableHeader,
+    check_axis, check_finite, check_gwc_nodes, check_radial_cdf, check_theta_cdf, has_signed_floor,
+    Material, TableHeader,
 };
 use super::spec::{
     align_up, crc32, required_features, AxisKind, Codec, Dtype, FresnelMoments, ModelKind,
@@ -219,6 +219,7 @@ impl LibraryBuilder {
         check_radial_cdf(index, &header, &table.cdf)?;
         if let Some(albedo) = &table.theta_cdf {
             put(SectionKind::ThetaCdf, albedo)?;
+            check_theta_cdf(index, &header, albedo)?;
         }
         if let Some(harmonics) = &table.harmonics {
             match self.rebuild {

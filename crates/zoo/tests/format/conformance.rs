@@ -270,6 +270,16 @@ fn invalid_vectors() -> Vec<(&'static str, Raw)> {
             }),
         ),
         (
+            "theta-cdf-decreasing",
+            Box::new(|r| {
+                // The first angle of the first albedo row above the second (the tiny table
+                // has two angles; a running integral never decreases)
+                let d = r.data(kind::ALBEDO, 0);
+                let second = f32::from_bits(r.u32(d + 4));
+                r.set_f32(d, 2.0 * second);
+            }),
+        ),
+        (
             "concentration-out-of-range",
             Box::new(|r| {
                 let d = r.data(kind::GWC, 0);
@@ -750,6 +760,7 @@ fn header_only_skips_section_crcs_and_value_checks_until_verify() {
         "negative-profile",
         "signed-floor-not-declared",
         "radial-cdf-decreasing",
+        "theta-cdf-decreasing",
     ] {
         let raw = &vectors.iter().find(|(c, _)| *c == code).unwrap().1;
         let library = Library::from_bytes(&raw.bytes, Verify::HeaderOnly)
