@@ -206,13 +206,19 @@ pub fn with_threads<T: Send>(
 /// with its standard error, which needs two.
 pub fn check_photons(photons: u64) -> Result<(), CliError> {
     let min = bssrdf_zoo::walk::MIN_PHOTONS;
-    if photons < min {
+    if !(min..=MAX_PHOTONS).contains(&photons) {
         return Err(CliError::input(format!(
-            "--photons {photons} is outside the valid range: at least {min} (a standard error needs two)"
+            "--photons {} is outside the valid range: [{min}, {}] (a standard error needs two; 1e12 photons are weeks on two cores)",
+            values::show_whole(photons),
+            values::show_whole(MAX_PHOTONS)
         )));
     }
     Ok(())
 }
+
+/// The most photons `walk`, `zoo` and `render` take, as `bake --source walk` per θ node: at a
+/// few hundred thousand photons a second per core, a larger count is no run anyone waits for.
+pub const MAX_PHOTONS: u64 = 1_000_000_000_000;
 
 /// Refuses a Henyey–Greenstein --g outside (−1, 1), naming the flag.
 pub fn check_g(g: f64) -> Result<(), CliError> {

@@ -82,7 +82,7 @@ pub struct RenderArgs {
     /// plus `-MODEL.exr` and `-diff.exr`).
     #[arg(long, value_parser = render_model())]
     compare: Option<ModelKind>,
-    /// Photons traced.
+    /// Photons traced, in [2, 1e12].
     #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1_000_000)]
     photons: u64,
     /// Picture size in pixels.

@@ -27,7 +27,7 @@ pub struct WalkArgs {
     /// light: the walk counts per unit power entering).
     #[arg(long, default_value_t = 0.0)]
     theta: f64,
-    /// Number of photons entering the medium, ≥ 2 (a standard error needs two).
+    /// Number of photons entering the medium, in [2, 1e12] (a standard error needs two).
     #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1_000_000)]
     photons: u64,
     /// Seed of the per-photon random streams (results do not depend on the thread count).

@@ -17,7 +17,7 @@ pub struct ZooArgs {
     /// Henyey–Greenstein g of the walk (the diffusion models see only ρ′).
     #[arg(long, default_value_t = 0.0)]
     g: f64,
-    /// Photons per walk (one walk per case).
+    /// Photons per walk (one walk per case), in [2, 1e12].
     #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1_000_000)]
     photons: u64,
     /// Seed of the reference walks.

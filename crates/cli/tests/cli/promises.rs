@@ -984,7 +984,17 @@ fn walk_bins_threads_and_photons_keep_their_domains() {
         fails_with(
             &bssrdf(d, args),
             2,
-            "--photons 1 is outside the valid range: at least 2",
+            "--photons 1 is outside the valid range: [2, 1e12]",
+        );
+        // and so are more photons than anyone waits for (weeks on two cores)
+        let many: Vec<&str> = args
+            .iter()
+            .map(|&a| if a == "1" { "1e13" } else { a })
+            .collect();
+        fails_with(
+            &bssrdf(d, &many),
+            2,
+            "--photons 1e13 is outside the valid range: [2, 1e12]",
         );
     }
     assert!(!d.join("one.exr").exists());

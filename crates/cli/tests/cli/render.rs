@@ -152,7 +152,7 @@ fn bad_input_exits_2_and_names_the_value() {
     ];
     fails_with(
         &bssrdf(d, &[&zero[..], &["-o", "x.exr"]].concat()),
-        "--photons 0 is outside the valid range: at least 2",
+        "--photons 0 is outside the valid range: [2, 1e12]",
     );
     fails_with(&with(&["--theta", "6", "--model", "dipole"]), "dipole");
     let no_medium = bssrdf(d, &["render", "--theta", "10", "-o", "x.exr"]);
