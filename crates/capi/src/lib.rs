@@ -623,9 +623,7 @@ fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option
     }
     // Uniforms of 53 bits are 0 or at least 2^-53; far below, the draw is the entry point
     if u_r < 1e-300 {
-        let why = format_args!(
-            "no sample: u_r = {u_n} draws the entry point itself (r = 0, of infinite density per area)"
-        );
+        let why = format_args!("no sample: u_r = {u_n} {AT_THE_ENTRY_POINT}");
         return Failure::inline(code, why);
     }
     if u_r >= 1.0 {
@@ -636,6 +634,11 @@ fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option
     );
     Failure::inline(code, why)
 }
+
+/// Why a radial uniform of 0 (or below about 10⁻³²⁰) draws nothing, on a table whose radii
+/// start at 0.
+const AT_THE_ENTRY_POINT: &str =
+    "draws the entry point itself (r = 0, of infinite density per area)";
 
 /// Why a radial uniform of 1 draws nothing: the uniforms are in [0, 1), and 1 inverts the
 /// radial distribution at its end, the last radius, where the density is 0.
@@ -665,10 +668,7 @@ fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {
     }
     // (as `no_sample`'s u_r)
     if u[1] < 1e-300 {
-        let why = format_args!(
-            "no sample: u[1] = {} draws the entry point itself (r = 0, of infinite density per area)",
-            Number(u[1])
-        );
+        let why = format_args!("no sample: u[1] = {} {AT_THE_ENTRY_POINT}", Number(u[1]));
         return Failure::inline(code, why);
     }
     if u[1] >= 1.0 {

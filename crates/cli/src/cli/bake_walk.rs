@@ -26,9 +26,6 @@ pub const DEFAULT_WALK_SEED: u64 = 1;
 /// The fewest --photons: the last group of rows takes 1/8 of them and needs 16 blocks.
 const MIN_WALK_PHOTONS: u64 = MIN_HARMONICS_PHOTONS * WALK_LAST_GROUP_SHARE;
 
-/// The most --photons (per θ node and group: days of walking already).
-const MAX_WALK_PHOTONS: u64 = 1_000_000_000_000;
-
 /// Refuses what a walk bake cannot take: materials and scenes (a walk table is one (η, g)),
 /// and the flags of PBD bakes that would change nothing here.
 fn refuse_other_flags(args: &BakeArgs) -> Result<(), CliError> {
@@ -87,12 +84,13 @@ pub fn run(args: &BakeArgs) -> Result<ExitCode, CliError> {
     // −0 is 0: in the file's record, the default file name and the summary
     let g = g + 0.0;
     let photons = args.photons.unwrap_or(DEFAULT_WALK_PHOTONS);
-    if !(MIN_WALK_PHOTONS..=MAX_WALK_PHOTONS).contains(&photons) {
+    // (at most what every walk takes, per θ node and group here: days of walking already)
+    if !(MIN_WALK_PHOTONS..=super::MAX_PHOTONS).contains(&photons) {
         return Err(CliError::input(format!(
             "--photons {} is outside the valid range: [{}, {}] (the rows above rho' = 0.999 walk 1/{WALK_LAST_GROUP_SHARE} of them, and their standard errors need 16 blocks of {} photons)",
             show_whole(photons),
             show_whole(MIN_WALK_PHOTONS),
-            show_whole(MAX_WALK_PHOTONS),
+            show_whole(super::MAX_PHOTONS),
             bssrdf_zoo::walk::BLOCK
         )));
     }

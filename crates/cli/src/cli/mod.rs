@@ -216,7 +216,7 @@ pub fn check_photons(photons: u64) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The most photons `walk`, `zoo` and `render` take, as `bake --source walk` per θ node: at a
+/// The most photons `walk`, `zoo` and `render` take, and `bake --source walk` per θ node: at a
 /// few hundred thousand photons a second per core, a larger count is no run anyone waits for.
 pub const MAX_PHOTONS: u64 = 1_000_000_000_000;
 
