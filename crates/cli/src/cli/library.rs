@@ -197,7 +197,7 @@ impl TableChoice {
             None => None,
             Some(name) => {
                 // A material stored in the file first, else the named-material library.
-                if let Some(m) = library.material(name) {
+                if let Some(m) = file_material(library, name, path)? {
                     if self.materials.is_some() {
                         return Err(CliError::input(format!(
                             "--materials adds files to look --material up in, but {name} is a material of {file}: drop --materials"
@@ -211,7 +211,8 @@ impl TableChoice {
                     .map_err(|e| CliError::input(e.to_string()))?;
                     Some((found, m.tables[c] as usize))
                 } else {
-                    let m = super::materials::named(name, self.materials.as_deref())?;
+                    let m = super::materials::named(name, self.materials.as_deref())
+                        .map_err(|e| with_file_materials(e, library, path))?;
                     // Of the tables with the material's η, one whose albedo rows hold the
                     // channel's ρ′ (a scene bake keeps several such tables), else the first.
                     let rho = m.channel(self.channel()).rho_prime();
@@ -346,4 +347,46 @@ pub fn walk_table(flag: &str, path: &Path, eta: f64, g: f64) -> Result<AngularTa
         super::show(eta),
         super::show(g)
     )))
+}
+
+/// The material record of `library` (read from `path`) that --material `name` names, read as
+/// the named-material library reads names (`format::Library::materials_named`); `None` if no
+/// record does, an input error if several do.
+fn file_material<'a>(
+    library: &'a Library,
+    name: &str,
+    path: &Path,
+) -> Result<Option<&'a bssrdf_zoo::format::Material>, CliError> {
+    match library.materials_named(name).as_slice() {
+        [] => Ok(None),
+        [one] => Ok(Some(one)),
+        several => Err(CliError::input(format!(
+            "--material {name} reads as {} materials of {}: {}; give one exactly",
+            several.len(),
+            path.display(),
+            several
+                .iter()
+                .map(|m| format!("{:?}", m.name))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))),
+    }
+}
+
+/// `error` (a name found neither in the file nor in the named-material library) with the
+/// names of the file's own materials, where it has any.
+fn with_file_materials(error: CliError, library: &Library, path: &Path) -> CliError {
+    let names: Vec<String> = library
+        .materials()
+        .iter()
+        .map(|m| format!("{:?}", m.name))
+        .collect();
+    match error {
+        CliError::Input(message) if !names.is_empty() => CliError::input(format!(
+            "{message} (nor in {}, whose materials are {})",
+            path.display(),
+            names.join(", ")
+        )),
+        other => other,
+    }
 }

@@ -134,7 +134,10 @@ pub fn whole<T: FromStr + Whole>(text: &str) -> Result<T, String> {
     let Ok(x) = text.parse::<f64>() else {
         return Err(format!("{text:?} is not a whole number"));
     };
-    if !x.is_finite() || x.fract() != 0.0 {
+    // A number typed with digits but beyond ±1.8e308 reads as ±inf: too large or too small
+    // below, as typed; NaN and a spelled-out infinity are not numbers of any range
+    let typed_beyond_f64 = x.is_infinite() && text.bytes().any(|b| b.is_ascii_digit());
+    if !(x.is_finite() || typed_beyond_f64) || (x.is_finite() && x.fract() != 0.0) {
         return Err(format!("{} is not a whole number", show(x)));
     }
     // Integral: in decimal digits (exact for every integral f64 below 2^127), for T's own parse
@@ -293,6 +296,19 @@ mod tests {
         assert_eq!(
             whole::<u64>("nan").unwrap_err(),
             "NaN is not a whole number"
+        );
+        // Beyond f64 (it reads as ±inf): as typed, too large or too small
+        assert_eq!(
+            whole::<u64>("1e400").unwrap_err(),
+            "1e400 is too large: a whole number in [0, 18446744073709551615] is expected"
+        );
+        assert_eq!(
+            whole::<i32>("-1e400").unwrap_err(),
+            format!("-1e400 is too small: {i32_range}")
+        );
+        assert_eq!(
+            whole::<u64>("inf").unwrap_err(),
+            "inf is not a whole number"
         );
     }
 

@@ -442,3 +442,48 @@ fn invert_says_what_the_tables_reflectance_holds() {
     .unwrap();
     assert!(pbd["walk_component"].is_null(), "{pbd}");
 }
+
+#[test]
+fn a_material_of_the_file_is_found_as_the_library_finds_its_own() {
+    let dir = bare();
+    let d = dir.path();
+    let wax = "id = \"my-wax\"\nname = \"My wax\"\neta = 1.45\ncoefficients = \"unreduced\"\nsigma_s = [1.0, 1.1, 1.2]\nsigma_a = [0.01, 0.02, 0.05]\ng = [0.3, 0.3, 0.3]\n";
+    std::fs::write(d.join("wax.toml"), wax).unwrap();
+    let bake = [
+        "bake",
+        "my-wax",
+        "--materials",
+        "wax.toml",
+        "--grid",
+        "coarse",
+    ];
+    ok(&bssrdf(
+        d,
+        &[&bake[..], &["-q", "-o", "wax.bssrdf"]].concat(),
+    ));
+    // The file's record is "my-wax"; the built-in names are found in any case, and so is it
+    let eval = |name: &str| {
+        let args = [
+            "eval",
+            "wax.bssrdf",
+            "--material",
+            name,
+            "--theta",
+            "30",
+            "--r",
+            "1",
+        ];
+        bssrdf(d, &args)
+    };
+    let exact = ok(&eval("my-wax"));
+    for name in ["MY-WAX", " my_wax", "My Wax"] {
+        assert_eq!(ok(&eval(name)), exact, "{name}");
+    }
+    // A name found nowhere lists the file's materials beside the library's suggestions
+    fails_with(&eval("my-wa"), 2, "no material named \"my-wa\"");
+    fails_with(
+        &eval("my-wa"),
+        2,
+        "nor in wax.bssrdf, whose materials are \"my-wax\"",
+    );
+}

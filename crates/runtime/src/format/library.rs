@@ -146,10 +146,31 @@ impl Library {
         self.parsed.materials.iter().find(|m| m.name == name)
     }
 
+    /// The materials a person's `query` names, as the command line reads names: the record
+    /// called exactly `query` if there is one, else every record whose name reads the same as
+    /// it by [`loose_name`] (case, surrounding white space, and spaces against underscores
+    /// against hyphens ignored), in file order. Record names are unique only exactly, so more
+    /// than one may match loosely; the caller refuses that as ambiguous.
+    pub fn materials_named(&self, query: &str) -> Vec<&Material> {
+        if let Some(exact) = self.material(query) {
+            return vec![exact];
+        }
+        let key = loose_name(query);
+        let materials = self.parsed.materials.iter();
+        materials.filter(|m| loose_name(&m.name) == key).collect()
+    }
+
     /// The provenance, if the file has one.
     pub fn provenance(&self) -> Option<&Provenance> {
         self.parsed.provenance.as_ref()
     }
+}
+
+/// A material name as people type it: lowercase, trimmed, with spaces and underscores read as
+/// hyphens ("White Grapefruit_Juice" reads as "white-grapefruit-juice"). The named-material
+/// library and [`Library::materials_named`] compare names this way.
+pub fn loose_name(name: &str) -> String {
+    name.trim().to_lowercase().replace([' ', '_'], "-")
 }
 
 /// One table of a library: a model baked for one η.

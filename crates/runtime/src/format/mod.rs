@@ -43,7 +43,7 @@ mod writer;
 
 pub use atomic::{check_writable, through_descriptor, write_file_atomic};
 pub use error::{FormatError, FormatResult};
-pub use library::{Library, Table};
+pub use library::{loose_name, Library, Table};
 pub use provenance::{json_number, Provenance, KEY_ACCURACY};
 pub use reader::{SectionInfo, Verify};
 pub use records::{AlbedoRange, Material, TableHeader, CHANNELS};

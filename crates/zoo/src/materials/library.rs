@@ -146,9 +146,10 @@ impl Library {
     }
 }
 
-/// Lowercase, trimmed, with spaces and underscores as hyphens.
+/// Lowercase, trimmed, with spaces and underscores as hyphens (the runtime's reading of names,
+/// which a library file's material records share).
 fn normalize(query: &str) -> String {
-    query.trim().to_lowercase().replace([' ', '_'], "-")
+    bssrdf_runtime::format::loose_name(query)
 }
 
 #[cfg(test)]

@@ -121,6 +121,32 @@ fn tiny_library_round_trips_materials_and_provenance() {
 }
 
 #[test]
+fn materials_are_found_by_their_name_as_people_type_it() {
+    let mut b = LibraryBuilder::new();
+    let t = b.add_table(synthetic_table(1.3, 2, 2, 4, true)).unwrap() as u32;
+    for name in ["My Jade", "my_jade", "skin1", "Skin1"] {
+        b.add_material(material(name, t)).unwrap();
+    }
+    let bytes = b.to_bytes(Compression::None).unwrap();
+    let library = Library::from_bytes(&bytes, Verify::Full).unwrap();
+    let names = |query: &str| -> Vec<String> {
+        let found = library.materials_named(query);
+        found.iter().map(|m| m.name.clone()).collect()
+    };
+    // An exact name wins over the names that read the same
+    assert_eq!(names("Skin1"), ["Skin1"]);
+    assert_eq!(names("my_jade"), ["my_jade"]);
+    // Otherwise every name that reads the same, in file order
+    assert_eq!(names(" SKIN1 "), ["skin1", "Skin1"]);
+    assert_eq!(names("MY-JADE"), ["My Jade", "my_jade"]);
+    assert!(names("jade").is_empty());
+    assert_eq!(
+        bssrdf_zoo::format::loose_name(" White Grapefruit_Juice "),
+        "white-grapefruit-juice"
+    );
+}
+
+#[test]
 fn same_content_gives_byte_identical_files() {
     for compression in [Compression::None, Compression::Zstd { level: 5 }] {
         let a = tiny_builder().to_bytes(compression).unwrap();
