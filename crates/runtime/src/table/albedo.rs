@@ -1,4 +1,5 @@
-//! The spline along the reduced albedo ρ′, with PBD's factor ρ′² taken out.
+//! The spline along the reduced albedo ρ′, with PBD's factor ρ′² taken out (ρ′ for a walk table
+//! of the total).
 //!
 //! PBD carries ρ′² explicitly (S = ρ′² ∫ …, `bssrdf_zoo::pbd`): every energy a table stores, E and
 //! E_β, the radial CDF, ρ_eff and the θ CDF, is ρ′² g(ρ′) with g smooth in ρ′ and nonzero at
@@ -51,6 +52,18 @@
 //! with the mean. Only evaluation takes these weights; the samplers keep ωᵢ, whose blends of
 //! the rows' radial CDFs they invert, so `sample` and `pdf` stay an exact pair.
 //!
+//! # A walk table of the total: ρ′ instead of ρ′²
+//!
+//! The walk's multiple scattering starts like ρ′² as PBD's does (two scatterings at least),
+//! but its single scattering is a·S₁ with the single-scattering albedo a = ρ′/(1 − g + gρ′):
+//! linear in ρ′, and most of the light below the first albedo node. Taking out ρ′² there put
+//! a total table 2–35 times below the walk at ρ′ = 0.03–0.001 (ρ′² g through node 0's
+//! extrapolated g, where the truth goes like ρ′). Such a table takes out ρ′ instead
+//! ([`AlbedoPower::Linear`]): E/ρ′ is single scattering's S₁/(1 − g) plus a term that vanishes
+//! with ρ′, smooth and nonzero at 0, and node 0's g is extrapolated as above. It has no low end:
+//! f, the far field of diffusion, does not describe single scattering, which falls like e^{−r}
+//! (a path from the entry to an exit r away is at least r long) where f falls like e^{−√3 r}.
+//!
 //! Lookups find the weights of most points inline ([`AlbedoAxis::hot_weights`]), the fold on
 //! segment 1 included, as data; segment 0, the last segment and points the axis' cells miss take
 //! [`AlbedoAxis::weights`], out of line. Both give the same weights bit for bit. Evaluation
@@ -85,10 +98,13 @@ pub(crate) const FOLD_NODES: usize = 4;
 #[derive(Debug, Clone)]
 pub struct AlbedoAxis {
     nodes: Nodes,
+    /// The power p of ρ′ taken out of the energies: 2 (PBD's factor ρ′², every table but the
+    /// next) or 1 (a walk table of the total, whose single scattering is linear in ρ′).
+    power: AlbedoPower,
     /// Per segment, how [`AlbedoAxis::hot_weights`] turns its Catmull-Rom weights into ω.
     hot: Box<[HotSegment]>,
-    /// Per segment i, 1/ρ′ⱼ² of its nodes i − 1 … i + 2 (0 outside the axis and at ρ′ⱼ = 0).
-    inv_squares: Box<[[f64; 4]]>,
+    /// Per segment i, 1/ρ′ⱼᵖ of its nodes i − 1 … i + 2 (0 outside the axis and at ρ′ⱼ = 0).
+    inv_powers: Box<[[f64; 4]]>,
     /// The first segment of the high end of the axis (module docs, "The ends of the axis"), if
     /// it has one.
     high: Option<usize>,
@@ -101,6 +117,31 @@ pub struct AlbedoAxis {
     zero_node: Option<[f64; FOLD_NODES]>,
 }
 
+/// The power p of ρ′ a table's spline along ρ′ takes out of its energies, E = ρ′ᵖ g(ρ′) with g
+/// smooth and nonzero at ρ′ = 0 (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AlbedoPower {
+    /// p = 2: photon beam diffusion and every multiple-scattering table (PBD carries ρ′²; the
+    /// walk's multiple scattering, two scatterings at least, starts like ρ′² too).
+    #[default]
+    Square,
+    /// p = 1: a walk table of the total, whose single scattering, a·S₁ with the single-scattering
+    /// albedo a = ρ′/(1 − g + gρ′), is linear in ρ′ as ρ′ → 0 and outweighs the multiple
+    /// scattering there (format-spec.md §10).
+    Linear,
+}
+
+impl AlbedoPower {
+    /// ρ′ᵖ.
+    #[inline(always)]
+    pub(crate) fn of(self, rho: f64) -> f64 {
+        match self {
+            AlbedoPower::Square => rho * rho,
+            AlbedoPower::Linear => rho,
+        }
+    }
+}
+
 /// The fold of node 0 (module docs) on one segment, as data, so that the weights need no
 /// branch: zero except on segment 1 with a node ρ′₀ = 0. One cache line: a lookup reads one.
 #[derive(Debug, Clone, Copy)]
@@ -109,16 +150,16 @@ struct HotSegment {
     /// Added to the weights times node 0's weight: a₁ … a₄ on nodes 1–4 (shifted), or −1, a₁,
     /// a₂, a₃ on nodes 0–3 (not shifted, an axis of 4 nodes).
     fold: [f64; 4],
-    /// 1/ρ′ⱼ² of the four nodes the weights come out on (0 outside the axis and at ρ′ⱼ = 0):
+    /// 1/ρ′ⱼᵖ of the four nodes the weights come out on (0 outside the axis and at ρ′ⱼ = 0):
     /// segment i's own nodes i − 1 … i + 2, except on the shifted segment (nodes 1–4). The
-    /// general path ([`AlbedoAxis::weights`]) reads the unshifted ones (`AlbedoAxis::inv_squares`).
-    inv_squares: [f64; 4],
+    /// general path ([`AlbedoAxis::weights`]) reads the unshifted ones (`AlbedoAxis::inv_powers`).
+    inv_powers: [f64; 4],
 }
 
 /// The weights of one ρ′ for the blends of a lookup.
 #[derive(Debug, Clone, Copy)]
 pub struct AlbedoWeights {
-    /// ωᵢ, for every energy-like value. At a node ρ′ᵢ, ρ′²·(1/ρ′ᵢ²) may round to 1 ± 2⁻⁵²:
+    /// ωᵢ, for every energy-like value. At a node ρ′ᵢ, ρ′ᵖ·(1/ρ′ᵢᵖ) may round to 1 ± 2⁻⁵²:
     /// the f32 row weights of the blends round that to 1 (and [`AlbedoWeights::apply_rows`]
     /// rounds the weights to f32 likewise), so stored values come back exactly.
     pub(crate) energy: Weights,
@@ -135,8 +176,8 @@ pub(crate) struct EndWeights {
     /// The spline's weights: they sum to 1, and a node at ρ′ = 0 (or outside the axis) has
     /// weight 0.
     pub(crate) weights: Weights,
-    /// 1/ρ′ᵢ² of the nodes `weights.segment()` − 1 … + 2 (0 outside the axis).
-    pub(crate) inv_squares: [f64; 4],
+    /// 1/ρ′ᵢᵖ of the nodes `weights.segment()` − 1 … + 2 (0 outside the axis).
+    pub(crate) inv_powers: [f64; 4],
     /// Whether the point is at the low end (below node 1), else at the high end.
     pub(crate) low: bool,
 }
@@ -149,17 +190,22 @@ impl PartialEq for AlbedoAxis {
 }
 
 impl AlbedoAxis {
-    /// The axis of `nodes` (validated spline nodes).
+    /// The axis of `nodes` (validated spline nodes), taking out ρ′².
     pub fn new(nodes: Nodes) -> Self {
+        Self::with_power(nodes, AlbedoPower::Square)
+    }
+
+    /// The axis of `nodes`, taking out ρ′ to `power`.
+    pub fn with_power(nodes: Nodes, power: AlbedoPower) -> Self {
         let x = nodes.as_slice();
-        let inv_square = |j: isize| {
+        let inv_power = |j: isize| {
             usize::try_from(j)
                 .ok()
                 .and_then(|j| x.get(j))
-                .map_or(0.0, |&xj| if xj == 0.0 { 0.0 } else { 1.0 / (xj * xj) })
+                .map_or(0.0, |&xj| if xj == 0.0 { 0.0 } else { 1.0 / power.of(xj) })
         };
-        let inv_squares: Vec<[f64; 4]> = (0..x.len() - 1)
-            .map(|i| std::array::from_fn(|k| inv_square(i as isize + k as isize - 1)))
+        let inv_powers: Vec<[f64; 4]> = (0..x.len() - 1)
+            .map(|i| std::array::from_fn(|k| inv_power(i as isize + k as isize - 1)))
             .collect();
         // Lagrange coefficients at 0 of the nodes 1 … m: at most 4, those at or below
         // EXTRAPOLATE_BELOW, and at least node 1
@@ -189,7 +235,7 @@ impl AlbedoAxis {
         };
         let high = high_end(x);
         let high_from = high.map_or(f64::INFINITY, |first| x[first]);
-        let hot = (0..inv_squares.len())
+        let hot = (0..inv_powers.len())
             .map(|i| {
                 // The fold, and the segment whose nodes the weights come out on
                 let (fold, out) = match zero_node {
@@ -199,14 +245,15 @@ impl AlbedoAxis {
                 };
                 HotSegment {
                     fold,
-                    inv_squares: inv_squares[out],
+                    inv_powers: inv_powers[out],
                 }
             })
             .collect();
         Self {
             nodes,
+            power,
             hot,
-            inv_squares: inv_squares.into(),
+            inv_powers: inv_powers.into(),
             high,
             high_from,
             shifted_segment,
@@ -217,6 +264,11 @@ impl AlbedoAxis {
     /// The spline nodes ρ′ᵢ.
     pub fn nodes(&self) -> &Nodes {
         &self.nodes
+    }
+
+    /// The power of ρ′ the spline takes out of the energies.
+    pub fn power(&self) -> AlbedoPower {
+        self.power
     }
 
     /// [`AlbedoAxis::hot_weights`] for evaluation: `None` also from the high end of the axis up
@@ -248,7 +300,12 @@ impl AlbedoAxis {
             |on: f64, off: f64| f64::from_bits((on.to_bits() & shift) | (off.to_bits() & !shift));
         let w: [f64; 4] = std::array::from_fn(|k| select(shifted[k], w[k]) + w[0] * hot.fold[k]);
         let segment = segment + (shift & 1) as usize;
-        Some(Self::energy_weights(rho, segment, w, hot.inv_squares))
+        Some(Self::energy_weights(
+            self.power.of(rho),
+            segment,
+            w,
+            hot.inv_powers,
+        ))
     }
 
     /// The weights at ρ′ (module docs), `None` outside the axis or for NaN.
@@ -259,8 +316,13 @@ impl AlbedoAxis {
         } else {
             (w.segment(), w.as_array())
         };
-        let inv_squares = self.inv_squares.get(segment).copied().unwrap_or_default();
-        Some(Self::energy_weights(rho, segment, w, inv_squares))
+        let inv_powers = self.inv_powers.get(segment).copied().unwrap_or_default();
+        Some(Self::energy_weights(
+            self.power.of(rho),
+            segment,
+            w,
+            inv_powers,
+        ))
     }
 
     /// The weights of the spline of E/(ρ′² f) at the ends of the axis (module docs, "The ends
@@ -270,7 +332,8 @@ impl AlbedoAxis {
     pub(crate) fn end_weights(&self, rho: f64) -> Option<EndWeights> {
         let x = self.nodes.as_slice();
         // (x has at least two nodes; NaN fails the comparisons)
-        let low = self.zero_node.is_some() && rho < x[1];
+        // (A linear power has no low end: its g, single scattering's, has no diffusion far field)
+        let low = self.power == AlbedoPower::Square && self.zero_node.is_some() && rho < x[1];
         let (segment, w) = if low {
             self.fold_zero_node(&self.nodes.weights(rho)?)
         } else if self.high.is_some_and(|first| rho >= x[first]) {
@@ -279,25 +342,24 @@ impl AlbedoAxis {
         } else {
             return None;
         };
-        let inv_squares = self.inv_squares.get(segment).copied().unwrap_or_default();
+        let inv_powers = self.inv_powers.get(segment).copied().unwrap_or_default();
         Some(EndWeights {
             weights: Weights::from_parts(segment, w),
-            inv_squares,
+            inv_powers,
             low,
         })
     }
 
-    /// ωᵢ = ŵᵢ ρ′²/ρ′ᵢ² from the weights ŵ of nodes `segment` − 1 … `segment` + 2 and their
-    /// 1/ρ′ᵢ².
+    /// ωᵢ = ŵᵢ ρ′ᵖ/ρ′ᵢᵖ from ρ′ᵖ (`rho_p`), the weights ŵ of nodes `segment` − 1 … `segment` + 2
+    /// and their 1/ρ′ᵢᵖ.
     #[inline(always)]
     fn energy_weights(
-        rho: f64,
+        rho_p: f64,
         segment: usize,
         w: [f64; 4],
-        inv_squares: [f64; 4],
+        inv_powers: [f64; 4],
     ) -> AlbedoWeights {
-        let rho2 = rho * rho;
-        let energy: [f64; 4] = std::array::from_fn(|k| w[k] * (rho2 * inv_squares[k]));
+        let energy: [f64; 4] = std::array::from_fn(|k| w[k] * (rho_p * inv_powers[k]));
         // The sum rounded to f32: the c it divides is blended in f32, and at a node (the weights
         // then 1 ± 2⁻⁵² and 0, or 1e-16 at the axis' last) it is exactly 1. Where it is 0 (no
         // energy), so is every blended c, and the floor keeps c · scale at 0.
@@ -549,7 +611,7 @@ mod tests {
             for (k, (node, wk)) in ends.weights.iter().enumerate() {
                 assert!(node > 0 && wk != 0.0, "{rho}: {k}");
             }
-            for (k, &inv) in ends.inv_squares.iter().enumerate() {
+            for (k, &inv) in ends.inv_powers.iter().enumerate() {
                 if w[k] != 0.0 {
                     let node = ends.weights.segment() + k - 1;
                     assert_eq!(inv, 1.0 / (x[node] * x[node]), "{rho}");

@@ -1,7 +1,7 @@
 //! Tables in library files: conversion between a baked [`AngularTable`] and the file format's
 //! table records, and zero-copy lookups through a mapped or read [`format::Library`].
 
-use super::{AngularTable, Axes, TableError, TableRef};
+use super::{walk_albedo_power, AlbedoPower, AngularTable, Axes, TableError, TableRef};
 use crate::format::{self, AxisKind, FresnelMoments, ModelKind, TableData};
 use crate::fresnel::Moments;
 
@@ -80,7 +80,8 @@ impl<'a> FileTable<'a> {
             axis(AxisKind::Theta),
             axis(AxisKind::R),
         )
-        .map_err(|_| TableError::Axes)?;
+        .map_err(|_| TableError::Axes)?
+        .with_albedo_power(table.walk().map_or(AlbedoPower::Square, walk_albedo_power));
         let moments = table.fresnel().into();
         let file_table = Self {
             table,

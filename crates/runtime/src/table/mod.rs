@@ -72,7 +72,7 @@ mod subset;
 
 pub use crate::error::TableError;
 use albedo::FarField;
-pub use albedo::{AlbedoAxis, AlbedoWeights};
+pub use albedo::{AlbedoAxis, AlbedoPower, AlbedoWeights};
 pub use io::FileTable;
 pub use lookup::{
     reduced_to_mm, MediumRef, PathSample, PathSamplesMut, RadialSample, RadialSamplesMut, Sample,
@@ -93,6 +93,16 @@ pub const PARAMS_PER_NODE: usize = 3;
 /// has slope 0 (format-spec.md §10), radians: 8 f32 ulps there. π/2 rounded to f32, the node
 /// the bake writes, is 4.4·10⁻⁸ above it.
 pub const THETA_GRAZING_TOLERANCE: f64 = 1e-6;
+
+/// The power of ρ′ the spline along ρ′ of a table measured from the walk with `walk` takes
+/// out of its energies (`table::albedo`, format-spec.md §10): ρ′ for the total, whose single
+/// scattering is linear in ρ′, ρ′² for multiple scattering, as for PBD.
+pub fn walk_albedo_power(walk: crate::format::WalkSource) -> AlbedoPower {
+    match walk.component {
+        crate::format::WalkComponent::Total => AlbedoPower::Linear,
+        crate::format::WalkComponent::Multiple => AlbedoPower::Square,
+    }
+}
 
 /// The three axes of a table.
 #[derive(Debug, Clone, PartialEq)]
@@ -125,6 +135,23 @@ impl Axes {
             theta: Nodes::new(theta)?.with_end(end),
             r,
         })
+    }
+    /// These axes with the spline along ρ′ taking out ρ′ to `power` (`table::albedo`):
+    /// [`AlbedoPower::Linear`] for a walk table of the total ([`AngularTable::with_walk`]).
+    pub fn with_albedo_power(self, power: AlbedoPower) -> Self {
+        if power == self.rho.power() {
+            return self;
+        }
+        let rho = AlbedoAxis::with_power(self.rho.nodes().clone(), power);
+        Self {
+            far: FarField::new(&rho, self.r.as_slice()),
+            rho,
+            ..self
+        }
+    }
+    /// The power of ρ′ the spline along ρ′ takes out of the energies.
+    pub fn albedo_power(&self) -> AlbedoPower {
+        self.rho.power()
     }
     /// Reduced-albedo nodes.
     pub fn rho(&self) -> &Nodes {
@@ -509,9 +536,11 @@ impl AngularTable {
     }
 
     /// This table marked as measured from the Monte Carlo walk with `walk` (a walk-angular
-    /// table in a file; format-spec.md §9.1). Lookups are unchanged.
+    /// table in a file; format-spec.md §9.1). Lookups are unchanged but for a table of the total,
+    /// whose spline along ρ′ takes out ρ′ instead of ρ′² ([`walk_albedo_power`]).
     pub fn with_walk(mut self, walk: crate::format::WalkSource) -> Self {
         self.walk = Some(walk);
+        self.axes = self.axes.with_albedo_power(walk_albedo_power(walk));
         self
     }
 

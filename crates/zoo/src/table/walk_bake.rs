@@ -101,7 +101,7 @@ use super::bake::{
 use super::walk_single::{SingleNode, SinglePart};
 use super::{AngularTable, Grid, PARAMS_PER_NODE};
 use crate::error::{Error, Result};
-use crate::format::WalkComponent;
+use crate::format::{WalkComponent, WalkSource};
 use crate::fresnel::Moments;
 use crate::gwc::{one_lobe_of, solve_small};
 use crate::medium::Boundary;
@@ -524,7 +524,13 @@ pub fn bake_walk(
         (params, second),
         config.theta_sampling,
         crate::table::ridge::RidgeKind::None,
-    )?;
+    )?
+    // Marked as the walk's: its lookups then spline the total along ρ′ as single scattering
+    // needs (`AngularTable::with_walk`)
+    .with_walk(WalkSource {
+        g: config.g,
+        component: config.component,
+    });
     rel_stderr.sort_by(f64::total_cmp);
     let quantile = |q: f64| quantile_of(&rel_stderr, q).unwrap_or(f64::NAN);
     let report = WalkBakeReport {

@@ -82,11 +82,13 @@ impl TableRef<'_> {
     ) -> [Option<(usize, [f64; 4], f64)>; 4] {
         let (n_rho, _, n_r) = self.axes.dims();
         let r_nodes = self.axes.r().as_slice();
-        // f(ρ′, r_j) at the window's radius nodes, times window_rho²
+        // f(ρ′, r_j) at the window's radius nodes, times window_rhoᵖ (p the power of ρ′ the
+        // axis takes out: 2, or 1 for a walk table of the total, which has only the high end)
         let sigma = sigma_tr(rho);
+        let window_rho_p = self.axes.rho.power().of(window_rho);
         let near: [f64; 4] = std::array::from_fn(|n| {
             let r = r_nodes.get(first + n).copied().unwrap_or(0.0);
-            window_rho * window_rho * far_field(sigma, r)
+            window_rho_p * far_field(sigma, r)
         });
         let weights = ends.weights.as_array();
         std::array::from_fn(|k| {
@@ -96,7 +98,7 @@ impl TableRef<'_> {
                 .filter(|&i| i < n_rho && wk != 0.0)?;
             let inv_far = self.axes.far.row(i, n_r).get(first..).unwrap_or_default();
             let energy = std::array::from_fn(|n| {
-                wk * ends.inv_squares[k] * near[n] * inv_far.get(n).copied().unwrap_or(0.0)
+                wk * ends.inv_powers[k] * near[n] * inv_far.get(n).copied().unwrap_or(0.0)
             });
             Some((i, energy, wk))
         })
