@@ -175,6 +175,17 @@ pub fn run(mut args: WalkArgs) -> Result<ExitCode, CliError> {
                 writeln!(out, "{}", show("unscattered transmittance", u))?;
             }
         }
+        // Weight the vertex cap stopped is in none of the lines above: say so where there is
+        // some (albedo ≈ 1 with g near 1 loses a large part of the light there)
+        let truncated = result.truncated_weight();
+        if truncated.value > 0.0 {
+            writeln!(
+                out,
+                "{} (photons stopped at the cap of {} scattering vertices; missing from the lines above)",
+                show("truncated weight", truncated),
+                walk::MAX_VERTICES
+            )?;
+        }
         writeln!(
             out,
             "(per unit power entering; {} photons, {} scattering events, {:.2} s, {:.1} M events/s)",

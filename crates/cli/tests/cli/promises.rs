@@ -1593,3 +1593,41 @@ fn stated_bound_is_taken(
         .collect();
     ok(&bssrdf(d, &args));
 }
+
+/// The weight the vertex cap stops is in none of the reflectances: the text says how much,
+/// as `--json`'s `truncated_weight` does (at albedo 1 and g = 0.9999 a fifth of the light,
+/// which the total reflectance, 0.76 for a true 1, would otherwise hide).
+#[test]
+fn walk_text_shows_the_weight_the_vertex_cap_truncated() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = ["walk", "--albedo", "1", "--g", "0.9999", "--photons", "100"];
+    let text = ok(&bssrdf(d, &args));
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("truncated weight"))
+        .unwrap_or_else(|| panic!("no truncated weight in {text}"));
+    assert!(line.contains("missing from the lines above"), "{line}");
+    let shown: f64 = line["truncated weight".len()..]
+        .split(" ± ")
+        .next()
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    let mut json_args = args.to_vec();
+    json_args.push("--json");
+    let json: serde_json::Value = serde_json::from_str(&ok(&bssrdf(d, &json_args))).unwrap();
+    let truncated = json["truncated_weight"].as_f64().unwrap();
+    assert!(truncated > 0.05, "{json}");
+    assert!(
+        (shown - truncated).abs() < 1e-6,
+        "{shown} against {truncated}"
+    );
+    // Nothing truncated, no line
+    let light = ok(&bssrdf(
+        d,
+        &["walk", "--albedo", "0.5", "--photons", "1000"],
+    ));
+    assert!(!light.contains("truncated"), "{light}");
+}
