@@ -247,7 +247,7 @@ pub fn run_with_progress(config: &Config, progress: &(dyn Fn(u64) + Sync)) -> Re
     config.validate()?;
     let medium = config.medium();
     let blocks = config.photons.div_ceil(BLOCK);
-    let mut total = Sums::new(config.bins.len());
+    let mut total = Sums::new(config.bins.len(), tally::square_scale(config.albedo));
     // Blocks are traced a chunk at a time to bound memory; chunking never changes the order
     // in which block sums are added, so it does not change the result.
     let chunk = 4 * rayon::current_num_threads().max(1) as u64;
@@ -271,7 +271,7 @@ pub fn run_with_progress(config: &Config, progress: &(dyn Fn(u64) + Sync)) -> Re
 fn trace_block(config: &Config, medium: &Medium, block: u64) -> Sums {
     let first = block * BLOCK;
     let last = config.photons.min(first + BLOCK);
-    let mut tally = PhotonTally::new(&config.bins);
+    let mut tally = PhotonTally::new(&config.bins, tally::square_scale(config.albedo));
     for index in first..last {
         let mut rng = photon_stream(config.seed, index);
         medium.trace(&mut rng, &mut tally);

@@ -115,7 +115,8 @@ impl WalkResult {
     pub(crate) fn new(config: &Config, sums: &Sums) -> Self {
         let n = sums.photons;
         let est = |k: usize| {
-            let (value, stderr) = mean_and_stderr(sums.scalar_sum[k], sums.scalar_sq[k], n);
+            let (value, stderr) =
+                mean_and_stderr(sums.scalar_sum[k], sums.scalar_sq[k], n, sums.scale);
             Estimate { value, stderr }
         };
         let reflectance = scalar::R.map(est);
@@ -133,7 +134,7 @@ impl WalkResult {
                     let b = i * bins.phi_count() + j;
                     let k = c * nb + b;
                     let area = bins.area(i, j).unwrap_or(f64::NAN);
-                    let (m, s) = mean_and_stderr(sums.bin_sum[k], sums.bin_sq[k], n);
+                    let (m, s) = mean_and_stderr(sums.bin_sum[k], sums.bin_sq[k], n, sums.scale);
                     value[k] = m / area;
                     stderr[k] = s / area;
                 }

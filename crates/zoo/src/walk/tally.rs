@@ -66,10 +66,28 @@ pub(crate) struct Sums {
     /// Σ x and Σ x² per (component, bin), component-major: index c · bins + b.
     pub bin_sum: Vec<f64>,
     pub bin_sq: Vec<f64>,
+    /// The power of two the scores are multiplied by before squaring ([`square_scale`]): the
+    /// sums of squares hold Σ (scale·x)².
+    pub scale: f64,
+}
+
+/// The power of two the walk's scores are multiplied by before they are squared, for a walk of
+/// single-scattering albedo `albedo`: about 1/albedo, at most 2⁴⁸⁰ (1 for albedo ≥ 1/2 and 0).
+/// Scores of scattered light carry the albedo, and their squares underflowed to 0 below an
+/// albedo of about 1e-157, which gave a standard error of 0, "exact". A score is at most about
+/// 1, so Σ (scale·x)² stays below 2⁹⁶⁰ · 10¹² photons, far from overflow; scaling by a power of
+/// two is exact, so the sums are the same bits as unscaled ones wherever those did not
+/// underflow.
+pub(crate) fn square_scale(albedo: f64) -> f64 {
+    if albedo.is_nan() || albedo <= 0.0 || albedo >= 0.5 {
+        return 1.0;
+    }
+    let exponent = (-albedo.log2()).floor().clamp(0.0, 480.0) as i32;
+    2f64.powi(exponent)
 }
 
 impl Sums {
-    pub(crate) fn new(bins: usize) -> Self {
+    pub(crate) fn new(bins: usize, scale: f64) -> Self {
         Self {
             photons: 0,
             events: 0,
@@ -77,11 +95,13 @@ impl Sums {
             scalar_sq: [0.0; scalar::COUNT],
             bin_sum: vec![0.0; COMPONENTS * bins],
             bin_sq: vec![0.0; COMPONENTS * bins],
+            scale,
         }
     }
 
     /// Adds another block's sums (callers add blocks in index order).
     pub(crate) fn merge(&mut self, other: &Sums) {
+        debug_assert_eq!(self.scale, other.scale);
         self.photons += other.photons;
         self.events += other.events;
         for k in 0..scalar::COUNT {
@@ -97,15 +117,16 @@ impl Sums {
     }
 }
 
-/// Mean and standard error of the mean from a sum, a sum of squares and a count.
-pub(crate) fn mean_and_stderr(sum: f64, sq: f64, n: u64) -> (f64, f64) {
+/// Mean and standard error of the mean from a sum, a sum of squares of the scores times
+/// `scale` (a power of two, [`square_scale`]) and a count.
+pub(crate) fn mean_and_stderr(sum: f64, sq: f64, n: u64, scale: f64) -> (f64, f64) {
     let nf = n as f64;
     if n == 0 {
         return (0.0, f64::NAN);
     }
     let mean = sum / nf;
     let stderr = if n > 1 {
-        ((sq - sum * mean).max(0.0) / (nf * (nf - 1.0))).sqrt()
+        ((sq - (scale * sum) * (scale * mean)).max(0.0) / (nf * (nf - 1.0))).sqrt() / scale
     } else {
         f64::NAN
     };
@@ -125,11 +146,11 @@ pub(crate) struct PhotonTally<'a> {
 }
 
 impl<'a> PhotonTally<'a> {
-    pub(crate) fn new(bins: &'a Bins) -> Self {
+    pub(crate) fn new(bins: &'a Bins, scale: f64) -> Self {
         let n = bins.len();
         Self {
             bins,
-            sums: Sums::new(n),
+            sums: Sums::new(n, scale),
             scalars: [0.0; scalar::COUNT],
             scratch: vec![0.0; 3 * n],
             touched: Vec::new(),
@@ -170,10 +191,12 @@ impl<'a> PhotonTally<'a> {
         let s = &mut self.scalars;
         s[scalar::R[3]] = s[scalar::R[0]] + s[scalar::R[1]] + s[scalar::R[2]];
         s[scalar::T[3]] = s[scalar::T[0]] + s[scalar::T[1]] + s[scalar::T[2]];
+        let scale = self.sums.scale;
         let (sum, sq) = (&mut self.sums.scalar_sum, &mut self.sums.scalar_sq);
         for ((x, sum), sq) in s.iter_mut().zip(sum.iter_mut()).zip(sq.iter_mut()) {
             *sum += *x;
-            *sq += *x * *x;
+            let y = scale * *x;
+            *sq += y * y;
             *x = 0.0;
         }
         let n = self.bins.len();
@@ -182,7 +205,8 @@ impl<'a> PhotonTally<'a> {
             let values = [cell[0], cell[1], cell[2], cell[0] + cell[1] + cell[2]];
             for (c, v) in values.into_iter().enumerate() {
                 self.sums.bin_sum[c * n + b] += v;
-                self.sums.bin_sq[c * n + b] += v * v;
+                let y = scale * v;
+                self.sums.bin_sq[c * n + b] += y * y;
             }
             cell.fill(0.0);
         }
@@ -203,16 +227,33 @@ mod tests {
     #[test]
     fn stderr_of_known_sample() {
         // x = 1, 2, 3, 4: mean 2.5, sample variance 5/3, stderr √(5/12).
-        let (m, s) = mean_and_stderr(10.0, 30.0, 4);
+        let (m, s) = mean_and_stderr(10.0, 30.0, 4, 1.0);
         assert_eq!(m, 2.5);
         assert!((s - (5.0_f64 / 12.0).sqrt()).abs() < 1e-15);
-        assert!(mean_and_stderr(1.0, 1.0, 1).1.is_nan());
+        assert!(mean_and_stderr(1.0, 1.0, 1, 1.0).1.is_nan());
+        // The same sample scaled by 1e-300, its squares (1e-600) below f64's range: summed
+        // as (2^k x)², the standard error is the same multiple of 1e-300 and not 0
+        let tiny = 1e-300;
+        let scale = square_scale(tiny);
+        let sq: f64 = [1.0, 2.0, 3.0, 4.0]
+            .iter()
+            .map(|x| (scale * x * tiny).powi(2))
+            .sum();
+        let (m, s) = mean_and_stderr(10.0 * tiny, sq, 4, scale);
+        assert_eq!(m, 2.5 * tiny);
+        assert!((s / tiny - (5.0_f64 / 12.0).sqrt()).abs() < 1e-12, "{s}");
+        // Powers of two, 1 from albedo 1/2 up and for 0
+        assert_eq!(square_scale(1.0), 1.0);
+        assert_eq!(square_scale(0.5), 1.0);
+        assert_eq!(square_scale(0.0), 1.0);
+        assert_eq!(square_scale(0.3), 2.0);
+        assert_eq!(square_scale(1e-300), 2f64.powi(480));
     }
 
     #[test]
     fn photon_scores_are_summed_before_squaring() {
         let bins = Bins::new(0.1, 10.0, 4, 4).unwrap();
-        let mut t = PhotonTally::new(&bins);
+        let mut t = PhotonTally::new(&bins, 1.0);
         // One photon exits twice in the same bin, once single and once multiple.
         t.exit(Surface::Top, 1.0, 0.01, 0.25, Order::Single);
         t.exit(Surface::Top, 1.0, 0.02, 0.5, Order::Multiple);

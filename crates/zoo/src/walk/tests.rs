@@ -984,3 +984,43 @@ fn harmonics_refuse_what_they_cannot_walk() {
     assert!(h.mean(Component::Multiple, 1, 1).is_none());
     assert!(h.mean(Component::Multiple, 0, 3).is_none());
 }
+
+/// At a tiny albedo every score carries the albedo and its square fell below f64's range
+/// (albedo below about 1e-157): the standard errors came out 0, as if exact. The scores are
+/// squared after scaling by a power of two; the same walk at albedo 1e-100 and 1e-200 scores
+/// the same photons times the albedo (roulette ends each after its first vertex), so their relative
+/// standard errors agree, and the bins' too.
+#[test]
+fn standard_errors_survive_a_tiny_albedo() {
+    let relative = |albedo: f64| {
+        let r = must_run(&half_space(albedo, 0.0, 1.33, 30.0, 2000, 5));
+        let total = r.total_reflectance();
+        assert!(total.value > 0.0, "albedo {albedo}: {total:?}");
+        let bins = r.bins();
+        let (_, b) = (0..bins.layout().radial_count())
+            .flat_map(|i| (0..bins.layout().phi_count()).map(move |j| (i, j)))
+            .filter_map(|(i, j)| {
+                let v = bins.value(Component::Total, i, j)?;
+                let s = bins.stderr(Component::Total, i, j)?;
+                (v > 0.0).then_some((v, s / v))
+            })
+            .fold(
+                (0.0, f64::INFINITY),
+                |(v0, s0), (v, s)| if v > v0 { (v, s) } else { (v0, s0) },
+            );
+        (total.stderr / total.value, b)
+    };
+    let (reference, reference_bin) = relative(1e-100);
+    for albedo in [1e-160, 1e-200, 1e-250] {
+        let (rel, bin) = relative(albedo);
+        assert!(rel > 0.0 && bin > 0.0, "albedo {albedo}: {rel} {bin}");
+        assert!(
+            (rel / reference - 1.0).abs() < 1e-3,
+            "albedo {albedo}: {rel} against {reference}"
+        );
+        assert!(
+            (bin / reference_bin - 1.0).abs() < 1e-3,
+            "albedo {albedo}: {bin} against {reference_bin}"
+        );
+    }
+}
