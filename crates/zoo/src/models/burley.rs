@@ -241,6 +241,10 @@ impl Model for Burley {
 
     fn sample(&self, theta: f64, u: [f64; 2]) -> Option<Sample> {
         entering(theta, self.params.eta())?;
+        // A = 0 (ρ′ = 0): no light leaves, nothing to draw (as the dipole and the tables)
+        if self.a <= 0.0 {
+            return None;
+        }
         let r = self.invert_cdf(u[0])?;
         let phi = crate::gwc::uniform_azimuth(u[1]);
         let pdf = self.shape(r);
@@ -248,7 +252,7 @@ impl Model for Burley {
     }
 
     fn pdf(&self, theta: f64, r: f64, _phi: f64) -> f64 {
-        if entering(theta, self.params.eta()).is_none() {
+        if entering(theta, self.params.eta()).is_none() || self.a <= 0.0 {
             return 0.0;
         }
         self.shape(r)
@@ -326,6 +330,33 @@ mod tests {
             2000,
         );
         assert!((total.value - 0.7).abs() < 1e-9, "{}", total.value);
+    }
+
+    #[test]
+    fn no_light_leaves_nothing_to_sample() {
+        // ρ′ = 0: A = 0 and eval is 0 everywhere; the sampler draws nothing and its density is
+        // 0, as the dipole's and the tables' (a draw there had a density where eval was 0)
+        let params = Params::new(0.0, 1.33, Moments::Exact).unwrap();
+        let m = Burley::new(params, BurleyOptions::default()).unwrap();
+        assert_eq!(m.surface_albedo(), 0.0);
+        for u in [[0.0, 0.0], [0.3, 0.7], [0.999, 0.5]] {
+            assert_eq!(m.sample(0.5, u), None, "u {u:?}");
+        }
+        for r in [1e-9, 0.5, 3.0] {
+            assert_eq!(m.eval(0.5, r, 0.0), 0.0);
+            assert_eq!(m.pdf(0.5, r, 0.0), 0.0, "r {r}");
+        }
+        // Given A = 0 likewise
+        let given = Burley::new(
+            params,
+            BurleyOptions {
+                fit: BurleyFit::Searchlight,
+                albedo: SurfaceAlbedo::Given(0.0),
+            },
+        )
+        .unwrap();
+        assert_eq!(given.sample(0.0, [0.5, 0.5]), None);
+        assert_eq!(given.pdf(0.0, 1.0, 0.0), 0.0);
     }
 
     #[test]
