@@ -1631,3 +1631,28 @@ fn walk_text_shows_the_weight_the_vertex_cap_truncated() {
     ));
     assert!(!light.contains("truncated"), "{light}");
 }
+
+/// The zoo's table and notes print ρ′ and θ by the one number formatter, the shorter of plain
+/// and exponent form: `1e-300`, not three hundred digits.
+#[test]
+fn zoo_prints_its_cases_with_the_number_formatter() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = ok(&bssrdf(
+        dir.path(),
+        &[
+            "zoo",
+            "--eta",
+            "1",
+            "--photons",
+            "2",
+            "--cases",
+            "1e-300:1e-7",
+            "--models",
+            "dipole",
+            "-q",
+        ],
+    ));
+    assert!(text.contains("| 1e-300 | 1e-7° | dipole |"), "{text}");
+    assert!(text.contains("at ρ′ 1e-300, θ 1e-7°"), "{text}");
+    assert!(!text.contains("0.0000000000"), "{text}");
+}

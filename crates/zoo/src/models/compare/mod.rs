@@ -634,8 +634,8 @@ impl CompareReport {
         for r in &self.rows {
             out.push_str(&format!(
                 "| {} | {}° | {} | {} | {} | {} | {} | {} | {:.4} ± {:.4} | {} | {} |\n",
-                r.rho,
-                r.theta_deg,
+                crate::error::Number(r.rho),
+                crate::error::Number(r.theta_deg),
                 r.model,
                 r.component,
                 r.bins,
@@ -654,7 +654,9 @@ impl CompareReport {
             let note = r.note.as_deref().unwrap_or_default();
             out.push_str(&format!(
                 "\n{} at ρ′ {}, θ {}°: {note}\n",
-                r.model, r.rho, r.theta_deg
+                r.model,
+                crate::error::Number(r.rho),
+                crate::error::Number(r.theta_deg)
             ));
         }
         out
