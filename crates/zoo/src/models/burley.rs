@@ -232,7 +232,14 @@ impl Model for Burley {
         if entering(theta, self.params.eta()).is_none() || self.a == 0.0 {
             return 0.0;
         }
-        self.a * self.shape(r)
+        let value = self.a * self.shape(r);
+        if value.is_finite() || r == 0.0 || !r.is_finite() {
+            return value;
+        }
+        // The shape's 1/r passed f64's range (subnormal r) while A times it may not have:
+        // A/(8π d) first, then 1/r (+∞ only where R itself is beyond f64's range)
+        let (d, r) = (self.d, r.abs());
+        self.a / (8.0 * PI * d) * ((-r / d).exp() + (-r / (3.0 * d)).exp()) / r
     }
 
     fn effective_albedo(&self, theta: f64) -> Option<f64> {
@@ -330,6 +337,31 @@ mod tests {
             2000,
         );
         assert!((total.value - 0.7).abs() < 1e-9, "{}", total.value);
+    }
+
+    #[test]
+    fn a_small_albedo_keeps_subnormal_radii_finite() {
+        // R = A(e^{−r/d} + e^{−r/(3d)})/(8π d r): at r = 1e-310 the shape alone passes f64's
+        // range, A times it does not for a small A (it printed +∞)
+        let m = given(1e-12, BurleyFit::Searchlight);
+        for r in [1e-310, 1e-318] {
+            let want = 1e-12 / (8.0 * PI * m.d()) * 2.0 / r;
+            let v = m.eval(0.0, r, 0.0);
+            assert!(
+                v.is_finite() && (v / want - 1.0).abs() < 1e-12,
+                "r {r}: {v} against {want}"
+            );
+        }
+        // Where R itself passes it, +∞ as documented, and r = 0 is +∞
+        assert_eq!(
+            given(0.9, BurleyFit::Searchlight).eval(0.0, 5e-324, 0.0),
+            f64::INFINITY
+        );
+        assert_eq!(m.eval(0.0, 0.0, 0.0), f64::INFINITY);
+        // Normal radii: the same bits as A times the shape
+        for r in [1e-300, 1e-9, 1.0, 30.0] {
+            assert_eq!(m.eval(0.0, r, 0.0), m.surface_albedo() * m.shape(r));
+        }
     }
 
     #[test]
