@@ -281,6 +281,15 @@ fn total_walk_table_lookups_at_arbitrary_inputs_are_valid() {
     lookups_at_arbitrary_inputs_are_valid(total_table(), 31);
 }
 
+#[test]
+fn walk_table_lookups_are_continuous_across_the_nodes() {
+    // As `two_lobe_lookups_are_continuous_across_the_nodes` (crate::lookup), for both components
+    for (name, table) in [("multiple", table()), ("total", total_table())] {
+        let jump = crate::lookup::largest_jump_at_nodes(table);
+        assert!(jump < 1e-6, "{name}: {jump:e}");
+    }
+}
+
 /// The error of the total table's profile at a node against the multiple table's plus the exact
 /// single scattering (both tables from the same walks, so the difference is the total's fit of
 /// two lobes to the sum, less the multiple's own fit error), over 73 azimuths in [0, π]:
