@@ -76,7 +76,7 @@ pub use albedo::{AlbedoAxis, AlbedoPower, AlbedoWeights};
 pub use io::FileTable;
 pub use lookup::{
     reduced_to_mm, MediumRef, PathSample, PathSamplesMut, RadialSample, RadialSamplesMut, Sample,
-    SamplesMut, World,
+    SamplesMut, World, TINY_ALBEDO,
 };
 pub use reflectance::ReflectanceError;
 pub use subset::{check_rows, kept_rows, merge_runs, rows_for, RhoInterval, SubsetError};

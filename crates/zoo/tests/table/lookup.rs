@@ -986,3 +986,51 @@ fn far_azimuths_are_reduced_alike_on_both_sides() {
         );
     }
 }
+
+#[test]
+fn albedos_near_zero_keep_the_law_of_the_smallest() {
+    // Every energy is ρ′² g(ρ′) with g smooth at 0: below TINY_ALBEDO (10⁻⁸) the lookups read the
+    // table there and scale by (ρ′/10⁻⁸)². ρ_eff/ρ′² and eval/ρ′² at ρ′ from 10⁻⁷ down to 10⁻³⁰⁰
+    // within 10⁻⁶ of their values at 10⁻⁷ (f32 weights underflowed from about 10⁻²⁰: ρ_eff
+    // 62 % low at 10⁻²³, 8.8 times high at 10⁻²⁴, 0 below), and every draw has its pdf.
+    use bssrdf_zoo::table::TINY_ALBEDO;
+    for table in [
+        default_table(),
+        two_lobe_table(),
+        crate::ridge::ridge_table(),
+    ] {
+        let view = table.view();
+        for theta in [0.0, 1.0, 1.5] {
+            let reference = 1e-7;
+            let law = |rho: f64| view.effective_albedo(rho, theta).unwrap() / (rho * rho);
+            let value = |rho: f64| view.eval(rho, theta, 0.7, 0.4).unwrap() / (rho * rho);
+            let (g, v) = (law(reference), value(reference));
+            for rho in [
+                TINY_ALBEDO * (1.0 + 1e-12),
+                TINY_ALBEDO,
+                0.99e-8,
+                1e-12,
+                1e-23,
+                1e-24,
+                1e-30,
+                1e-150,
+            ] {
+                assert!(
+                    (law(rho) / g - 1.0).abs() < 1e-6,
+                    "{rho} {theta}: {} vs {g}",
+                    law(rho)
+                );
+                assert!(
+                    (value(rho) / v - 1.0).abs() < 1e-6,
+                    "{rho} {theta}: {} vs {v}",
+                    value(rho)
+                );
+                let s = view.sample(rho, theta, 0.37, 0.61).unwrap();
+                assert!((view.pdf(rho, theta, s.r, s.phi) / s.pdf - 1.0).abs() < 1e-9);
+            }
+            // Beyond f64 (ρ′² below 10⁻³²⁴) the energies are 0, the densities still those of 10⁻⁸
+            assert_eq!(view.effective_albedo(1e-300, theta), Some(0.0));
+            assert!(view.sample(1e-300, theta, 0.37, 0.61).is_some());
+        }
+    }
+}
