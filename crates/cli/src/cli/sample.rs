@@ -4,7 +4,7 @@
 //! --path-tracing), so `bssrdf sample FILE … | bssrdf eval FILE --points -` works.
 
 use super::library::{self, TableChoice};
-use super::CliError;
+use super::{show, CliError};
 use bssrdf_zoo::format::Library;
 use bssrdf_zoo::rng::{SeedableRng, SplitMix64, UnitF64};
 use clap::Args;
@@ -93,7 +93,8 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
             ];
             let s = view.sample_path(rho, u)?;
             Some(format!(
-                "{rho},{},{},{},{},{:e}",
+                "{},{},{},{},{},{:e}",
+                show(rho),
                 s.theta.to_degrees(),
                 s.r / scale,
                 s.phi.to_degrees(),
@@ -103,7 +104,8 @@ pub fn run(args: SampleArgs) -> Result<ExitCode, CliError> {
         } else {
             let s = view.sample(rho, theta, rng.next_f64(), rng.next_f64())?;
             Some(format!(
-                "{rho},{theta_deg},{},{},{:e}",
+                "{},{theta_deg},{},{},{:e}",
+                show(rho),
                 s.r / scale,
                 s.phi.to_degrees(),
                 s.pdf * scale * scale
