@@ -36,7 +36,9 @@ pub use separable::RadialSample;
 pub use world::{reduced_to_mm, MediumRef, World};
 
 /// Between 0 and this reduced albedo the lookups read the table at it and scale its energies
-/// ([`TableRef::tiny_albedo`]).
+/// by (ρ′/`TINY_ALBEDO`)ᵖ, p the power of ρ′ the table's spline along ρ′ takes out
+/// ([`crate::table::AlbedoPower`]): every energy is ρ′ᵖ g(ρ′) with g(ρ′) = g(0)(1 + O(ρ′)), and
+/// read at ρ′ itself the f32 weights of the blends underflowed from ρ′ ≈ 10⁻²⁰ (docs/table.md).
 pub const TINY_ALBEDO: f64 = 1e-8;
 
 /// Half an f32 step, relative: how far an f64 value can lie from the f32 it rounds to.
