@@ -243,7 +243,20 @@ impl Model for McModel {
         let (r0, r1) = (self.r_edges[i], self.r_edges[i + 1]);
         let r = (r0 * r0 + v * (r1 * r1 - r0 * r0)).sqrt().clamp(r0, r1);
         let dphi = TAU / self.phi_count as f64;
-        let phi = (-PI + dphi * (j as f64 + crate::gwc::unit_interval(u[1]))).clamp(-PI, PI);
+        let (lo, hi) = (-PI + dphi * j as f64, -PI + dphi * (j + 1) as f64);
+        let phi = (lo + dphi * crate::gwc::unit_interval(u[1])).clamp(-PI, PI);
+        // A draw on an edge of its bin (v = 1, u = 0, rounding) is read by `bin_of` (which folds
+        // φ onto [0, π]) in the next bin, whose density is another, or past the last radius in
+        // none: such a coordinate (probability 0) moves to the middle of its bin
+        let folded_j = j.max(self.phi_count - 1 - j);
+        let r = match self.bin_of(r, phi) {
+            Some((bi, _)) if bi == i => r,
+            _ => 0.5 * (r0 + r1),
+        };
+        let phi = match self.bin_of(r, phi) {
+            Some((_, bj)) if bj == folded_j => phi,
+            _ => 0.5 * (lo + hi),
+        };
         let pdf = self.pdf(theta, r, phi);
         (pdf > 0.0 && pdf.is_finite()).then_some(Sample { r, phi, pdf })
     }
