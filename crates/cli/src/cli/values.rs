@@ -136,8 +136,12 @@ pub fn whole<T: FromStr + Whole>(text: &str) -> Result<T, String> {
     };
     // A number typed with digits but beyond ±1.8e308 reads as ±inf: too large or too small
     // below, as typed; NaN and a spelled-out infinity are not numbers of any range
-    let typed_beyond_f64 = x.is_infinite() && text.bytes().any(|b| b.is_ascii_digit());
-    if !(x.is_finite() || typed_beyond_f64) || (x.is_finite() && x.fract() != 0.0) {
+    let not_whole = if x.is_infinite() {
+        !text.bytes().any(|b| b.is_ascii_digit())
+    } else {
+        x.is_nan() || x.fract() != 0.0
+    };
+    if not_whole {
         return Err(format!("{} is not a whole number", show(x)));
     }
     // Integral: in decimal digits (exact for every integral f64 below 2^127), for T's own parse

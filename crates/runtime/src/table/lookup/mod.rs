@@ -454,27 +454,36 @@ impl<'a> TableRef<'a> {
     /// (η < 1) the value is 0. A table with the ridge adds it to what its nodes give
     /// (`lookup::ridged`).
     pub fn eval(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
-        let (rho, scale) = self.tiny_albedo(rho);
+        if let Some(scale) = self.tiny_scale(rho) {
+            return Some(scale * self.eval(TINY_ALBEDO, theta, r, phi)?);
+        }
         let nodes = self.eval_nodes(rho, theta, r, phi)?;
         if self.ridge.is_some() {
-            return Some(scale * self.with_ridge_value(nodes, rho, theta, r, phi));
+            return Some(self.with_ridge_value(nodes, rho, theta, r, phi));
         }
-        Some(scale * nodes)
+        Some(nodes)
     }
 
-    /// The albedo at which the lookups read the table for `rho`, and the factor of its
-    /// energies: ρ′ itself and 1, except between 0 and [`TINY_ALBEDO`], where every energy of a
-    /// table is ρ′ᵖ g(ρ′) with g(ρ′) = g(0)(1 + O(ρ′)) (`table::albedo`): there the table is
-    /// read at [`TINY_ALBEDO`] and its energies scaled by (ρ′/[`TINY_ALBEDO`])ᵖ, its densities
-    /// (which the factor leaves alone) taken as they are, to within 10⁻⁸ of themselves. Read at
-    /// ρ′ itself, the weights ρ′ᵖ/ρ′ᵢᵖ, f32 in the blends, underflowed: below ρ′ ≈ 10⁻²⁰ ρ_eff
-    /// was 62 % low to 8.8 times high, then 0, and the sampler failed or disagreed with eval.
+    /// For ρ′ between 0 and [`TINY_ALBEDO`], the factor (ρ′/[`TINY_ALBEDO`])ᵖ of the energies
+    /// the table gives at [`TINY_ALBEDO`]; `None` elsewhere. There every energy of a table is
+    /// ρ′ᵖ g(ρ′) with g(ρ′) = g(0)(1 + O(ρ′)) (`table::albedo`), so the energy lookups read the
+    /// table at [`TINY_ALBEDO`] and scale, and the densities ([`TableRef::read_albedo`]) take
+    /// its values as they are, both to within 10⁻⁸ of themselves. Read at ρ′ itself, the weights
+    /// ρ′ᵖ/ρ′ᵢᵖ, f32 in the blends, underflowed: below ρ′ ≈ 10⁻²⁰ ρ_eff was 62 % low to 8.8
+    /// times high, then 0, and the sampler failed or disagreed with eval.
     #[inline(always)]
-    fn tiny_albedo(&self, rho: f64) -> (f64, f64) {
+    fn tiny_scale(&self, rho: f64) -> Option<f64> {
+        (rho > 0.0 && rho < TINY_ALBEDO).then(|| self.axes.rho.power().of(rho / TINY_ALBEDO))
+    }
+
+    /// The albedo at which the densities and draws read the table for `rho`: [`TINY_ALBEDO`]
+    /// between 0 and it ([`TableRef::tiny_scale`]), else ρ′.
+    #[inline(always)]
+    pub(super) fn read_albedo(&self, rho: f64) -> f64 {
         if rho > 0.0 && rho < TINY_ALBEDO {
-            (TINY_ALBEDO, self.axes.rho.power().of(rho / TINY_ALBEDO))
+            TINY_ALBEDO
         } else {
-            (rho, 1.0)
+            rho
         }
     }
 
@@ -558,9 +567,11 @@ impl<'a> TableRef<'a> {
     /// The perpendicular-incidence model: the θ = 0 slice at every θ, uniform in φ (pbrt's
     /// assumption), S = E(ρ′, 0, r)/(2πr).
     pub fn eval_perpendicular(&self, rho: f64, r: f64) -> Option<f64> {
-        let (rho, scale) = self.tiny_albedo(rho);
+        if let Some(scale) = self.tiny_scale(rho) {
+            return Some(scale * self.eval_perpendicular(TINY_ALBEDO, r)?);
+        }
         Some(match self.cell_at_point(rho, 0.0, r)? {
-            Cell::Profile([e_per_r, ..]) => scale * (e_per_r / TAU),
+            Cell::Profile([e_per_r, ..]) => e_per_r / TAU,
             Cell::OutsideRadius => 0.0,
         })
     }
@@ -571,10 +582,12 @@ impl<'a> TableRef<'a> {
     /// lit node and an unlit one beyond the critical angle (η < 1). A table with the ridge adds
     /// the ridge's energy up to its last radius.
     pub fn effective_albedo(&self, rho: f64, theta: f64) -> Option<f64> {
-        let (rho, scale) = self.tiny_albedo(rho);
+        if let Some(scale) = self.tiny_scale(rho) {
+            return Some(scale * self.effective_albedo(TINY_ALBEDO, theta)?);
+        }
         let enters = self.light_enters(theta);
         let nodes = self.with_slice(rho, theta, |s| if enters { self.total(s) } else { 0.0 })?;
-        Some(scale * (nodes + self.ridge_at(rho, theta).map_or(0.0, |r| r.energy())))
+        Some(nodes + self.ridge_at(rho, theta).map_or(0.0, |r| r.energy()))
     }
 
     /// Whether light enters at θ (radians, within the axis): always for η ≥ 1, below the

@@ -10,7 +10,7 @@ impl TableRef<'_> {
     /// density is infinite), or u_φ is not finite (NaN or ±∞): a broken random stream draws
     /// nothing rather than a plausible point. A finite u_φ outside [0, 1] is clamped into it.
     pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         if !self.light_enters(theta) || !u_phi.is_finite() {
             return None;
         }
@@ -87,7 +87,7 @@ impl TableRef<'_> {
 
     /// Density per unit area of [`TableRef::sample`] at (r, φ), reduced mfp⁻².
     pub fn pdf(&self, rho: f64, theta: f64, r: f64, phi: f64) -> f64 {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         if !self.light_enters(theta) {
             return 0.0;
         }
@@ -151,7 +151,7 @@ impl TableRef<'_> {
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform. `None` as
     /// [`TableRef::sample`] (a uniform that is not finite included).
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         if !u_phi.is_finite() {
             return None;
         }
@@ -168,7 +168,7 @@ impl TableRef<'_> {
     /// `None` without the θ-sampling table, where no energy is stored or for a uniform that
     /// is not finite (NaN or ±∞).
     pub fn sample_path(&self, rho: f64, u: [f64; 4]) -> Option<PathSample> {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         if u.iter().any(|u| !u.is_finite()) {
             return None;
         }
@@ -201,7 +201,7 @@ impl TableRef<'_> {
     /// Density of θ in [`TableRef::sample_path`], per radian: 0 where no light enters (beyond
     /// the critical angle of an η < 1, where the θ CDF is constant).
     pub fn pdf_theta(&self, rho: f64, theta: f64) -> f64 {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         let (Some(theta_cdf), Some(w_rho)) = (self.theta_cdf, self.axes.rho.weights(rho)) else {
             return 0.0;
         };
@@ -219,7 +219,7 @@ impl TableRef<'_> {
     /// `None` outside the axes or where the table holds no energy. For a table with the ridge,
     /// the preimage through the nodes' part (`lookup::ridged`).
     pub fn invert(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<(f64, f64)> {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         if !self.light_enters(theta) {
             return None;
         }

@@ -48,7 +48,7 @@ impl TableRef<'_> {
     /// unit r, [`TableRef::pdf_radius`] at r up to rounding. `None` where `sample` is: no energy
     /// (ρ′ = 0, light beyond the critical angle) or (ρ′, θ) outside the axes.
     pub fn sample_radius(&self, rho: f64, theta: f64, u: f64) -> Option<RadialSample> {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         if !self.light_enters(theta) {
             return None;
         }
@@ -68,7 +68,7 @@ impl TableRef<'_> {
     /// of [`TableRef::pdf`], which is `pdf_radius · p(φ | r) / r`. 0 outside (0, r_max], beyond
     /// the critical angle and outside the axes.
     pub fn pdf_radius(&self, rho: f64, theta: f64, r: f64) -> f64 {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         if !self.light_enters(theta) || r <= 0.0 || !r.is_finite() {
             return 0.0;
         }
@@ -87,7 +87,7 @@ impl TableRef<'_> {
     /// radial support, no energy, beyond the critical angle) and for NaN φ; `None` for (ρ′, θ)
     /// outside the axes, as eval. See the module docs for the estimators it serves.
     pub fn angular_factor(&self, rho: f64, theta: f64, r: f64, phi: f64) -> Option<f64> {
-        let rho = self.tiny_albedo(rho).0;
+        let rho = self.read_albedo(rho);
         let cell = self.cell_at_point(rho, theta, r)?;
         if let Some(ridge) = self.ridge_at(rho, theta) {
             // S over its mean over φ, the nodes' part's E/(2πr) and the ridge's
