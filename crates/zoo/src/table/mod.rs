@@ -6,6 +6,7 @@ mod bake;
 mod check;
 mod validate;
 mod walk_bake;
+mod walk_lobes;
 mod walk_single;
 
 pub use bake::{
@@ -23,7 +24,7 @@ pub use check::{
 pub use validate::{validate, ValidationRow, REPORT_TABLE_2};
 pub use walk_bake::{
     bake_walk, max_ridge_widening, walk_bake_photons, FitBand, NodeFit, WalkBake, WalkBakeReport,
-    WalkMiss, MAX_RIDGE_SHARE, MAX_RIDGE_WIDENING, MIN_HARMONICS_PHOTONS, NODE_FIT_SPLIT_R,
-    NODE_FIT_WARNING, WALK_GROUP_EDGES, WALK_LAST_GROUP_SHARE, WALK_MISS_CHI2, WALK_MISS_R,
-    WALK_MISS_WARNING,
+    WalkMiss, WalkProfile, MAX_RIDGE_SHARE, MAX_RIDGE_WIDENING, MIN_HARMONICS_PHOTONS,
+    NODE_FIT_SPLIT_R, NODE_FIT_WARNING, WALK_GROUP_EDGES, WALK_LAST_GROUP_SHARE, WALK_MISS_CHI2,
+    WALK_MISS_R, WALK_MISS_WARNING,
 };

@@ -72,6 +72,22 @@
 //!    (below η = 1, the critical node) the harmonics of the tilted limit; r = 0 and the nodes
 //!    beyond the critical angle as in the PBD bake.
 //!
+//! # Where the tilt misses the walk
+//! Near index matching with strong forward scattering (η = 1, g = 0.9) the walk's multiple
+//! scattering at grazing incidence is far more forward than PBD's, and no tilt of a few
+//! harmonics reaches it: the tilted profiles miss the walk's harmonics by 5–27 % RMS from 70°
+//! on ([`WalkMiss`]). At a θ node where the tilt's miss is beyond the warning
+//! ([`WalkMiss::warns`]), each row's nodes get a floor and two wrapped Cauchy lobes fitted
+//! straight to the walk's harmonics instead ([`row_lobes`], `table::walk_lobes`): the energy
+//! as ln(μ̂₀/P̄₀) times PBD at the node, the shape μ̂₁/μ̂₀ … μ̂₈/μ̂₀, both smoothed along ln r
+//! as the tilts are, the lobes' masses signed with the sharper one positive and the profile
+//! ≥ 0 (what a stored node's rebuild gives back), stored as their harmonics (refitted at the
+//! bake's eight azimuths they lost most of it). They replace the tilt at that θ node if they
+//! miss the walk less (χ² per harmonic over the same nodes), between the first and last node
+//! the walk measured; before and beyond those the tilt stays (the far tail goes on from PBD).
+//! PBD's shape beyond the ninth harmonic is then gone, so where the tilt follows the walk the
+//! tilt is kept: at η = 1, g = 0 lobes from 70° on made ρ′ = 0.99 worse (docs/walk-table.md).
+//!
 //! # The total
 //! With [`WalkComponent::Total`] each node's profile is the tilted PBD plus the exact single
 //! scattering of its row ([`crate::walk::single`], by quadrature, noise-free): the energy is the
@@ -98,6 +114,7 @@ use super::bake::{
     assemble, beam_in_surface, checked_grid, node_cell, r0_concentration, stored_node,
     surface_harmonics, to_f32, two_lobe_azimuths, two_lobe_node_of, within_floor,
 };
+use super::walk_lobes::Lobes;
 use super::walk_single::{SingleNode, SinglePart};
 use super::{AngularTable, Grid, PARAMS_PER_NODE};
 use crate::error::{Error, Result};
@@ -171,7 +188,8 @@ pub struct WalkBakeReport {
     pub node_fit: Vec<NodeFit>,
     /// Per θ node where light enters, how far the profiles the nodes were fitted to are from
     /// the walk's own measured harmonics: the part of the table's error that is the model of
-    /// the walk's shape (PBD tilted), beyond the walk's noise.
+    /// the walk's shape (PBD tilted, or lobes fitted to the walk where the tilt misses it),
+    /// beyond the walk's noise.
     pub walk_miss: Vec<WalkMiss>,
 }
 
@@ -192,14 +210,38 @@ pub struct WalkMiss {
     pub nodes: usize,
     /// The relative root mean square over φ of the profile less the walk, beyond the walk's
     /// noise (√ of the nodes' unbiased estimates, weighted by their precision; 0 where that
-    /// mean is below 0, that is within the noise); `None` (null) without a node.
+    /// mean is below 0, that is within the noise); `None` (left out of JSON, whose readers refuse null) without a node.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub rms: Option<f64>,
     /// Mean over the nodes of χ² per harmonic, Σₙ (Δμₙ/σₙ)²/8: about 1 where the profiles are
-    /// the walk's within its noise; `None` (null) without a node.
+    /// the walk's within its noise; `None` (left out of JSON, whose readers refuse null) without a node.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub chi2: Option<f64>,
+    /// What the nodes of this θ node were fitted to.
+    pub profile: WalkProfile,
+    /// Where that is [`WalkProfile::Lobes`], the [`WalkMiss::rms`] of the tilted PBD they
+    /// replaced; `None` (left out) otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tilt_rms: Option<f64>,
+    /// Likewise its [`WalkMiss::chi2`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tilt_chi2: Option<f64>,
+}
+
+/// The profile the nodes of a θ node were fitted to (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WalkProfile {
+    /// PBD tilted to the walk's harmonics.
+    Tilt,
+    /// A floor and two lobes fitted straight to the walk's harmonics, where the tilt misses
+    /// the walk by more than [`WALK_MISS_WARNING`] and χ² [`WALK_MISS_CHI2`] and the lobes
+    /// miss it less.
+    Lobes,
 }
 
 impl WalkMiss {
+    /// The miss of the tilted PBD over `nodes`.
     fn of(theta_deg: f64, nodes: &[NodeMiss]) -> WalkMiss {
         let n = nodes.len();
         let weight: f64 = nodes.iter().map(|m| m.weight).sum();
@@ -209,7 +251,27 @@ impl WalkMiss {
             nodes: n,
             rms: (n > 0).then(|| excess.max(0.0).sqrt()),
             chi2: (n > 0).then(|| nodes.iter().map(|m| m.chi2).sum::<f64>() / n as f64),
+            profile: WalkProfile::Tilt,
+            tilt_rms: None,
+            tilt_chi2: None,
         }
+    }
+
+    /// This miss, of lobes, where they replaced the tilt whose miss is `tilt`.
+    fn instead_of(&self, tilt: &WalkMiss) -> WalkMiss {
+        WalkMiss {
+            profile: WalkProfile::Lobes,
+            tilt_rms: tilt.rms,
+            tilt_chi2: tilt.chi2,
+            ..*self
+        }
+    }
+
+    /// Whether the miss is beyond [`WALK_MISS_WARNING`] RMS with χ² above
+    /// [`WALK_MISS_CHI2`]: a miss the walk tells from its noise, larger than the table's goal.
+    pub fn warns(&self) -> bool {
+        self.rms.is_some_and(|rms| rms > WALK_MISS_WARNING)
+            && self.chi2.is_some_and(|chi2| chi2 > WALK_MISS_CHI2)
     }
 }
 
@@ -236,9 +298,11 @@ pub struct NodeFit {
 pub struct FitBand {
     /// Nodes measured.
     pub nodes: usize,
-    /// Mean over the nodes of their error (fraction); `None` (null) without a node.
+    /// Mean over the nodes of their error (fraction); `None` (left out of JSON, whose readers refuse null) without a node.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub mean: Option<f64>,
-    /// 90th percentile of it; `None` (null) without a node.
+    /// 90th percentile of it; `None` (left out of JSON, whose readers refuse null) without a node.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub p90: Option<f64>,
 }
 
@@ -288,10 +352,14 @@ impl WalkBakeReport {
             .iter()
             .filter_map(|miss| {
                 let (rms, chi2) = (miss.rms?, miss.chi2?);
-                (rms > WALK_MISS_WARNING && chi2 > WALK_MISS_CHI2).then(|| {
+                miss.warns().then(|| {
                     format!(
-                        "at theta {:.1} deg the profile the nodes were fitted to (PBD tilted to the walk's harmonics) is {:.1} % RMS over phi away from the walk's own measured harmonics beyond its noise (chi2 {:.1} per harmonic, over {} nodes at r {}-{} reduced mfp; more than {:.0} %): the table inherits that miss, whatever its lobes do (docs/walk-table.md, \"The bake's own measure of it\")",
+                        "at theta {:.1} deg the profile the nodes were fitted to ({}) is {:.1} % RMS over phi away from the walk's own measured harmonics beyond its noise (chi2 {:.1} per harmonic, over {} nodes at r {}-{} reduced mfp; more than {:.0} %): the table inherits that miss, whatever its lobes do (docs/walk-table.md, \"The bake's own measure of it\")",
                         miss.theta_deg,
+                        match miss.profile {
+                            WalkProfile::Tilt => "PBD tilted to the walk's harmonics",
+                            WalkProfile::Lobes => "two lobes fitted to the walk's harmonics",
+                        },
                         100.0 * rms,
                         chi2,
                         miss.nodes,
@@ -334,9 +402,9 @@ impl WalkBakeReport {
     }
 }
 
-/// A row's cells, the relative standard errors, the node fit errors and the profile's misses
-/// of the walk it adds to the report, and whether the walk measured a node of it.
-type RowCells = (Vec<[f64; 5]>, Vec<f64>, [Vec<f64>; 2], Vec<NodeMiss>, bool);
+/// A row's cells, the relative standard errors and the node fit errors it adds to the report,
+/// and whether the walk measured a node of it.
+type RowCells = (Vec<[f64; 5]>, Vec<f64>, [Vec<f64>; 2], bool);
 
 /// Points of the kernel averages of PBD on each side of a node, in ln r.
 const CONTROL_POINTS: usize = 3;
@@ -403,14 +471,14 @@ pub fn bake_walk(
                 config.g, eta, walk_theta, in_surface, &grid.r,
             )?),
         };
-        let mut fit_errors = [Vec::new(), Vec::new()];
-        let mut theta_misses = Vec::new();
-        for (group, (rows, share)) in groups.iter().enumerate() {
-            if rows.is_empty() {
+        // Walk every group of rows and tilt PBD to each row
+        let mut rows = Vec::with_capacity(n_rho);
+        for (group, (members, share)) in groups.iter().enumerate() {
+            if members.is_empty() {
                 continue;
             }
             let walk = HarmonicsConfig {
-                rho: rows.iter().map(|&i| grid.rho[i]).collect(),
+                rho: members.iter().map(|&i| grid.rho[i]).collect(),
                 g: config.g,
                 eta,
                 theta: walk_theta,
@@ -423,91 +491,68 @@ pub fn bake_walk(
             let h = harmonics(&walk, progress)?;
             photons += h.photons();
             events += h.scattering_events();
-            // Each row's nodes, corrected by PBD, in parallel
-            let cells: Vec<Result<RowCells>> = rows
+            let tilted: Vec<Result<(usize, RowPbd, RowTilts)>> = members
                 .par_iter()
                 .enumerate()
                 .map(|(k, &i)| {
-                    let pbd = Pbd::new(grid.rho[i], boundary)?;
-                    // (the beam in the surface keeps PBD's own shape). The flux part alone:
-                    // the narrow lobe that the walk has weaker and wider; its broad fluence
-                    // lobes stay in PBD (module docs, "The ridge's share")
-                    let ridge = crate::fresnel::refracted_cos(theta, eta)
-                        .filter(|_| !in_surface && ridge::reaches(eta))
-                        .and_then(|c| {
-                            Ridge::with_cos(RidgeKind::Flux, &boundary, grid.rho[i], c, r_max)
-                        });
-                    let control = Control {
-                        pbd: &pbd,
-                        theta: (!in_surface).then_some(theta),
-                        rules: &rules,
-                        ridge: ridge.as_ref(),
-                        max_widening: max_ridge_widening(config.component),
-                        ridge_tilt_terms: crate::fresnel::refracted_cos(theta, eta)
-                            .map_or(RIDGE_TILT_TERMS, ridge_tilt_terms),
-                    };
-                    let RowTilts {
-                        tilts,
-                        rel,
-                        misses,
-                        measured,
-                    } = row_tilts(&h, k, &grid.r, &control);
-                    let albedo = unreduced_albedo(grid.rho[i], config.g);
-                    let single = single.as_ref().map(|part| (part, albedo));
-                    let (out, fits) = row_cells(&tilts, &grid.r, &control, single)?;
-                    // The report's nodes: ρ′ ≥ 0.1, r in `band`
-                    let reported = |values: &[Option<f64>], band: &dyn Fn(f64) -> bool| {
-                        if grid.rho[i] < 0.1 {
-                            return Vec::new();
-                        }
-                        (0..n_r)
-                            .filter(|&node| band(grid.r[node]))
-                            .filter_map(|node| values[node])
-                            .collect::<Vec<f64>>()
-                    };
-                    let noise = reported(&rel, &|r| (0.01..=20.0).contains(&r));
-                    let fits = [
-                        reported(&fits, &|r| (0.01..NODE_FIT_SPLIT_R).contains(&r)),
-                        reported(&fits, &|r| (NODE_FIT_SPLIT_R..=20.0).contains(&r)),
-                    ];
-                    let misses = if grid.rho[i] < 0.1 {
-                        Vec::new()
-                    } else {
-                        (0..n_r)
-                            .filter(|&node| {
-                                (WALK_MISS_R[0]..=WALK_MISS_R[1]).contains(&grid.r[node])
-                            })
-                            .filter_map(|node| misses[node])
-                            .collect()
-                    };
-                    Ok((out, noise, fits, misses, measured))
+                    let pbd = RowPbd::new(grid.rho[i], boundary, theta, r_max)?;
+                    let tilts = row_tilts(&h, k, &grid.r, &pbd.control(&rules, config.component));
+                    Ok((i, pbd, tilts))
                 })
                 .collect();
-            for (&i, row) in rows.iter().zip(cells) {
-                let (harm, noise, fits, misses, measured) = row?;
-                theta_misses.extend(misses);
-                rel_stderr.extend(noise);
-                for (band, fits) in fit_errors.iter_mut().zip(fits) {
-                    band.extend(fits);
-                }
-                // ρ′ = 0 has nothing to measure and is PBD's (0) by right
-                if !measured && grid.rho[i] > 0.0 {
-                    rows_from_pbd += 1;
-                }
-                let base = (i * n_theta + j) * n_r;
-                for (node, cell) in harm.iter().enumerate() {
-                    let at = base + node;
-                    params[at * PARAMS_PER_NODE] = to_f32(cell[0]);
-                    params[at * PARAMS_PER_NODE + 1] = to_f32(cell[1]);
-                    params[at * PARAMS_PER_NODE + 2] = cell[2] as f32;
-                    second[at * 2] = to_f32(cell[3]);
-                    second[at * 2 + 1] = to_f32(cell[4]);
-                }
+            for row in tilted {
+                rows.push(row?);
+            }
+        }
+        let theta_deg = (theta.to_degrees() * 1e4).round() / 1e4;
+        let tilts: Vec<(usize, &RowTilts)> = rows.iter().map(|(i, _, t)| (*i, t)).collect();
+        let (profiles, miss) = node_profiles(&tilts, grid, theta_deg, theta > 0.0 && !in_surface);
+        walk_miss.push(miss);
+        // Each row's cells from its profiles, in parallel
+        let cells: Vec<Result<(usize, RowCells)>> = rows
+            .into_par_iter()
+            .zip(profiles)
+            .map(|((i, pbd, tilts), profiles)| {
+                let albedo = unreduced_albedo(grid.rho[i], config.g);
+                let single = single.as_ref().map(|part| (part, albedo));
+                let control = pbd.control(&rules, config.component);
+                let (out, fits) = row_cells(&profiles, &grid.r, &control, single)?;
+                let noise = reported(grid.rho[i], &grid.r, &tilts.rel, |r| {
+                    (0.01..=20.0).contains(&r)
+                });
+                let fits = [
+                    reported(grid.rho[i], &grid.r, &fits, |r| {
+                        (0.01..NODE_FIT_SPLIT_R).contains(&r)
+                    }),
+                    reported(grid.rho[i], &grid.r, &fits, |r| {
+                        (NODE_FIT_SPLIT_R..=20.0).contains(&r)
+                    }),
+                ];
+                Ok((i, (out, noise, fits, !tilts.reliable.is_empty())))
+            })
+            .collect();
+        let mut fit_errors = [Vec::new(), Vec::new()];
+        for row in cells {
+            let (i, (harm, noise, fits, measured)) = row?;
+            rel_stderr.extend(noise);
+            for (band, fits) in fit_errors.iter_mut().zip(fits) {
+                band.extend(fits);
+            }
+            // ρ′ = 0 has nothing to measure and is PBD's (0) by right
+            if !measured && grid.rho[i] > 0.0 {
+                rows_from_pbd += 1;
+            }
+            let base = (i * n_theta + j) * n_r;
+            for (node, cell) in harm.iter().enumerate() {
+                let at = base + node;
+                params[at * PARAMS_PER_NODE] = to_f32(cell[0]);
+                params[at * PARAMS_PER_NODE + 1] = to_f32(cell[1]);
+                params[at * PARAMS_PER_NODE + 2] = cell[2] as f32;
+                second[at * 2] = to_f32(cell[3]);
+                second[at * 2 + 1] = to_f32(cell[4]);
             }
         }
         let [near, far] = fit_errors;
-        let theta_deg = (theta.to_degrees() * 1e4).round() / 1e4;
-        walk_miss.push(WalkMiss::of(theta_deg, &theta_misses));
         if !near.is_empty() || !far.is_empty() {
             node_fit.push(NodeFit {
                 theta_deg,
@@ -594,6 +639,129 @@ fn check_photons(photons: u64) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// The values at a row's nodes that the report counts: those of a row of albedo ρ′ ≥ 0.1 at
+/// radii r `in_band`.
+fn reported<T: Copy>(
+    rho: f64,
+    r: &[f64],
+    values: &[Option<T>],
+    in_band: impl Fn(f64) -> bool,
+) -> Vec<T> {
+    if rho < 0.1 {
+        return Vec::new();
+    }
+    r.iter()
+        .zip(values)
+        .filter(|(&r, _)| in_band(r))
+        .filter_map(|(_, v)| *v)
+        .collect()
+}
+
+/// The profile of every node of a θ node's rows (`rows`: (row, its tilts)) and the θ node's
+/// [`WalkMiss`]: the tilted PBD, or, where `lobes_allowed` (θ above 0, light not in the surface)
+/// and the tilts' miss of the walk warns ([`WalkMiss::warns`]), lobes fitted to the walk's
+/// harmonics ([`row_lobes`]) wherever they were fitted, if their miss is the smaller (χ² per
+/// harmonic over the same nodes; module docs, "Where the tilt misses the walk").
+fn node_profiles(
+    rows: &[(usize, &RowTilts)],
+    grid: &Grid,
+    theta_deg: f64,
+    lobes_allowed: bool,
+) -> (Vec<Vec<Option<NodeProfile>>>, WalkMiss) {
+    let miss_of = |misses: &mut dyn Iterator<Item = (usize, &[Option<NodeMiss>])>| {
+        let nodes: Vec<NodeMiss> = misses
+            .flat_map(|(i, m)| {
+                reported(grid.rho[i], &grid.r, m, |r| {
+                    (WALK_MISS_R[0]..=WALK_MISS_R[1]).contains(&r)
+                })
+            })
+            .collect();
+        WalkMiss::of(theta_deg, &nodes)
+    };
+    let tilt_miss = miss_of(&mut rows.iter().map(|(i, t)| (*i, t.misses.as_slice())));
+    let tilted = |t: &RowTilts| t.tilts.iter().map(|t| t.map(NodeProfile::Tilted)).collect();
+    if !(lobes_allowed && tilt_miss.warns()) {
+        return (rows.iter().map(|(_, t)| tilted(t)).collect(), tilt_miss);
+    }
+    let lobes: Vec<_> = rows
+        .par_iter()
+        .map(|(_, t)| row_lobes(t, &grid.r))
+        .collect();
+    let lobes_miss = miss_of(
+        &mut rows
+            .iter()
+            .zip(&lobes)
+            .map(|((i, _), (_, m))| (*i, m.as_slice())),
+    );
+    let closer = lobes_miss
+        .chi2
+        .zip(tilt_miss.chi2)
+        .is_some_and(|(lobes, tilt)| lobes < tilt);
+    if !closer {
+        return (rows.iter().map(|(_, t)| tilted(t)).collect(), tilt_miss);
+    }
+    let profiles = rows
+        .iter()
+        .zip(lobes)
+        .map(|((_, t), (lobes, _))| {
+            t.tilts
+                .iter()
+                .zip(lobes)
+                .map(|(tilt, lobes)| match lobes {
+                    Some(l) => Some(NodeProfile::Lobes(l)),
+                    None => tilt.map(NodeProfile::Tilted),
+                })
+                .collect()
+        })
+        .collect();
+    (profiles, lobes_miss.instead_of(&tilt_miss))
+}
+
+/// PBD at one (ρ′, θ) and its analytic ridge: what a row's [`Control`] refers to.
+struct RowPbd {
+    pbd: Pbd,
+    /// The incidence, `None` for a beam in the surface.
+    theta: Option<f64>,
+    ridge: Option<Ridge>,
+    /// The harmonics of the tilt beside the ridge's share ([`ridge_tilt_terms`]).
+    ridge_tilt_terms: usize,
+}
+
+impl RowPbd {
+    fn new(rho: f64, boundary: Boundary, theta: f64, r_max: f64) -> Result<RowPbd> {
+        let eta = boundary.eta();
+        let in_surface = beam_in_surface(eta, theta);
+        let refracted = crate::fresnel::refracted_cos(theta, eta);
+        // (the beam in the surface keeps PBD's own shape). The flux part alone: the narrow
+        // lobe that the walk has weaker and wider; its broad fluence lobes stay in PBD (module
+        // docs, "The ridge's share")
+        let ridge = refracted
+            .filter(|_| !in_surface && ridge::reaches(eta))
+            .and_then(|c| Ridge::with_cos(RidgeKind::Flux, &boundary, rho, c, r_max));
+        Ok(RowPbd {
+            pbd: Pbd::new(rho, boundary)?,
+            theta: (!in_surface).then_some(theta),
+            ridge,
+            ridge_tilt_terms: refracted.map_or(RIDGE_TILT_TERMS, ridge_tilt_terms),
+        })
+    }
+
+    fn control<'a>(
+        &'a self,
+        rules: &'a (GaussLegendre, GaussLegendre),
+        component: WalkComponent,
+    ) -> Control<'a> {
+        Control {
+            pbd: &self.pbd,
+            theta: self.theta,
+            rules,
+            ridge: self.ridge.as_ref(),
+            max_widening: max_ridge_widening(component),
+            ridge_tilt_terms: self.ridge_tilt_terms,
+        }
+    }
 }
 
 /// PBD at one (ρ′, θ), the model of the correction: `theta` `None` for a beam in the surface.
@@ -1041,14 +1209,7 @@ fn row_tilts(h: &WalkHarmonics, row: usize, r: &[f64], control: &Control) -> Row
                     tilt[0] += step.clamp(-max_step, max_step);
                     tilt
                 }
-                (Some(_), Some(&k)) if k == node => smoothed[after],
-                (Some(i), Some(&k)) => {
-                    let (u0, u1) = (r[reliable[i]].ln(), r[k].ln());
-                    let t = (r[node].ln() - u0) / (u1 - u0);
-                    std::array::from_fn(|n| {
-                        smoothed[i][n] + t * (smoothed[after][n] - smoothed[i][n])
-                    })
-                }
+                (Some(_), Some(_)) => within_measured(&smoothed, &reliable, r, node)?,
                 (None, None) => tilt_of(0.0, [0.0; TILT_TERMS], 1.0, 0.0),
             };
             let tilt = match tilt {
@@ -1071,15 +1232,38 @@ fn row_tilts(h: &WalkHarmonics, row: usize, r: &[f64], control: &Control) -> Row
         .map(|node| {
             let m = &measured[node];
             let (tilt, _) = node_tilts[node].as_ref()?;
-            m.reliable().then(|| NodeMiss::of(m, tilt))?
+            m.reliable().then(|| NodeMiss::of_tilt(m, tilt))?
         })
         .collect();
     RowTilts {
         tilts: node_tilts,
         rel,
         misses,
-        measured: !reliable.is_empty(),
+        nodes: measured,
+        reliable,
     }
+}
+
+/// The value at `node` of `smoothed` (one per reliable node, in the order of `reliable`): its
+/// own at a reliable node, linear in ln r between two; `None` before the first and beyond the
+/// last.
+fn within_measured<const N: usize>(
+    smoothed: &[[f64; N]],
+    reliable: &[usize],
+    r: &[f64],
+    node: usize,
+) -> Option<[f64; N]> {
+    let after = reliable.partition_point(|&k| k < node);
+    let k = *reliable.get(after)?;
+    if k == node {
+        return Some(smoothed[after]);
+    }
+    let i = after.checked_sub(1)?;
+    let (u0, u1) = (r[reliable[i]].ln(), r[k].ln());
+    let t = (r[node].ln() - u0) / (u1 - u0);
+    Some(std::array::from_fn(|n| {
+        smoothed[i][n] + t * (smoothed[after][n] - smoothed[i][n])
+    }))
 }
 
 /// What [`row_tilts`] finds of a row, node by node.
@@ -1091,9 +1275,79 @@ struct RowTilts {
     /// At each node the walk measured well enough to tilt, the tilted profile's miss of the
     /// walk's harmonics ([`NodeMiss`]).
     misses: Vec<Option<NodeMiss>>,
-    /// Whether any node was measured well enough to tilt (if none was, the row is PBD's).
-    measured: bool,
+    /// Every node as the walk measured it.
+    nodes: Vec<Measured>,
+    /// The nodes measured well enough to tilt ([`Measured::reliable`]; if none was, the row
+    /// is PBD's).
+    reliable: Vec<usize>,
 }
+
+/// The profile of every node of a row as lobes fitted straight to the walk's harmonics (module
+/// docs, "Where the tilt misses the walk"; `None` outside the measured nodes, at r = 0 and where
+/// no admissible lobes hold the harmonics), and at each reliable node their miss of the walk.
+///
+/// At each reliable node, ln(μ̂₀/P̄₀) (the walk's energy over PBD's, kernel averages) and the
+/// shape μ̂ₙ/μ̂₀, n = 1 … 8, smoothed along ln r as the tilts are ([`smooth_along_r`]) and
+/// linear in ln r between two; the energy at the node e₀ = (μ̂₀/P̄₀)·P₀ (PBD at the node: the
+/// kernel's bias taken out as for the tilt); [`Lobes::fit`] to e₀·(1, μ̂₁/μ̂₀, …) with weights
+/// from the node's own standard errors, relative ones at least [`LEAST_REL_STDERR`].
+fn row_lobes(row: &RowTilts, r: &[f64]) -> (Vec<Option<Lobes>>, Vec<Option<NodeMiss>>) {
+    let full = |m: &Measured, average: bool| {
+        let (smooth, ridge) = if average {
+            (&m.average, &m.ridge[1])
+        } else {
+            (&m.at_node, &m.ridge[0])
+        };
+        with_share(smooth, ridge, 1.0, 0.0)[0]
+    };
+    let points: Vec<(f64, f64, [f64; HARMONICS])> = row
+        .reliable
+        .iter()
+        .map(|&k| {
+            let m = &row.nodes[k];
+            let rel = m.rel.unwrap_or(MAX_REL_STDERR);
+            let mut v = m.mean.map(|x| x / m.mean[0]);
+            v[0] = (m.mean[0] / full(m, true)).ln();
+            (r[k].ln(), 1.0 / (rel * rel), v)
+        })
+        .collect();
+    let smoothed: Vec<[f64; HARMONICS]> = (0..points.len())
+        .map(|i| smooth_along_r(&points, i))
+        .collect();
+    let lobes: Vec<Option<Lobes>> = (0..r.len())
+        .map(|node| {
+            let v = within_measured(&smoothed, &row.reliable, r, node)?;
+            let m = &row.nodes[node];
+            let e0 = v[0].exp() * full(m, false);
+            if !(e0 > 0.0 && m.mean[0] > 0.0) {
+                return None;
+            }
+            let y = std::array::from_fn(|n| if n == 0 { e0 } else { v[n] * e0 });
+            let w = std::array::from_fn(|n| {
+                let rel = (m.se[n] / m.mean[0]).max(LEAST_REL_STDERR);
+                1.0 / (rel * e0).powi(2)
+            });
+            Lobes::fit(&y, &w)
+        })
+        .collect();
+    // Their kernel averages: the lobes' shape with the smoothed kernel-average energy
+    let misses = (0..r.len())
+        .map(|node| {
+            let (m, l) = (&row.nodes[node], lobes[node].as_ref()?);
+            if !m.reliable() {
+                return None;
+            }
+            let h = l.harmonics::<HARMONICS>();
+            let scale = full(m, true) / full(m, false);
+            NodeMiss::between(m, &h.map(|x| x * scale))
+        })
+        .collect();
+    (lobes, misses)
+}
+
+/// The least relative standard error a harmonic weighs with in [`row_lobes`]' fits (where the
+/// walk's own is smaller, a node would be fitted as exact).
+const LEAST_REL_STDERR: f64 = 1e-4;
 
 /// How far the profile a node is fitted to (PBD with its share of the ridge, tilted: the
 /// smoothed tilt, as stored) is from the walk's own measured harmonics μ̂₁ … μ̂₈ at the node,
@@ -1113,9 +1367,14 @@ struct NodeMiss {
 }
 
 impl NodeMiss {
-    fn of(m: &Measured, tilt: &Tilt) -> Option<NodeMiss> {
+    /// The miss of the tilted PBD of `tilt`.
+    fn of_tilt(m: &Measured, tilt: &Tilt) -> Option<NodeMiss> {
         let p = with_share(&m.average, &m.ridge[1], tilt[SHARE], tilt[WIDENING]);
-        let h = tilted(&p, tilt[0], shape(tilt));
+        NodeMiss::between(m, &tilted(&p, tilt[0], shape(tilt)))
+    }
+
+    /// The miss of a profile of kernel averages `h`.
+    fn between(m: &Measured, h: &[f64; HARMONICS]) -> Option<NodeMiss> {
         let e0 = m.mean[0];
         let (mut excess, mut var, mut chi2) = (0.0, 0.0, 0.0);
         for ((hn, mean), se) in h.iter().zip(m.mean).zip(m.se).skip(1) {
@@ -1145,25 +1404,47 @@ impl NodeMiss {
 /// With the cells, per node, how far the stored two lobes are from the profile they were fitted
 /// to ([`node_fit_error`]; `None` at r = 0, θ = 0, a beam in the surface and a node of no energy).
 fn row_cells(
-    tilts: &[Option<NodeTilt>],
+    profiles: &[Option<NodeProfile>],
     r: &[f64],
     control: &Control,
     single: Option<(&SinglePart, f64)>,
 ) -> Result<(Vec<[f64; 5]>, Vec<NodeFitError>)> {
-    let azimuths = two_lobe_azimuths();
     let mut hint = None;
     let mut cells = Vec::with_capacity(r.len());
     let mut fits = Vec::with_capacity(r.len());
-    for (node, tilt) in tilts.iter().enumerate() {
-        let Some((tilt, at_node)) = tilt else {
-            cells.push([0.0; 5]);
-            fits.push(None);
-            continue;
-        };
+    for (node, profile) in profiles.iter().enumerate() {
         let r = r[node];
-        let one = single.map_or(SingleNode::ZERO, |(part, albedo)| {
-            part.node(albedo, node, r)
-        });
+        let one = |r| {
+            single.map_or(SingleNode::ZERO, |(part, albedo)| {
+                part.node(albedo, node, r)
+            })
+        };
+        let (tilt, at_node) = match profile {
+            None => {
+                cells.push([0.0; 5]);
+                fits.push(None);
+                continue;
+            }
+            Some(NodeProfile::Lobes(lobes)) => {
+                // Stored as its harmonics, which the lookups' rebuild gives back as the lobes
+                // (module docs, "Where the tilt misses the walk": refitted at the bake's
+                // azimuths they lost most of it)
+                let one = one(r);
+                let h = lobes.harmonics::<SINGLE_HARMONICS>();
+                let cell = harmonics_cell(std::array::from_fn(|n| h[n] + one.harmonics[n]), r);
+                let stored = stored_node(cell, r);
+                let check = check_azimuths();
+                let fit_error = node_fit_error(
+                    &check.map(|p| stored.eval(p)),
+                    &std::array::from_fn(|i| lobes.eval(check[i]) + one.at_check[i]),
+                );
+                cells.push(cell);
+                fits.push(fit_error);
+                continue;
+            }
+            Some(NodeProfile::Tilted((tilt, at_node))) => (tilt, at_node),
+        };
+        let one = one(r);
         let (ln_k, a, share) = (tilt[0], shape(tilt), tilt[SHARE]);
         // The ridge and the walk's widened share of it
         let ridges = control.ridge.map(|g| (g, g.widened(tilt[WIDENING])));
@@ -1175,16 +1456,7 @@ fn row_cells(
                 // The stored shape is the limit's own, by the bake's accurate rule (the
                 // control's coarse one only enters ratios of nearby radii)
                 let m = tilted(&surface_harmonics(control.pbd, r, None), ln_k, a);
-                let m: [f64; SINGLE_HARMONICS] = std::array::from_fn(|n| m[n] + one.harmonics[n]);
-                let energy = r * m[0];
-                let (beta, c) = one_lobe_of(m[1], m[2]);
-                [
-                    energy,
-                    r * within_floor(beta, c, m[0]),
-                    c,
-                    r * m[3],
-                    r * m[4],
-                ]
+                harmonics_cell(std::array::from_fn(|n| m[n] + one.harmonics[n]), r)
             }
             Some(0.0) => {
                 let [e, e_beta, _] = node_cell(control.pbd, 0.0, r)?.cell;
@@ -1203,27 +1475,9 @@ fn row_cells(
                     };
                     ln_k.exp() * pbd * tilt_factor(&a, p) + s1
                 };
-                let (phi, y): (Vec<f64>, Vec<f64>) = azimuths
-                    .iter()
-                    .zip(one.at_azimuths)
-                    .map(|(&p, s1)| (p, profile(p, s1)))
-                    .filter(|(_, v)| v.is_finite())
-                    .unzip();
-                let (fit, next) = two_lobe_node_of(&phi, &y, r, hint);
-                hint = next;
-                if fit[0] > 0.0 {
-                    let k = energy / fit[0];
-                    let cell = [energy, fit[1] * k, fit[2], fit[3] * k, fit[4] * k];
-                    let stored = stored_node(cell, r);
-                    let check = check_azimuths();
-                    fit_error = node_fit_error(
-                        &check.map(|p| stored.eval(p)),
-                        &std::array::from_fn(|i| profile(check[i], one.at_check[i])),
-                    );
-                    cell
-                } else {
-                    [0.0; 5]
-                }
+                let (cell, error) = fitted_cell(&profile, &one, energy, r, &mut hint);
+                fit_error = error;
+                cell
             }
         };
         cells.push(cell);
@@ -1238,6 +1492,59 @@ fn row_cells(
         cells[0][2] = f64::from(flat[2]);
     }
     Ok((cells, fits))
+}
+
+/// The cell (E, E_β, c, r·μ₃, r·μ₄) at radius r of two lobes fitted to `profile(φ, S₁(φ))` (S₁
+/// the node's single scattering `one`) at the bake's azimuths, scaled to the energy E
+/// `energy`, and how far the stored node is from the profile ([`node_fit_error`]); `hint` is the
+/// fit's start, the next node's after it.
+fn fitted_cell(
+    profile: &dyn Fn(f64, f64) -> f64,
+    one: &SingleNode,
+    energy: f64,
+    r: f64,
+    hint: &mut Option<[f64; 2]>,
+) -> ([f64; 5], NodeFitError) {
+    let (phi, y): (Vec<f64>, Vec<f64>) = two_lobe_azimuths()
+        .iter()
+        .zip(one.at_azimuths)
+        .map(|(&p, s1)| (p, profile(p, s1)))
+        .filter(|(_, v)| v.is_finite())
+        .unzip();
+    let (fit, next) = two_lobe_node_of(&phi, &y, r, *hint);
+    *hint = next;
+    if fit[0] <= 0.0 {
+        return ([0.0; 5], None);
+    }
+    let k = energy / fit[0];
+    let cell = [energy, fit[1] * k, fit[2], fit[3] * k, fit[4] * k];
+    let stored = stored_node(cell, r);
+    let check = check_azimuths();
+    let error = node_fit_error(
+        &check.map(|p| stored.eval(p)),
+        &std::array::from_fn(|i| profile(check[i], one.at_check[i])),
+    );
+    (cell, error)
+}
+
+/// The cell (E, E_β, c, r·μ₃, r·μ₄) at radius r of the profile of harmonics μ₀ … μ₄ `m`.
+fn harmonics_cell(m: [f64; SINGLE_HARMONICS], r: f64) -> [f64; 5] {
+    let (beta, c) = one_lobe_of(m[1], m[2]);
+    [
+        r * m[0],
+        r * within_floor(beta, c, m[0]),
+        c,
+        r * m[3],
+        r * m[4],
+    ]
+}
+
+/// What a node's profile is: PBD tilted to the walk ([`row_tilts`]), or lobes fitted straight
+/// to the walk's harmonics ([`row_lobes`]).
+#[derive(Debug, Clone, Copy)]
+enum NodeProfile {
+    Tilted(NodeTilt),
+    Lobes(Lobes),
 }
 
 /// A node's [`node_fit_error`], `None` where it has none.
@@ -1305,6 +1612,17 @@ const TAIL_NODES: usize = 5;
 /// window holds fewer than three. A line leaves the curvature of the walk over PBD in ln r in
 /// its value, which is not small near index matching (module docs, "Smooth").
 fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
+    let fit = smooth_along_r(points, i);
+    tilt_of(
+        fit[0],
+        bounded(shape(&fit)),
+        fit[SHARE].clamp(0.0, MAX_RIDGE_SHARE),
+        fit[WIDENING].clamp(0.0, MAX_RIDGE_WIDENING),
+    )
+}
+
+/// The local quadratic fit of [`smooth_tilt`], of any N numbers per point.
+fn smooth_along_r<const N: usize>(points: &[(f64, f64, [f64; N])], i: usize) -> [f64; N] {
     let lo = i.saturating_sub(SMOOTH_NODES);
     let hi = (i + SMOOTH_NODES + 1).min(points.len());
     if hi - lo < 3 {
@@ -1313,7 +1631,7 @@ fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
     let u0 = points[i].0;
     // Σ w xᵏ, k = 0 … 4, and Σ w xᵏ y, k = 0 … 2
     let mut m = [0.0; 5];
-    let mut t = [[0.0; TILT_LEN]; 3];
+    let mut t = [[0.0; N]; 3];
     for (j, (u, weight, y)) in points.iter().enumerate().take(hi).skip(lo) {
         let d = j.abs_diff(i) as f64 / (SMOOTH_NODES + 1) as f64;
         let w = weight * (1.0 - d * d * d).powi(3);
@@ -1351,13 +1669,7 @@ fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
             ([m[2], -m[1], 0.0], det)
         }
     };
-    let fit: Tilt = std::array::from_fn(|n| (0..3).map(|k| c[k] * t[k][n]).sum::<f64>() / det);
-    tilt_of(
-        fit[0],
-        bounded(shape(&fit)),
-        fit[SHARE].clamp(0.0, MAX_RIDGE_SHARE),
-        fit[WIDENING].clamp(0.0, MAX_RIDGE_WIDENING),
-    )
+    std::array::from_fn(|n| (0..3).map(|k| c[k] * t[k][n]).sum::<f64>() / det)
 }
 
 /// PBD's harmonics μ₀ … μ₁₂ at radius r > 0 and incidence `theta`, or (`None`) in the limit of a
@@ -1711,7 +2023,7 @@ mod tests {
             average: profile,
             ridge: [[0.0; PBD_HARMONICS]; 2],
         };
-        NodeMiss::of(&m, &tilt_of(0.0, [0.0; TILT_TERMS], 1.0, 0.0)).unwrap()
+        NodeMiss::of_tilt(&m, &tilt_of(0.0, [0.0; TILT_TERMS], 1.0, 0.0)).unwrap()
     }
 
     #[test]
@@ -1810,9 +2122,16 @@ mod tests {
                 assert!((chi2 - 1.40625).abs() < 0.05, "{miss:?}");
             }
         }
-        // No node: no figures (null), not 0
+        // No node: no figures, not 0, and none in its JSON (a provenance refuses null)
         let none = WalkMiss::of(10.0, &[]);
         assert_eq!((none.nodes, none.rms, none.chi2), (0, None, None));
+        let json = serde_json::to_value(none).unwrap();
+        assert_eq!(
+            json,
+            serde_json::json!({"theta_deg": 10.0, "nodes": 0, "profile": "tilt"})
+        );
+        let json = serde_json::to_value(FitBand::of(Vec::new())).unwrap();
+        assert_eq!(json, serde_json::json!({"nodes": 0}));
     }
 
     #[test]
@@ -1850,7 +2169,7 @@ mod tests {
         }
         assert!(worst < 1e-3, "{worst}");
         assert_eq!(node_fit_error(&[1.0; 36], &[0.0; 36]), None);
-        // A band's figures; a band without a node has none (null), not 0
+        // A band's figures; a band without a node has none, not 0
         let band = FitBand::of(vec![0.3, 0.1, 0.2]);
         assert_eq!(band.nodes, 3);
         assert!((band.mean.unwrap() - 0.2).abs() < 1e-15 && band.p90 == Some(0.3));
@@ -1905,6 +2224,9 @@ mod tests {
             nodes: usize::from(rms.is_some()),
             rms,
             chi2,
+            profile: WalkProfile::Tilt,
+            tilt_rms: None,
+            tilt_chi2: None,
         };
         let report = WalkBakeReport {
             walk_miss: vec![
