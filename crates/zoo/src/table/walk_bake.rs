@@ -56,7 +56,11 @@
 //!    smoothed along ln r by a local quadratic fit over [`SMOOTH_NODES`] measured nodes on each
 //!    side, weighted by 1/σ² and a tricube. (A line left the curvature of the walk over PBD in
 //!    the energy: at η = 1 the tables' ρ_eff came out 0.5 % high at 60° and 1.4 % at 89°,
-//!    1–3.5 % between r = 0.1 and 3.) Between
+//!    1–3.5 % between r = 0.1 and 3.) Towards the ends, where fewer than
+//!    [`MIN_QUADRATIC_SIDE`] measured nodes lie on one side, a line: in ln r at the near end,
+//!    in r at the far end, where both profiles fall exponentially at rates that differ by a
+//!    constant (a line in ln r through the last nodes bent ln k up: at η = 1, g = 0.9, 89° and
+//!    ρ′ = 0.3 the table was 1.5–2 times the walk at r = 11–17). Between
 //!    measured nodes the tilt goes linearly in ln r; before the first it is the first's;
 //!    beyond the last ln k goes on along the line in r through the last [`TAIL_NODES`] (far out
 //!    both profiles fall exponentially, at rates that differ by a constant), by at most
@@ -1608,8 +1612,9 @@ const TAIL_NODES: usize = 5;
 /// ((ln r, weight, values) in increasing r): weighted least squares with the points' weights
 /// times the tricube of their distance in points; a line where fewer than
 /// [`MIN_QUADRATIC_SIDE`] points lie on one side of `i` (towards the ends of a row, where a
-/// parabola through one side's points swings with their noise), the point itself where the
-/// window holds fewer than three. A line leaves the curvature of the walk over PBD in ln r in
+/// parabola through one side's points swings with their noise), in ln r at the near end and
+/// in r at the far end (module docs, "Smooth"), the point itself where the window holds fewer
+/// than three. A line leaves the curvature of the walk over PBD in ln r in
 /// its value, which is not small near index matching (module docs, "Smooth").
 fn smooth_tilt(points: &[(f64, f64, Tilt)], i: usize) -> Tilt {
     let fit = smooth_along_r(points, i);
@@ -1629,13 +1634,17 @@ fn smooth_along_r<const N: usize>(points: &[(f64, f64, [f64; N])], i: usize) -> 
         return points[i].2;
     }
     let u0 = points[i].0;
+    // Towards the far end a line in r: there both profiles fall exponentially, at rates that
+    // differ by a constant, so the log of their ratio is linear in r (a line in ln r through
+    // the last nodes bent it up: module docs, "Smooth")
+    let far_end = hi - 1 - i < MIN_QUADRATIC_SIDE && i - lo >= MIN_QUADRATIC_SIDE;
     // Σ w xᵏ, k = 0 … 4, and Σ w xᵏ y, k = 0 … 2
     let mut m = [0.0; 5];
     let mut t = [[0.0; N]; 3];
     for (j, (u, weight, y)) in points.iter().enumerate().take(hi).skip(lo) {
         let d = j.abs_diff(i) as f64 / (SMOOTH_NODES + 1) as f64;
         let w = weight * (1.0 - d * d * d).powi(3);
-        let x = u - u0;
+        let x = if far_end { u.exp() - u0.exp() } else { u - u0 };
         let mut xk = w;
         for (k, mk) in m.iter_mut().enumerate() {
             *mk += xk;
@@ -1847,10 +1856,12 @@ mod tests {
     }
 
     #[test]
-    fn the_smoothing_keeps_a_parabola_in_ln_r_and_a_line_at_the_ends() {
+    fn the_smoothing_keeps_a_parabola_in_ln_r_a_line_in_ln_r_at_the_near_end_and_in_r_at_the_far_end(
+    ) {
         // Values quadratic in ln r come back exactly where a node has MIN_QUADRATIC_SIDE
         // points on each side (a line would be off by the curvature), values linear in ln r
-        // everywhere, whatever the weights
+        // everywhere but where fewer lie beyond a node (the far end), values linear in r there,
+        // whatever the weights
         let mut rng = SplitMix64::seed_from_u64(5);
         let n = 20;
         let points = |f: &dyn Fn(f64) -> f64, rng: &mut SplitMix64| -> Vec<(f64, f64, Tilt)> {
@@ -1864,22 +1875,35 @@ mod tests {
         };
         let parabola = |u: f64| 0.3 - 0.2 * u + 0.15 * u * u;
         let line = |u: f64| -0.4 + 0.7 * u;
+        let tail = |u: f64| 0.2 - 0.9 * u.exp();
         let curved = points(&parabola, &mut rng);
         let straight = points(&line, &mut rng);
+        let falling = points(&tail, &mut rng);
+        let mut bent = 0;
         for i in 0..n {
             let inner = i >= MIN_QUADRATIC_SIDE && i + MIN_QUADRATIC_SIDE < n;
+            let far_end = i + MIN_QUADRATIC_SIDE >= n;
             let got = smooth_tilt(&curved, i)[0];
             let want = parabola(curved[i].0);
             if inner {
                 assert!((got - want).abs() < 1e-12, "{i}: {got} {want}");
             }
-            let got = smooth_tilt(&straight, i);
-            assert!((got[0] - line(straight[i].0)).abs() < 1e-12, "{i}: {got:?}");
-            assert!(
-                (got[1] - 0.1 * line(straight[i].0)).abs() < 1e-12,
-                "{i}: {got:?}"
-            );
+            let (data, f) = if far_end {
+                (&falling, &tail as &dyn Fn(f64) -> f64)
+            } else {
+                (&straight, &line as &dyn Fn(f64) -> f64)
+            };
+            let got = smooth_tilt(data, i);
+            let want = f(data[i].0);
+            assert!((got[0] - want).abs() < 1e-12, "{i}: {got:?}");
+            assert!((got[1] - 0.1 * want).abs() < 1e-12, "{i}: {got:?}");
+            // (a line in ln r at the far end is off a line in r)
+            if far_end {
+                let in_ln_r = smooth_tilt(&straight, i)[0] - line(straight[i].0);
+                bent += usize::from(in_ln_r.abs() > 1e-6);
+            }
         }
+        assert_eq!(bent, MIN_QUADRATIC_SIDE);
     }
 
     #[test]
