@@ -806,12 +806,22 @@ struct Measured {
 }
 
 impl Measured {
+    /// PBD's energy μ₀ at the node, its whole ridge included.
+    fn pbd_at_node(&self) -> f64 {
+        with_share(&self.at_node, &self.ridge[0], 1.0, 0.0)[0]
+    }
+
+    /// PBD's energy μ₀ averaged over the node's kernel, its whole ridge included (P̄₀).
+    fn pbd_average(&self) -> f64 {
+        with_share(&self.average, &self.ridge[1], 1.0, 0.0)[0]
+    }
+
     /// Whether the node's walk/PBD ratio is known well enough to stand for its neighbours'.
     fn reliable(&self) -> bool {
         // (PBD itself, its ridge included: less it, the energy can be ≤ 0 far out)
         self.rel.is_some_and(|x| x <= MAX_REL_STDERR)
-            && with_share(&self.at_node, &self.ridge[0], 1.0, 0.0)[0] > 0.0
-            && with_share(&self.average, &self.ridge[1], 1.0, 0.0)[0] > 0.0
+            && self.pbd_at_node() > 0.0
+            && self.pbd_average() > 0.0
     }
 
     /// Whether PBD with the share s of its ridge, tilted by its aₘ, holds energy at the node
@@ -1183,7 +1193,7 @@ fn row_tilts(h: &WalkHarmonics, row: usize, r: &[f64], control: &Control) -> Row
             let rel = m.rel.unwrap_or(MAX_REL_STDERR);
             let mut tilt = fit_ridge_tilt(m, control.max_widening, control.ridge_tilt_terms);
             if energy_form {
-                tilt[0] = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
+                tilt[0] = (m.mean[0] / m.pbd_average()).ln();
             }
             (r[k].ln(), 1.0 / (rel * rel), tilt)
         })
@@ -1201,7 +1211,7 @@ fn row_tilts(h: &WalkHarmonics, row: usize, r: &[f64], control: &Control) -> Row
     let node_tilts: Vec<Option<NodeTilt>> = (0..r.len())
         .map(|node| {
             let here = &measured[node];
-            if r[node] == 0.0 || with_share(&here.at_node, &here.ridge[0], 1.0, 0.0)[0] <= 0.0 {
+            if r[node] == 0.0 || here.pbd_at_node() <= 0.0 {
                 return None;
             }
             let after = reliable.partition_point(|&k| k < node);
@@ -1296,14 +1306,6 @@ struct RowTilts {
 /// kernel's bias taken out as for the tilt); [`Lobes::fit`] to e₀·(1, μ̂₁/μ̂₀, …) with weights
 /// from the node's own standard errors, relative ones at least [`LEAST_REL_STDERR`].
 fn row_lobes(row: &RowTilts, r: &[f64]) -> (Vec<Option<Lobes>>, Vec<Option<NodeMiss>>) {
-    let full = |m: &Measured, average: bool| {
-        let (smooth, ridge) = if average {
-            (&m.average, &m.ridge[1])
-        } else {
-            (&m.at_node, &m.ridge[0])
-        };
-        with_share(smooth, ridge, 1.0, 0.0)[0]
-    };
     let points: Vec<(f64, f64, [f64; HARMONICS])> = row
         .reliable
         .iter()
@@ -1311,7 +1313,7 @@ fn row_lobes(row: &RowTilts, r: &[f64]) -> (Vec<Option<Lobes>>, Vec<Option<NodeM
             let m = &row.nodes[k];
             let rel = m.rel.unwrap_or(MAX_REL_STDERR);
             let mut v = m.mean.map(|x| x / m.mean[0]);
-            v[0] = (m.mean[0] / full(m, true)).ln();
+            v[0] = (m.mean[0] / m.pbd_average()).ln();
             (r[k].ln(), 1.0 / (rel * rel), v)
         })
         .collect();
@@ -1322,7 +1324,7 @@ fn row_lobes(row: &RowTilts, r: &[f64]) -> (Vec<Option<Lobes>>, Vec<Option<NodeM
         .map(|node| {
             let v = within_measured(&smoothed, &row.reliable, r, node)?;
             let m = &row.nodes[node];
-            let e0 = v[0].exp() * full(m, false);
+            let e0 = v[0].exp() * m.pbd_at_node();
             if !(e0 > 0.0 && m.mean[0] > 0.0) {
                 return None;
             }
@@ -1342,7 +1344,7 @@ fn row_lobes(row: &RowTilts, r: &[f64]) -> (Vec<Option<Lobes>>, Vec<Option<NodeM
                 return None;
             }
             let h = l.harmonics::<HARMONICS>();
-            let scale = full(m, true) / full(m, false);
+            let scale = m.pbd_average() / m.pbd_at_node();
             NodeMiss::between(m, &h.map(|x| x * scale))
         })
         .collect();
@@ -1920,7 +1922,7 @@ mod tests {
         // and the energy form gives back the k of the fit
         let m = measured(mean, smooth, lobe(0.3, 0.99));
         let fit = fit_ridge_tilt(&m, MAX_RIDGE_WIDENING, RIDGE_TILT_TERMS);
-        let ratio = (m.mean[0] / with_share(&m.average, &m.ridge[1], 1.0, 0.0)[0]).ln();
+        let ratio = (m.mean[0] / m.pbd_average()).ln();
         let mut energy_form = fit;
         energy_form[0] = ratio;
         let back = scale_of(&m, energy_form);
