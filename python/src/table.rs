@@ -142,10 +142,9 @@ pub struct Domain {
 impl Domain {
     /// The domain of `view`.
     pub fn of(view: &TableRef<'_>) -> Self {
-        let ends = |nodes: &[f64]| [nodes[0], nodes[nodes.len() - 1]];
+        // The values the lookups take: each axis with its ends' f32 rounding
         Self {
-            rho: ends(view.axes().rho().as_slice()),
-            // The angles the lookups take: the axis with its ends' f32 rounding
+            rho: view.rho_domain(),
             theta: view.theta_domain(),
         }
     }

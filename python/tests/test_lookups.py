@@ -123,3 +123,25 @@ def test_importance_weights_estimate_the_effective_albedo(table):
     r, phi, pdf = table.sample(0.8, 0.6, rng.uniform(size=5000), rng.uniform(size=5000))
     weights = table.eval(0.8, 0.6, r, phi) / pdf
     assert abs(weights.mean() / table.effective_albedo(0.8, 0.6) - 1) < 2e-2
+
+
+def test_an_albedo_within_f32_rounding_of_an_end_row_is_the_row(cli, tmp_path):
+    """A scene bake keeps rows from 0.5 to 0.9, stored in f32: the ends as numpy prints them
+    (float32's shortest form) and 0.9 are looked up at the rows, bit for bit; beyond f32
+    rounding they are refused, naming the albedos the lookups take."""
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        '[[material]]\nname = "white-grapefruit-juice"\nalbedo_range = [[0.5, 0.9], [0.5, 0.9], [0.5, 0.9]]\n'
+    )
+    path = tmp_path / "s.bssrdf"
+    cli("bake", "--scene", scene, "--grid", "coarse", "-q", "-o", path)
+    table = bz.Library.open(path).tables[0]
+    nodes = table.rho_nodes
+    for node in (nodes[0], nodes[-1]):
+        printed = float(repr(node).removeprefix("np.float32(").removesuffix(")"))
+        exact = float(node)
+        assert table.eval(printed, 0.5, 1.0, 0.2) == table.eval(exact, 0.5, 1.0, 0.2) > 0
+        assert table.pdf(printed, 0.5, 1.0, 0.2) == table.pdf(exact, 0.5, 1.0, 0.2) > 0
+    beyond = float(nodes[-1]) + 1e-6
+    with pytest.raises(ValueError, match=r"is outside \[.*\], the albedo rows the table keeps"):
+        table.eval(beyond, 0.5, 1.0, 0.2)

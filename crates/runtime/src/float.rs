@@ -26,3 +26,27 @@ pub fn next_up(x: f64) -> f64 {
 pub fn next_down(x: f64) -> f64 {
     next_towards(x, f64::NEG_INFINITY)
 }
+
+/// Half an f32 step, relative: how far an f64 value can lie from the f32 it rounds to.
+const F32_HALF_STEP: f64 = 1.0 / (1u32 << 24) as f64;
+
+/// [first, last] widened at each end by f32 rounding (2⁻²⁴ of the end): the values an axis of
+/// f32 nodes takes, since a value given in f64 (45° in radians, ρ′ = 0.9, or a node printed in
+/// its shortest f32 form) lies up to that far from the f32 node it names.
+pub fn f32_rounding_around(first: f64, last: f64) -> [f64; 2] {
+    [
+        first - first.abs() * F32_HALF_STEP,
+        last + last.abs() * F32_HALF_STEP,
+    ]
+}
+
+/// `x`, or `first` or `last` where `x` lies outside [first, last] but inside `domain`.
+pub fn snap_to_ends(x: f64, [first, last]: [f64; 2], [lo, hi]: [f64; 2]) -> f64 {
+    if x < first && x >= lo {
+        first
+    } else if x > last && x <= hi {
+        last
+    } else {
+        x
+    }
+}

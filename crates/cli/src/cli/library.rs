@@ -106,12 +106,11 @@ fn keeps(library: &Library, index: usize, rho: f64) -> bool {
     kept_range(library, index).is_some_and(|[lo, hi]| (lo..=hi).contains(&rho))
 }
 
-/// The albedo rows table `index` keeps, [first, last]; `None` if it cannot be read.
+/// The albedos table `index` takes: its albedo rows' range with the ends' f32 rounding
+/// (`TableRef::rho_domain`); `None` if it cannot be read.
 fn kept_range(library: &Library, index: usize) -> Option<[f64; 2]> {
     let table = FileTable::new(library.table(index)?).ok()?;
-    let view = table.view().ok()?;
-    let nodes = view.axes().rho().as_slice();
-    Some([*nodes.first()?, *nodes.last()?])
+    Some(table.view().ok()?.rho_domain())
 }
 
 /// The tables other than `index` with its η, each with the albedo rows it keeps: where a ρ′

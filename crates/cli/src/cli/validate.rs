@@ -142,7 +142,7 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
             rows.extend(row);
             bar.inc(1);
         }
-        let kept = view.axes().rho().as_slice();
+        let kept = view.axes().rho();
         let kept_theta = view.axes().theta().as_slice();
         let theta_kept = rows
             .iter()
@@ -151,7 +151,8 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
         checked_tables.push(Checked {
             index: *index,
             eta: view.eta(),
-            kept: (kept[0], kept[kept.len() - 1]),
+            kept: (kept.first(), kept.last()),
+            rho_domain: view.rho_domain(),
             kept_theta: (kept_theta[0], kept_theta[kept_theta.len() - 1]),
             theta_kept,
             rows,
@@ -178,7 +179,7 @@ pub fn run(args: ValidateArgs) -> Result<ExitCode, CliError> {
     let reason = |t: &Checked, row: &ValidationRow| {
         let (lo, hi) = t.kept;
         let (theta_lo, theta_hi) = t.kept_theta;
-        if row.rho < lo || row.rho > hi {
+        if !(t.rho_domain[0]..=t.rho_domain[1]).contains(&row.rho) {
             format!(
                 "rho outside the albedo rows this table keeps, [{}, {}]",
                 super::show(lo),
@@ -361,6 +362,8 @@ struct Checked {
     index: usize,
     eta: f64,
     kept: (f64, f64),
+    /// The albedos its lookups take (`TableRef::rho_domain`).
+    rho_domain: [f64; 2],
     /// The θ axis's first and last node, radians.
     kept_theta: (f64, f64),
     /// Each case's θ (degrees) and whether the θ axis holds it (`TableRef::keeps_theta`).

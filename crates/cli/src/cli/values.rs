@@ -236,13 +236,10 @@ pub fn check_kept(
     (index, table): (usize, &TableRef<'_>),
     siblings: &[(usize, [f64; 2])],
 ) -> Result<(), CliError> {
-    let nodes = table.axes().rho().as_slice();
-    let (Some(&lo), Some(&hi)) = (nodes.first(), nodes.last()) else {
-        return Err(CliError::input("the table has no albedo rows"));
-    };
-    if (lo..=hi).contains(&rho) {
+    if table.keeps_rho(rho) {
         return Ok(());
     }
+    let (lo, hi) = (table.axes().rho().first(), table.axes().rho().last());
     let elsewhere = match siblings.iter().find(|(_, [a, b])| (*a..=*b).contains(&rho)) {
         Some((other, _)) => {
             format!("; table {other}, of the same eta, keeps it: give --table {other}")

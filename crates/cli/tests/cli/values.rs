@@ -223,6 +223,67 @@ fn sample_checks_the_kept_rows_before_writing_and_materials_find_their_table() {
     assert_eq!(csv.lines().count(), 3, "{csv}");
 }
 
+/// The ends of a table's albedo rows as `inspect` prints them (the shortest form of their f32
+/// nodes) are albedos `eval` and `sample` take, at the row; a millionth beyond is refused.
+#[test]
+fn the_albedo_ends_inspect_prints_are_taken() {
+    let dir = two_runs();
+    let d = dir.path();
+    let shown = ok(&bssrdf(d, &["inspect", "s.bssrdf"]));
+    let mut ends = Vec::new();
+    for line in shown.lines().filter(|l| l.trim_start().starts_with("rho:")) {
+        // "rho:   N nodes, FIRST … LAST"
+        let range = line.split(", ").nth(1).unwrap();
+        let (a, b) = range.split_once(" … ").unwrap();
+        ends.push([a.trim().to_string(), b.trim().to_string()]);
+    }
+    assert_eq!(ends.len(), 2, "{shown}");
+    for (table, [first, last]) in ends.iter().enumerate() {
+        let table = table.to_string();
+        for rho in [first, last] {
+            let v = ok(&bssrdf(
+                d,
+                &[
+                    "eval", "s.bssrdf", "--table", &table, "--rho", rho, "--theta", "30", "--r",
+                    "1",
+                ],
+            ));
+            let v: f64 = v.trim().parse().unwrap();
+            assert!(v.is_finite() && v >= 0.0, "table {table}, rho {rho}: {v}");
+            // (ρ′ = 0 scatters nothing: no sample, and an error that says so)
+            if rho.parse::<f64>().unwrap() > 0.0 {
+                ok(&bssrdf(
+                    d,
+                    &[
+                        "sample", "s.bssrdf", "--table", &table, "--rho", rho, "--theta", "30",
+                        "-n", "2",
+                    ],
+                ));
+            }
+        }
+        let beyond: f64 = last.parse::<f64>().unwrap() + 1e-6;
+        fails_with(
+            &bssrdf(
+                d,
+                &[
+                    "eval",
+                    "s.bssrdf",
+                    "--table",
+                    &table,
+                    "--rho",
+                    &beyond.to_string(),
+                    "--theta",
+                    "30",
+                    "--r",
+                    "1",
+                ],
+            ),
+            2,
+            "is outside the albedo range table",
+        );
+    }
+}
+
 #[test]
 fn material_sources_over_256_bytes_are_refused_not_cut() {
     let dir = tempfile::tempdir().unwrap();

@@ -280,6 +280,16 @@ impl Nodes {
         &self.x
     }
 
+    /// The first node.
+    pub fn first(&self) -> f64 {
+        self.x[0]
+    }
+
+    /// The last node.
+    pub fn last(&self) -> f64 {
+        self.x[self.x.len() - 1]
+    }
+
     /// The Catmull-Rom weights at `x`, or `None` if `x` is NaN or outside [x₀, x_{n−1}].
     ///
     /// Find segment i with xᵢ ≤ x (the last segment for x = x_{n−1}): keyed cells computed with

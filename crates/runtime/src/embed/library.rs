@@ -529,15 +529,14 @@ impl TableLookup {
             source,
         };
         crate::medium::check_sigma_t_prime(sigma_t_prime).map_err(medium_error)?;
-        let nodes = self.prepared().axes.rho().as_slice();
-        let (min, max) = (nodes[0], nodes[nodes.len() - 1]);
-        if !(min..=max).contains(&rho) {
+        let axes = &self.prepared().axes;
+        if !axes.keeps_rho(rho) {
             return Err(EmbedError::AlbedoOutsideTable {
                 what: what(),
                 rho,
                 table: self.index,
-                min,
-                max,
+                min: axes.rho().first(),
+                max: axes.rho().last(),
             });
         }
         Ok(ChannelLookup::new(self.clone(), rho, sigma_t_prime))

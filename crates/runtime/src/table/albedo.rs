@@ -71,6 +71,7 @@
 //! and at both ends [`AlbedoAxis::end_weights`].
 
 use crate::catmull_rom::{Nodes, Weights};
+use crate::float::{f32_rounding_around, snap_to_ends};
 
 /// The largest ρ′ of a node that may enter the extrapolated g(0) beyond node 1 (see the module
 /// docs): towards ρ′ = 1, where σtr = √(3(1 − ρ′)) → 0, g changes faster than a polynomial
@@ -308,8 +309,33 @@ impl AlbedoAxis {
         ))
     }
 
-    /// The weights at ρ′ (module docs), `None` outside the axis or for NaN.
+    /// The albedos the axis takes: its nodes' range widened at each end by f32 rounding (2⁻²⁴
+    /// of the node), within [0, 1]. The nodes are stored in f32, and an albedo given in f64 lies
+    /// up to that far from its node (0.9 just above the f32 node of a table whose last row is
+    /// 0.9, or the shortest f32 form of a node as `inspect` prints it);
+    /// [`AlbedoAxis::snap`] takes such an albedo as the node.
+    pub fn domain(&self) -> [f64; 2] {
+        let [lo, hi] = f32_rounding_around(self.nodes.first(), self.nodes.last());
+        [lo.max(0.0), hi.min(1.0)]
+    }
+
+    /// Whether ρ′ lies in [`AlbedoAxis::domain`] (false for NaN).
+    pub fn keeps(&self, rho: f64) -> bool {
+        let [lo, hi] = self.domain();
+        (lo..=hi).contains(&rho)
+    }
+
+    /// ρ′, or the first or last node where ρ′ lies outside the nodes but inside
+    /// [`AlbedoAxis::domain`].
+    pub fn snap(&self, rho: f64) -> f64 {
+        snap_to_ends(rho, [self.nodes.first(), self.nodes.last()], self.domain())
+    }
+
+    /// The weights at ρ′ (module docs), `None` outside [`AlbedoAxis::domain`] or for NaN (ρ′
+    /// in the domain but outside the nodes takes the end node's weights,
+    /// [`AlbedoAxis::snap`]).
     pub fn weights(&self, rho: f64) -> Option<AlbedoWeights> {
+        let rho = self.snap(rho);
         let w = self.nodes.weights(rho)?;
         let (segment, w) = if w.segment() <= 1 && self.zero_node.is_some() {
             self.fold_zero_node(&w)
@@ -330,6 +356,7 @@ impl AlbedoAxis {
     /// nodes 1 … m as in [`AlbedoAxis::weights`]; from the segment that holds [`HIGH_ALBEDO`]
     /// up, the Catmull-Rom weights. `None` elsewhere and for NaN.
     pub(crate) fn end_weights(&self, rho: f64) -> Option<EndWeights> {
+        let rho = self.snap(rho);
         let x = self.nodes.as_slice();
         // (x has at least two nodes; NaN fails the comparisons)
         // (A linear power has no low end: its g, single scattering's, has no diffusion far field)

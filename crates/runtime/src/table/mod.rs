@@ -157,6 +157,15 @@ impl Axes {
     pub fn rho(&self) -> &Nodes {
         self.rho.nodes()
     }
+    /// The reduced albedos the lookups take: the nodes' range with its ends' f32 rounding,
+    /// within [0, 1] (`AlbedoAxis::domain`).
+    pub fn rho_domain(&self) -> [f64; 2] {
+        self.rho.domain()
+    }
+    /// Whether ρ′ lies in [`Axes::rho_domain`] (false for NaN).
+    pub fn keeps_rho(&self, rho: f64) -> bool {
+        self.rho.keeps(rho)
+    }
     /// Incidence nodes, radians.
     pub fn theta(&self) -> &Nodes {
         &self.theta

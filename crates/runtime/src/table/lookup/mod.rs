@@ -16,6 +16,7 @@
 use super::albedo::AlbedoWeights;
 use super::{TableRef, HARMONICS_PER_NODE, PARAMS_PER_NODE};
 use crate::catmull_rom::Weights;
+use crate::float::{f32_rounding_around, snap_to_ends};
 use crate::gwc::{cap_lobe, table_value, uniform_azimuth, Gwc, TwoLobe};
 use blend::{RadialNear, Slice};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -40,9 +41,6 @@ pub use world::{reduced_to_mm, MediumRef, World};
 /// ([`crate::table::AlbedoPower`]): every energy is ρ′ᵖ g(ρ′) with g(ρ′) = g(0)(1 + O(ρ′)), and
 /// read at ρ′ itself the f32 weights of the blends underflowed from ρ′ ≈ 10⁻²⁰ (docs/table.md).
 pub const TINY_ALBEDO: f64 = 1e-8;
-
-/// Half an f32 step, relative: how far an f64 value can lie from the f32 it rounds to.
-const F32_HALF_STEP: f64 = 1.0 / (1u32 << 24) as f64;
 
 /// One draw of the exit point (algorithm 2), in the units of the lookup that drew it: reduced
 /// units from [`TableRef`] and the models (r in mean free paths, the density per mfp²), world
@@ -197,27 +195,27 @@ impl<'a> TableRef<'a> {
     /// up to that far from its node (45° = π/4 just below the f32 node of a table kept from
     /// 45°); [`TableRef::snap_theta`] takes such an angle as the node.
     pub fn theta_domain(&self) -> [f64; 2] {
-        let nodes = self.axes.theta().as_slice();
-        let (first, last) = (nodes[0], nodes[nodes.len() - 1]);
-        [
-            first - first.abs() * F32_HALF_STEP,
-            last + last.abs() * F32_HALF_STEP,
-        ]
+        let nodes = self.axes.theta();
+        f32_rounding_around(nodes.first(), nodes.last())
     }
 
     /// θ, or the first or last node of the θ axis where θ lies outside it but inside
     /// [`TableRef::theta_domain`].
     pub fn snap_theta(&self, theta: f64) -> f64 {
-        let nodes = self.axes.theta().as_slice();
-        let (first, last) = (nodes[0], nodes[nodes.len() - 1]);
-        let [lo, hi] = self.theta_domain();
-        if theta < first && theta >= lo {
-            first
-        } else if theta > last && theta <= hi {
-            last
-        } else {
-            theta
-        }
+        let nodes = self.axes.theta();
+        snap_to_ends(theta, [nodes.first(), nodes.last()], self.theta_domain())
+    }
+
+    /// The reduced albedos the lookups take: the albedo axis with its ends' f32 rounding, within
+    /// [0, 1] (`AlbedoAxis::domain`). A ρ′ in it but outside the nodes is looked up at the
+    /// end node.
+    pub fn rho_domain(&self) -> [f64; 2] {
+        self.axes.rho_domain()
+    }
+
+    /// Whether ρ′ lies in [`TableRef::rho_domain`] (false for NaN).
+    pub fn keeps_rho(&self, rho: f64) -> bool {
+        self.axes.keeps_rho(rho)
     }
 
     /// Whether θ (radians) lies in [`TableRef::theta_domain`]: where the lookups at θ have

@@ -308,3 +308,59 @@ fn an_end_node_given_in_f64_is_the_node() {
     assert!(!view.keeps_theta(given - 1e-6));
     assert_eq!(view.eval(0.5, given - 1e-6, 1.0, 0.3), None);
 }
+
+/// The same along ρ′: an albedo given in f64 at an end row stored in f32 is the row. A table
+/// kept from 0.3 to 0.9 holds the f32 nodes 0.30000001 and 0.89999998; 0.3 and 0.9 as given,
+/// and those nodes' shortest f32 forms as `inspect` prints them, are looked up at the rows, bit
+/// for bit, by every lookup and by the medium's check; an albedo beyond f32 rounding is refused.
+#[test]
+fn an_end_albedo_given_in_f64_is_the_row() {
+    let mut rng = SplitMix64::seed_from_u64(12);
+    let rho: Vec<f64> = [0.3f32, 0.5, 0.7, 0.9].map(f64::from).to_vec();
+    let theta: Vec<f64> = vec![0.0, 0.5, 1.0, FRAC_PI_2];
+    let r: Vec<f64> = (0..6).map(|k| 0.5 * k as f64).collect();
+    let cells = rho.len() * theta.len() * r.len();
+    let axes = Axes::new(rho.clone(), theta, r).unwrap();
+    let params = (0..cells * PARAMS_PER_NODE)
+        .map(|_| (0.01 + rng.next_f64()) as f32)
+        .collect();
+    let radial_cdf = (0..cells).map(|k| (k % 6) as f32).collect();
+    let table =
+        AngularTable::from_parts(1.33, Moments::Exact, axes, params, radial_cdf, None).unwrap();
+    let view = table.view();
+    let (first, last) = (rho[0], rho[3]);
+    // (0.3 lies below its f32 node, 0.9 above; the shortest f32 forms on the other sides)
+    let printed = |x: f64| format!("{:?}", x as f32).parse::<f64>().unwrap();
+    assert!(0.3 < first && 0.9 > last);
+    for (given, node) in [
+        (0.3, first),
+        (printed(first), first),
+        (0.9, last),
+        (printed(last), last),
+    ] {
+        assert!(view.keeps_rho(given), "{given}");
+        assert!(view.medium(given, 1.0).is_ok(), "{given}");
+        let at = |rho| {
+            [
+                view.eval(rho, 0.7, 1.0, 0.3),
+                Some(view.pdf(rho, 0.7, 1.0, 0.3)),
+                view.effective_albedo(rho, 0.7),
+            ]
+            .map(|v| v.map(f64::to_bits))
+        };
+        assert_eq!(at(given), at(node), "{given} against {node}");
+        let draw = |rho| {
+            view.sample(rho, 0.7, 0.4, 0.6)
+                .map(|s| [s.r, s.phi].map(f64::to_bits))
+        };
+        assert_eq!(draw(given), draw(node), "{given}");
+    }
+    let [lo, hi] = view.rho_domain();
+    assert!(lo < first && hi > last && hi - last < 1e-7 && first - lo < 1e-7);
+    for outside in [first - 1e-7, last + 1e-7, f64::NAN] {
+        assert!(!view.keeps_rho(outside), "{outside}");
+        assert!(view.medium(outside, 1.0).is_err(), "{outside}");
+        assert_eq!(view.eval(outside, 0.7, 1.0, 0.3), None, "{outside}");
+        assert!(view.sample(outside, 0.7, 0.4, 0.6).is_none(), "{outside}");
+    }
+}

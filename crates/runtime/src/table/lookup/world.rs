@@ -126,13 +126,12 @@ impl<'a> TableRef<'a> {
     #[inline]
     pub fn medium(&self, rho_prime: f64, sigma_t_prime: f64) -> crate::Result<MediumRef<'a>> {
         let sigma_t_prime = crate::medium::check_sigma_t_prime(sigma_t_prime)?;
-        let nodes = self.axes.rho().as_slice();
-        let (min, max) = (nodes[0], nodes[nodes.len() - 1]);
-        if !(min..=max).contains(&rho_prime) {
+        if !self.keeps_rho(rho_prime) {
+            let rho = self.axes.rho();
             return Err(crate::Error::AlbedoOutsideTable {
                 rho: rho_prime,
-                min,
-                max,
+                min: rho.first(),
+                max: rho.last(),
             });
         }
         Ok(MediumRef::prevalidated(*self, rho_prime, sigma_t_prime))
