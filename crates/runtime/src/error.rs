@@ -110,13 +110,14 @@ pub fn number(x: f64) -> String {
 }
 
 /// [`number`] as a `Display` that allocates nothing, so that the messages of the errors above
-/// can be written into a fixed buffer (the C interface does, on its lookup paths).
+/// can be written into a fixed buffer (the C interface does, on its lookup paths). Of an f32
+/// (`Number(x_f32)`), its own shortest form: a stored value as the file holds it.
 #[derive(Debug, Clone, Copy)]
-pub struct Number(pub f64);
+pub struct Number<T = f64>(pub T);
 
-impl std::fmt::Display for Number {
+impl<T: std::fmt::Display + std::fmt::LowerExp> std::fmt::Display for Number<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let x = self.0;
+        let x = &self.0;
         if length(format_args!("{x}")) <= length(format_args!("{x:e}")) {
             write!(f, "{x}")
         } else {

@@ -263,6 +263,14 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
             )));
         }
     }
+    if let (Some(file), Some(points)) = (&args.file, &args.points) {
+        if points.as_os_str() == "-" && is_stdin(file) {
+            return Err(CliError::input(format!(
+                "FILE {} and --points - both read standard input: give one of them as a file",
+                file.display()
+            )));
+        }
+    }
     let library = match &args.file {
         Some(path) => Some(super::library::open(path, args.choice.mmap)?),
         None => None,
@@ -330,10 +338,17 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         Some(EvalMomentsArg::Authors) | None => None,
     };
     let moments = match (&chosen, given) {
+        // (The authors' fits are neither moments a table is baked with)
         (Some(c), Some(m)) if m != c.table.moments() => {
             return Err(CliError::input(format!(
                 "--fresnel-moments {} conflicts with the table, baked with {} moments",
                 m.name(),
+                c.table.moments().name()
+            )))
+        }
+        (Some(c), None) if authors => {
+            return Err(CliError::input(format!(
+                "--fresnel-moments authors conflicts with the table, baked with {} moments",
                 c.table.moments().name()
             )))
         }
@@ -441,6 +456,26 @@ fn json_limit(v: f64) -> serde_json::Value {
         serde_json::json!(v.to_string())
     } else {
         serde_json::Value::Null
+    }
+}
+
+/// Whether `path` is this process's standard input (`/dev/stdin`, `/proc/self/fd/0`, or any
+/// other name of the same open file).
+fn is_stdin(path: &std::path::Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let same =
+            |a: &std::fs::Metadata, b: &std::fs::Metadata| a.dev() == b.dev() && a.ino() == b.ino();
+        match (std::fs::metadata(path), std::fs::metadata("/dev/stdin")) {
+            (Ok(a), Ok(b)) => same(&a, &b),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = path;
+        false
     }
 }
 

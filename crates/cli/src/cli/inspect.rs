@@ -6,6 +6,7 @@
 //! printed with control characters escaped.
 
 use super::CliError;
+use bssrdf_zoo::error::Number;
 use bssrdf_zoo::format::spec::required_features;
 use bssrdf_zoo::format::{AxisKind, Codec, FresnelMoments, SectionKind, KEY_ACCURACY};
 use bssrdf_zoo::fresnel::Moments;
@@ -24,17 +25,28 @@ pub struct InspectArgs {
     json: bool,
 }
 
-/// Escapes control characters (and only them) so a hostile name cannot drive the terminal.
+/// Escapes control characters, so that a hostile name cannot drive the terminal, and the
+/// characters that reorder or hide text ([`reorders_text`]), so that it cannot pass for another.
 pub fn escape(s: &str) -> String {
     s.chars()
         .flat_map(|c| {
-            if c.is_control() {
+            if c.is_control() || reorders_text(c) {
                 c.escape_default().collect::<Vec<_>>()
             } else {
                 vec![c]
             }
         })
         .collect()
+}
+
+/// The invisible characters that reorder or hide the text around them (Unicode's
+/// bidirectional controls, the zero-width characters and the byte-order mark): a name holding
+/// them would print as another name. The format refuses only control characters (Cc).
+fn reorders_text(c: char) -> bool {
+    matches!(
+        c,
+        '\u{061c}' | '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{2069}' | '\u{feff}'
+    )
 }
 
 fn axis_summary(values: &[f32]) -> String {
@@ -163,14 +175,14 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
     writeln!(out, "tables ({}):", library.table_count())?;
     for t in library.tables() {
         let walk = t.walk().map_or(String::new(), |w| {
-            format!(" g {} component {}", w.g, w.component.name())
+            format!(" g {} component {}", Number(w.g), w.component.name())
         });
         writeln!(
             out,
             "  [{}] {}{walk} eta {} moments {} dims {:?} lobes {} theta-sampling {} ridge {}",
             t.index(),
             t.model().name(),
-            t.eta(),
+            Number(t.eta()),
             fresnel_name(t.fresnel()),
             t.dims(),
             if t.harmonics().is_some() { 2 } else { 1 },
@@ -198,7 +210,7 @@ pub fn run(args: InspectArgs) -> Result<ExitCode, CliError> {
             out,
             "  {:<24} eta {} sigma_s {:?} sigma_a {:?} g {:?} tables {:?}",
             escape(&m.name),
-            m.eta,
+            Number(m.eta),
             m.sigma_s,
             m.sigma_a,
             m.g,
@@ -302,4 +314,19 @@ fn check_lines(accuracy: &serde_json::Value) -> Option<Vec<String>> {
         }
     }
     Some(lines)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::escape;
+
+    #[test]
+    fn names_print_as_what_they_hold() {
+        assert_eq!(escape("skin1"), "skin1");
+        assert_eq!(escape("jus d'orange é"), "jus d'orange é");
+        assert_eq!(escape("a\tb\u{1b}[2J"), "a\\tb\\u{1b}[2J");
+        // A right-to-left override would print "skin1" followed by reversed text
+        assert_eq!(escape("skin1\u{202e}lmx."), "skin1\\u{202e}lmx.");
+        assert_eq!(escape("\u{200b}wax\u{feff}"), "\\u{200b}wax\\u{feff}");
+    }
 }

@@ -208,7 +208,22 @@ impl TableChoice {
                         origin, &m.name, m.sigma_s, m.sigma_a, m.g, m.eta,
                     )
                     .map_err(|e| CliError::input(e.to_string()))?;
-                    Some((found, m.tables[c] as usize))
+                    let index = m.tables[c] as usize;
+                    // The format lets a file written elsewhere point a material at a table of
+                    // another η: its lookups would be neither the material's nor the table's
+                    if let Some(held) = library
+                        .table(index)
+                        .map(|t| t.eta())
+                        .filter(|&held| !same_eta(held, m.eta))
+                    {
+                        return Err(CliError::input(format!(
+                            "material {name} of {file} has eta {}, but its table {index} ({} channel) holds eta {}: the file pairs a material with a table of another eta; look the table up with --table {index} --rho instead",
+                            show(m.eta),
+                            self.channel().name(),
+                            show(held)
+                        )));
+                    }
+                    Some((found, index))
                 } else {
                     let m = super::materials::named(name, self.materials.as_deref())
                         .map_err(|e| with_file_materials(e, library, path))?;

@@ -68,7 +68,8 @@ pub fn run(args: MaterialsArgs) -> Result<ExitCode, CliError> {
             .max()
             .unwrap_or(2)
             .max(2);
-        let triple = |v: [f64; 3]| format!("{} {} {}", sig4(v[0]), sig4(v[1]), sig4(v[2]));
+        let triple =
+            |v: [f64; 3], f: fn(f64) -> String| format!("{} {} {}", f(v[0]), f(v[1]), f(v[2]));
         let rows: Vec<[String; 6]> = library
             .iter()
             .map(|m| {
@@ -80,9 +81,9 @@ pub fn run(args: MaterialsArgs) -> Result<ExitCode, CliError> {
                 [
                     m.eta().to_string(),
                     kind.to_string(),
-                    triple(m.sigma_s()),
-                    triple(m.sigma_a()),
-                    triple(m.g()),
+                    triple(m.sigma_s(), sig4),
+                    triple(m.sigma_a(), sig4),
+                    triple(m.g(), sig4_inside_unit),
                     // Cut at 40 characters, marked: `--json` gives it whole.
                     if source.chars().count() > 40 {
                         source.chars().take(39).chain(['…']).collect()
@@ -141,13 +142,46 @@ pub fn run(args: MaterialsArgs) -> Result<ExitCode, CliError> {
 
 /// Four significant digits, so that small coefficients do not show as 0.0000.
 fn sig4(v: f64) -> String {
+    sig(v, 4)
+}
+
+/// `digits` significant digits.
+fn sig(v: f64, digits: i32) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
     }
     let magnitude = v.abs().log10().floor();
     if !(-4.0..6.0).contains(&magnitude) {
-        return format!("{v:.3e}");
+        let decimals = (digits - 1) as usize;
+        return format!("{v:.decimals$e}");
     }
-    let decimals = (3.0 - magnitude).max(0.0) as usize;
+    let decimals = (f64::from(digits - 1) - magnitude).max(0.0) as usize;
     format!("{v:.decimals$}")
+}
+
+/// [`sig4`] of a g in (−1, 1), with as many more digits as keep it inside: 0.99999 shows as
+/// 0.99999, not as 1.0000, which is outside g's domain.
+fn sig4_inside_unit(g: f64) -> String {
+    (4..=17)
+        .map(|digits| sig(g, digits))
+        .find(|shown| shown.parse::<f64>().is_ok_and(|x| x.abs() < 1.0))
+        .unwrap_or_else(|| g.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{sig4, sig4_inside_unit};
+
+    #[test]
+    fn four_digits_and_a_g_never_shown_outside_its_domain() {
+        assert_eq!(sig4(0.00257), "0.002570");
+        assert_eq!(sig4(12.21), "12.21");
+        assert_eq!(sig4(1.5e-7), "1.500e-7");
+        assert_eq!(sig4_inside_unit(0.947), "0.9470");
+        assert_eq!(sig4_inside_unit(0.0), "0");
+        assert_eq!(sig4_inside_unit(0.99999), "0.99999");
+        assert_eq!(sig4_inside_unit(-0.999999), "-0.999999");
+        let just_below = 1.0 - f64::EPSILON;
+        assert!(sig4_inside_unit(just_below).parse::<f64>().unwrap() < 1.0);
+    }
 }

@@ -89,7 +89,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "W,H", value_parser = size, default_value = "256,256",
           allow_hyphen_values = true)]
     size: (usize, usize),
-    /// Width of the picture along the plane of incidence, mm (square pixels).
+    /// Width of the picture along the plane of incidence, mm (square pixels), in (0, 1e6]: wider,
+    /// a pixel's exitance (power over its area) underflows the picture's f32.
     #[arg(long, value_name = "MM", default_value_t = 10.0)]
     extent: f64,
     /// Half-angle of the cone of incident light, degrees (0: collimated).
@@ -141,6 +142,12 @@ pub struct RenderArgs {
     json: bool,
 }
 
+/// The widest picture, mm: a kilometre. At 1e21 mm an 8 × 8 picture's pixels, 1.6e40 mm²
+/// each, held exitances below f32's smallest number and the picture was all 0 while its
+/// summary put the light in it; at 1e6 mm and 4096 pixels a side a pixel is 6e10 mm², and the
+/// exitance of all the power in it, 1.7e-11 mm⁻², is far from f32's limits.
+const MAX_EXTENT_MM: f64 = 1e6;
+
 /// `R,G,B` as three numbers (clap reports the error with exit code 2).
 fn rgb(s: &str) -> Result<[f64; 3], String> {
     super::values::exactly(s, "R,G,B")
@@ -149,18 +156,19 @@ fn rgb(s: &str) -> Result<[f64; 3], String> {
 /// `W,H` as two whole numbers of pixels, each in [1, `render::MAX_SIDE`].
 fn size(s: &str) -> Result<(usize, usize), String> {
     let [w, h] = super::values::exactly::<f64, 2>(s, "W,H (whole numbers of pixels)")?;
+    // (`exactly` took two values: the sides as typed, for the message)
+    let typed: Vec<&str> = s.split(',').map(str::trim).collect();
     let max = bssrdf_zoo::render::MAX_SIDE;
-    let side = |x: f64| {
+    let side = |x: f64, typed: &str| {
         if x.fract() == 0.0 && (1.0..=max as f64).contains(&x) {
             Ok(x as usize)
         } else {
             Err(format!(
-                "each side is a whole number of pixels in [1, {max}], not {}",
-                super::show(x)
+                "each side is a whole number of pixels in [1, {max}], not {typed}"
             ))
         }
     };
-    Ok((side(w)?, side(h)?))
+    Ok((side(w, typed[0])?, side(h, typed[1])?))
 }
 
 fn input(e: impl std::fmt::Display) -> CliError {
@@ -248,7 +256,7 @@ fn config(args: &RenderArgs, model: ModelKind) -> Result<Config, CliError> {
     super::check_range(
         "--extent",
         args.extent,
-        (Bound::Excluded(0.0), Bound::Unbounded),
+        (Bound::Excluded(0.0), Bound::Included(MAX_EXTENT_MM)),
     )?;
     if args.compare == Some(args.model) {
         return Err(CliError::input(format!(

@@ -128,7 +128,7 @@ fn a_stream_is_read_only_as_far_as_its_header_allows() {
         fails_with(
             &bssrdf(dir.path(), args),
             2,
-            "/dev/zero: not a bssrdf library file: the first bytes are [00",
+            "/dev/zero: not a bssrdf library file: its first bytes are (hex) 00 00 00 00 00 00 00 00 00 00 00 00, where a library file's are 89 42 53 53 52 44 46 0d 0a 1a 0a 00",
         );
     }
 }

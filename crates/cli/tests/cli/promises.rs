@@ -293,6 +293,19 @@ fn conflicting_inputs_are_refused_naming_both() {
         2,
         "--fresnel-moments pbrt conflicts with the table, baked with exact moments",
     );
+    // The dirpole's own fits are neither: with a file they conflict too
+    fails_with(
+        &eval(&[
+            "--model",
+            "dirpole",
+            "--fresnel-moments",
+            "authors",
+            "--rho",
+            "0.5",
+        ]),
+        2,
+        "--fresnel-moments authors conflicts with the table, baked with exact moments",
+    );
     fails_with(
         &eval(&["--quadrature", "fast", "--rho", "0.5"]),
         2,
@@ -1549,6 +1562,90 @@ fn an_incidence_outside_the_kept_angles_is_named() {
             .contains("skipped: theta outside the incidence range this table keeps, [45, 90] deg"),
         "{validate}"
     );
+}
+
+/// A file written elsewhere may pair a material with a table of another η (the format allows
+/// it): a lookup through the material would be neither the material's nor the table's, so
+/// eval, sample and validate refuse it naming both η, whatever --eta says; the table itself
+/// stays open to --table and --rho.
+#[test]
+fn a_material_paired_with_a_table_of_another_eta_is_refused_naming_both() {
+    use bssrdf_zoo::format::{Compression, LibraryBuilder, Material, Provenance};
+    use bssrdf_zoo::fresnel::Moments;
+    use bssrdf_zoo::table::{bake, Grid};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (table, _) = bake(1.3, Moments::Exact, &Grid::ferrier(12, 3, 12), true).unwrap();
+    let mut builder = LibraryBuilder::new();
+    builder.add_table(table.to_table_data()).unwrap();
+    builder
+        .add_material(Material {
+            name: "wax".into(),
+            source: String::new(),
+            sigma_s: [1.0; 3],
+            sigma_a: [0.1; 3],
+            g: [0.0; 3],
+            eta: 1.5,
+            tables: [0; 3],
+            albedo_range: None,
+        })
+        .unwrap();
+    builder.set_provenance(Provenance::new(
+        "test: a material of eta 1.5 on a table of 1.3",
+    ));
+    builder
+        .write_atomic(d.join("m.bssrdf"), Compression::None)
+        .unwrap();
+    let needle =
+        "material wax of m.bssrdf has eta 1.5, but its table 0 (red channel) holds eta 1.3";
+    for eta in [&[][..], &["--eta", "1.5"], &["--eta", "1.3"]] {
+        let point = ["--material", "wax", "--theta", "30"];
+        let eval = [&["eval", "m.bssrdf", "--r", "1"][..], &point, eta].concat();
+        let o = bssrdf(d, &eval);
+        assert!(!o.status.success() && o.stdout.is_empty(), "{eta:?}");
+        fails_with(&o, 2, "has eta 1.5, but its table 0");
+        let sample = [&["sample", "m.bssrdf", "-n", "1"][..], &point, eta].concat();
+        fails_with(&bssrdf(d, &sample), 2, "has eta 1.5, but its table 0");
+    }
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "eval",
+                "m.bssrdf",
+                "--material",
+                "wax",
+                "--theta",
+                "30",
+                "--r",
+                "1",
+            ],
+        ),
+        2,
+        needle,
+    );
+    fails_with(
+        &bssrdf(
+            d,
+            &[
+                "validate",
+                "m.bssrdf",
+                "--material",
+                "wax",
+                "--samples",
+                "3",
+                "-q",
+            ],
+        ),
+        2,
+        needle,
+    );
+    ok(&bssrdf(
+        d,
+        &[
+            "eval", "m.bssrdf", "--table", "0", "--rho", "0.5", "--theta", "30", "--r", "1",
+        ],
+    ));
 }
 
 /// A closed stderr loses the messages but never panics (exit 101): an error still exits 2, a

@@ -130,6 +130,14 @@ fn bad_input_exits_2_and_names_the_value() {
     );
     fails_with(&with(&["--theta", "6", "--size", "16.5,16"]), "not 16.5");
     fails_with(
+        &with(&["--theta", "6", "--extent", "1e21"]),
+        "--extent 1e21 is outside the valid range: (0, 1e6]",
+    );
+    fails_with(
+        &with(&["--theta", "6", "--size", "16,100000"]),
+        "each side is a whole number of pixels in [1, 4096], not 100000",
+    );
+    fails_with(
         &with(&["--theta", "6", "--compare", "table"]),
         "--compare table is the --model",
     );

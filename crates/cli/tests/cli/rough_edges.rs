@@ -491,3 +491,46 @@ fn a_sample_that_cannot_draw_writes_nothing() {
         assert!(o.stdout.is_empty(), "{}", text(&o.stdout));
     }
 }
+
+/// A material file that is not text says so, and a library file given as one is named as
+/// such (not "stream did not contain valid UTF-8").
+#[test]
+fn a_material_file_that_is_not_text_says_what_it_is() {
+    let dir = bare();
+    let d = dir.path();
+    fails_with(
+        &bssrdf(d, &["materials", "--materials", "t.bssrdf"]),
+        2,
+        "t.bssrdf: not a material file: material files are TOML text, and this is not UTF-8; it is a library file",
+    );
+    std::fs::write(d.join("bytes.toml"), [0xff, 0xfe, 0x00, 0x80]).unwrap();
+    let o = bssrdf(d, &["materials", "--materials", "bytes.toml"]);
+    fails_with(&o, 2, "bytes.toml: not a material file");
+    assert!(
+        !text(&o.stderr).contains("library file"),
+        "{}",
+        text(&o.stderr)
+    );
+}
+
+/// `eval FILE --points -` with FILE itself standard input: one stream cannot be both, and the
+/// refusal says so (it said the points were empty).
+#[cfg(unix)]
+#[test]
+fn a_file_and_points_both_on_stdin_are_refused_naming_both() {
+    let dir = bare();
+    let o = crate::common::shell(
+        dir.path(),
+        r#"cat t.bssrdf | "$B" eval /dev/stdin --points -"#,
+    );
+    fails_with(
+        &o,
+        2,
+        "FILE /dev/stdin and --points - both read standard input",
+    );
+    let o = crate::common::shell(
+        dir.path(),
+        r#"printf 'rho,theta_deg,r,phi_deg\n0.5,30,1,0\n' | "$B" eval t.bssrdf --points -"#,
+    );
+    assert!(ok(&o).starts_with("rho,theta_deg,r,phi_deg,value"));
+}

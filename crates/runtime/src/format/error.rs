@@ -25,7 +25,9 @@ pub enum FormatError {
     BigEndianHost,
     /// The file does not start with the library magic.
     #[error(
-        "not a bssrdf library file: the first bytes are {found:02x?}, expected {expected:02x?}"
+        "not a bssrdf library file: its first bytes are (hex) {}, where a library file's are {}",
+        Hex(found),
+        Hex(expected)
     )]
     BadMagic { found: Vec<u8>, expected: Vec<u8> },
     /// The file is shorter than the fixed header.
@@ -287,7 +289,7 @@ pub enum FormatError {
         expected: Vec<u32>,
     },
     /// A table value is NaN or infinite.
-    #[error("table {table}: {kind}[{index}] = {value} is not finite")]
+    #[error("table {table}: {kind}[{index}] = {} is not finite", Number(*value))]
     NonFinite {
         table: usize,
         kind: SectionKind,
@@ -295,16 +297,14 @@ pub enum FormatError {
         value: f32,
     },
     /// A `gwc-params` node's lobe share E_β is negative (an inverted lobe).
-    #[error(
-        "table {table}: gwc-params node (i, j, k) = {node:?} has E_beta = {e_beta}, must be >= 0"
-    )]
+    #[error("table {table}: gwc-params node (i, j, k) = {node:?} has E_beta = {}, must be >= 0", Number(*e_beta))]
     NegativeLobe {
         table: usize,
         node: (usize, usize, usize),
         e_beta: f32,
     },
     /// A `gwc-params` node's concentration c is not in (−1, 1).
-    #[error("table {table}: gwc-params node (i, j, k) = {node:?} has concentration c = {c}, must be in (-1, 1)")]
+    #[error("table {table}: gwc-params node (i, j, k) = {node:?} has concentration c = {}, must be in (-1, 1)", Number(*c))]
     ConcentrationOutOfRange {
         table: usize,
         node: (usize, usize, usize),
@@ -312,7 +312,7 @@ pub enum FormatError {
     },
     /// A `gwc-params` node's profile is negative at some azimuth: E_β·2|c| > E·(1 + |c|) beyond
     /// the f32 rounding slack.
-    #[error("table {table}: gwc-params node (i, j, k) = {node:?} with E = {e}, E_beta = {e_beta}, c = {c} is negative at its minimum: E_beta*2|c| = {lobe} exceeds E*(1+|c|) = {floor}")]
+    #[error("table {table}: gwc-params node (i, j, k) = {node:?} with E = {}, E_beta = {}, c = {} is negative at its minimum: E_beta*2|c| = {} exceeds E*(1+|c|) = {}", Number(*e), Number(*e_beta), Number(*c), Number(*lobe), Number(*floor))]
     NegativeProfile {
         table: usize,
         node: (usize, usize, usize),
@@ -324,7 +324,7 @@ pub enum FormatError {
     },
     /// A `gwc-params` node has a negative floor (E_β > E) but the header does not declare
     /// required feature bit 1.
-    #[error("table {table}: gwc-params node (i, j, k) = {node:?} has E_beta = {e_beta} > E = {e} (a negative floor), but the header does not set required feature bit 1 (signed-floor)")]
+    #[error("table {table}: gwc-params node (i, j, k) = {node:?} has E_beta = {} > E = {} (a negative floor), but the header does not set required feature bit 1 (signed-floor)", Number(*e_beta), Number(*e))]
     SignedFloorNotDeclared {
         table: usize,
         node: (usize, usize, usize),
@@ -333,7 +333,7 @@ pub enum FormatError {
     },
     /// A `radial-cdf` value is negative or below the one before it along r: a running integral
     /// of a positive part never is.
-    #[error("table {table}: radial-cdf at node {node:?} is {value} after {previous}: a running integral over r is >= 0 and never decreases")]
+    #[error("table {table}: radial-cdf at node {node:?} is {} after {}: a running integral over r is >= 0 and never decreases", Number(*value), Number(*previous))]
     RadialCdfDecreasing {
         table: usize,
         node: (usize, usize, usize),
@@ -342,7 +342,7 @@ pub enum FormatError {
     },
     /// A `theta-cdf` value is negative or below the one before it along θ: a running integral
     /// of ρ_eff ≥ 0 never is.
-    #[error("table {table}: theta-cdf at node {node:?} (rho, theta) is {value} after {previous}: a running integral over theta is >= 0 and never decreases")]
+    #[error("table {table}: theta-cdf at node {node:?} (rho, theta) is {} after {}: a running integral over theta is >= 0 and never decreases", Number(*value), Number(*previous))]
     ThetaCdfDecreasing {
         table: usize,
         node: (usize, usize),
@@ -350,7 +350,7 @@ pub enum FormatError {
         value: f32,
     },
     /// An axis is not strictly increasing.
-    #[error("table {table}: axis {axis} is not strictly increasing at index {index} ({previous} then {value})")]
+    #[error("table {table}: axis {axis} is not strictly increasing at index {index} ({} then {})", Number(*previous), Number(*value))]
     AxisNotIncreasing {
         table: usize,
         axis: &'static str,
@@ -359,7 +359,7 @@ pub enum FormatError {
         value: f32,
     },
     /// An axis value is outside the range its quantity allows.
-    #[error("table {table}: axis {axis}[{index}] = {value} is outside [{min}, {max}]")]
+    #[error("table {table}: axis {axis}[{index}] = {} is outside [{}, {}]", Number(*value), Number(*min), Number(*max))]
     AxisOutOfRange {
         table: usize,
         axis: &'static str,
@@ -518,3 +518,16 @@ impl FormatError {
 
 /// Result with the format module's error type.
 pub type FormatResult<T> = std::result::Result<T, FormatError>;
+
+/// Bytes in hexadecimal, two digits each, separated by spaces: `89 42 53`.
+struct Hex<'a>(&'a [u8]);
+
+impl std::fmt::Display for Hex<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (k, byte) in self.0.iter().enumerate() {
+            let gap = if k > 0 { " " } else { "" };
+            write!(f, "{gap}{byte:02x}")?;
+        }
+        Ok(())
+    }
+}

@@ -16,6 +16,9 @@ pub enum MaterialError {
         #[source]
         source: std::io::Error,
     },
+    /// A material file that is not UTF-8 text (a TOML file is), perhaps a library file.
+    #[error("{}: not a material file: material files are TOML text, and this is not UTF-8{}", path.display(), if *library { "; it is a library file, whose materials `bssrdf inspect` lists and commands given the file as FILE find by --material" } else { "" })]
+    NotText { path: PathBuf, library: bool },
     /// A directory given to the loader holds no `*.toml` file.
     #[error("{}: no material files (*.toml) in this directory", path.display())]
     EmptyDirectory { path: PathBuf },

@@ -84,9 +84,13 @@ impl Library {
         let files = Self::files_of(path.as_ref())?;
         let mut staged = self.clone();
         for file in &files {
-            let text = std::fs::read_to_string(file).map_err(|source| MaterialError::Io {
+            let bytes = std::fs::read(file).map_err(|source| MaterialError::Io {
                 path: file.clone(),
                 source,
+            })?;
+            let text = String::from_utf8(bytes).map_err(|e| MaterialError::NotText {
+                path: file.clone(),
+                library: e.as_bytes().starts_with(&crate::format::spec::MAGIC),
             })?;
             staged.insert(Material::from_toml_str(&text, Origin::File(file.clone()))?)?;
         }
