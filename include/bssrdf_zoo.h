@@ -88,10 +88,10 @@ extern "C" {
  * never extrapolated. */
 #define BSSRDF_ERROR_OUT_OF_RANGE 6
 /* Nothing to sample: no energy stored (rho' = 0, light beyond the critical angle), theta
- * outside the table, a radial uniform outside [0, 1), at 0 (the entry point) or at 1 (the
- * last radius, where the density is 0), a uniform
- * that is not finite (NaN, +-inf), or, for path sampling, a table baked without theta
- * sampling. The message names the cause. */
+ * outside the table, a uniform outside [0, 1) (NaN and +-inf included: a broken random
+ * stream), a radial uniform at 0 (the entry point) or at 1 (the last radius, where the
+ * density is 0), or, for path sampling, a table baked without theta sampling. The message
+ * names the cause. */
 #define BSSRDF_ERROR_NO_SAMPLE 7
 /* A bug: the library panicked and the panic was caught; the call did nothing. */
 #define BSSRDF_ERROR_PANIC 8

@@ -108,10 +108,21 @@ pub fn parse_grid(grid: &Bound<'_, PyAny>) -> PyResult<BakeGrid> {
     // MAX_AXIS_LEN nodes, and the placement needs 2 albedos, 2 angles and 4 radii
     let max = i64::from(bssrdf_zoo::format::spec::MAX_AXIS_LEN);
     let count = |name: &str, n: &Bound<'_, PyAny>, min: i64| -> PyResult<usize> {
+        // (An int beyond i64 is outside too; what does not convert at all is not a whole number)
+        let outside = || {
+            Ok::<_, PyErr>(PyValueError::new_err(format!(
+                "grid's {name} = {} is outside [{min}, {max}]",
+                n.repr()?
+            )))
+        };
         match n.extract::<i64>() {
             Ok(v) if (min..=max).contains(&v) => Ok(v as usize),
-            _ => Err(PyValueError::new_err(format!(
-                "grid's {name} = {} is outside [{min}, {max}]",
+            Ok(_) => Err(outside()?),
+            Err(e) if e.is_instance_of::<pyo3::exceptions::PyOverflowError>(n.py()) => {
+                Err(outside()?)
+            }
+            Err(_) => Err(PyValueError::new_err(format!(
+                "grid's {name} = {} is not a whole number (an int in [{min}, {max}])",
                 n.repr()?
             ))),
         }

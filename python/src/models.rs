@@ -185,7 +185,9 @@ pub fn model_eval<'py>(
     let mut built: Option<Built> = None;
     let mut value =
         move |rho: f64, theta: f64, r: f64, phi: f64, sigma_t: f64| -> Result<f64, String> {
-            bssrdf_zoo::error::in_range("theta", theta, 0.0, std::f64::consts::FRAC_PI_2)
+            // (90° as a table's θ axis stores it, f32(π/2), is 90°: `Table.sample_path` draws it)
+            let grazing = f64::from(std::f64::consts::FRAC_PI_2 as f32);
+            bssrdf_zoo::error::in_range("theta", theta, 0.0, grazing)
                 .and_then(|_| bssrdf_zoo::error::non_negative("r", r))
                 .and_then(|_| bssrdf_zoo::error::finite("r", r))
                 .and_then(|_| bssrdf_zoo::error::finite("phi", phi))
@@ -197,6 +199,7 @@ pub fn model_eval<'py>(
                     bssrdf_zoo::error::number(sigma_t)
                 ));
             }
+            let theta = theta.min(std::f64::consts::FRAC_PI_2);
             // Where no light enters (η < 1 beyond the critical angle) every model gives 0.
             if refracted_cos(theta, eta).is_none() {
                 return Ok(0.0);

@@ -85,6 +85,28 @@ def test_the_walk_table_model_looks_up_the_walk_table_it_is_given(table):
         bz.models.eval("walk-table", 0.5, 0.3, 0.03, 0.0, table=walk, g=0.5)
 
 
+def test_the_grazing_angle_a_path_draw_gives_is_taken_by_the_models(table):
+    """90° as the θ axis stores it, f32(π/2), is 90° for the models too (a path draw gives
+    it, and the table's own lookups take it); beyond f32 rounding it is refused."""
+    grazing = float(np.float32(np.pi / 2))
+    assert grazing > np.pi / 2
+    at_node = bz.models.eval("table", 0.5, grazing, 1.0, 0.0, table=table)
+    assert at_node == bz.models.eval("table", 0.5, np.pi / 2, 1.0, 0.0, table=table)
+    assert bz.models.eval("dipole", 0.5, grazing, 1.0, 0.0, eta=1.33) >= 0
+    with pytest.raises(ValueError, match="theta"):
+        bz.models.eval("table", 0.5, grazing + 1e-6, 1.0, 0.0, table=table)
+
+
+def test_walk_bins_at_the_ends_of_their_domain_are_finite_or_refused():
+    """r_min 1e-100 below r_max 1 panicked (an f32 ratio overflowed to +inf), r_max 1e308
+    gave NaN edges; the domain is [1e-150, 1e150] mean free paths."""
+    w = bz.walk(0.5, photons=2000, seed=1, bins=(1e-100, 1.0, 3, 2), threads=1)
+    assert np.all(np.isfinite(w.r_edges)) and np.all(np.isfinite(w.total))
+    for bins in [(1e-300, 1.0, 3, 2), (0.1, 1e308, 3, 2)]:
+        with pytest.raises(ValueError, match="outside"):
+            bz.walk(0.5, photons=2000, bins=bins, threads=1)
+
+
 def test_a_table_model_bakes_its_own_table_when_given_none():
     assert bz.models.eval("table", 0.8, 0.3, 1.0, 0.0, eta=1.33, grid=(8, 5, 12)) > 0
 

@@ -85,6 +85,7 @@ def test_bad_values_are_value_errors_naming_them(library, table):
         ((3, 3, 2**40), r"grid's n_r = 1099511627776 is outside \[4, 65536\]"),
         ((3, 3, 70000), r"n_r = 70000 is outside"),
         ((1, 3, 6), r"grid's n_rho = 1 is outside \[2, 65536\]"),
+        ((4.0, 4, 8), r"grid's n_rho = 4.0 is not a whole number \(an int in \[2, 65536\]\)"),
         ((3, 1, 6), r"n_theta = 1 is outside"),
         ((3, 3, 3), r"n_r = 3 is outside"),
         ((3, -3, 6), r"n_theta = -3 is outside"),

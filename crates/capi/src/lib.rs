@@ -590,8 +590,8 @@ fn density_at<'t>(
 }
 
 /// The failure of a draw with nothing to sample, naming its cause, formatted without
-/// allocating: θ outside the table, u_r outside [0, 1] (or NaN), a u_φ that is not finite (`None` for the
-/// radial draw, which takes none), no energy stored for the medium (ρ′) at θ, or u_r at 0 (the
+/// allocating: θ outside the table, u_r outside [0, 1] (or NaN), a u_φ outside [0, 1)
+/// (`None` for the radial draw, which takes none), no energy stored for the medium (ρ′) at θ, or u_r at 0 (the
 /// entry point itself, of infinite density per area).
 #[cold]
 fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option<f64>) -> Failure {
@@ -612,6 +612,13 @@ fn no_sample(table: &TableRef<'_>, rho: f64, theta: f64, u_r: f64, u_phi: Option
     }
     if let Some(u_phi) = u_phi.filter(|u| !u.is_finite()) {
         let why = format_args!("no sample: u_phi = {} is not finite", Number(u_phi));
+        return Failure::inline(code, why);
+    }
+    if let Some(u_phi) = u_phi.filter(|u| !(0.0..1.0).contains(u)) {
+        let why = format_args!(
+            "no sample: u_phi = {} is outside [0, 1): a uniform random number",
+            Number(u_phi)
+        );
         return Failure::inline(code, why);
     }
     if !table.effective_albedo(rho, theta).is_some_and(|a| a > 0.0) {
@@ -646,8 +653,8 @@ const PAST_THE_END: &str =
     "is the end of [0, 1): it draws the last radius, where the table holds no energy";
 
 /// The failure of a path draw with nothing to sample, naming its cause, formatted without
-/// allocating: no θ sampling in the table, a uniform that is not finite, u[0] or u[1] outside
-/// [0, 1], the radial uniform u[1] at 0 (the entry point) or 1 (the last radius), or no
+/// allocating: no θ sampling in the table, a uniform that is not finite, a uniform outside
+/// [0, 1) (the radial uniform u[1] at 0, the entry point, or 1, the last radius), or no
 /// energy stored for the medium (ρ′) at any θ.
 #[cold]
 fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {
@@ -664,6 +671,14 @@ fn no_path_sample(table: &TableRef<'_>, rho: f64, u: [f64; 4]) -> Failure {
     }
     if let Some(k) = u[..2].iter().position(|u| !(0.0..=1.0).contains(u)) {
         let why = format_args!("no sample: u[{k}] = {} is outside [0, 1]", Number(u[k]));
+        return Failure::inline(code, why);
+    }
+    // (u[0] = 1 as u[2] and u[3]: the uniforms are in [0, 1), a 1 is a broken stream)
+    if let Some(k) = [0, 2, 3].into_iter().find(|&k| !(0.0..1.0).contains(&u[k])) {
+        let why = format_args!(
+            "no sample: u[{k}] = {} is outside [0, 1): a uniform random number",
+            Number(u[k])
+        );
         return Failure::inline(code, why);
     }
     // (as `no_sample`'s u_r)

@@ -284,6 +284,47 @@ fn every_point_of_a_batch_is_the_single_call_bit_for_bit() {
     unsafe { bssrdf_library_close(c) };
 }
 
+/// A negative distance, even one whose product with σ′t underflows to −0, is refused by the
+/// single call and gives 0 in every batch (it gave the value at r = 0), as in Rust.
+#[test]
+fn a_negative_distance_is_refused_by_the_single_call_and_0_in_a_batch() {
+    let dir = tempfile::tempdir().unwrap();
+    let (rust, c) = open(dir.path(), BSSRDF_OPEN_MAP);
+    let view = rust.view(0).unwrap();
+    let m = view.medium(0.5, 0.5).unwrap();
+    for r in [-5e-324, -1e-300, -1.0] {
+        let (rho, sigma_t, theta, r_mm, phi) = ([0.5], [0.5], [0.3], [r], [0.0]);
+        let [rho, sigma_t, theta, r_mm, phi] =
+            [&rho, &sigma_t, &theta, &r_mm, &phi].map(|v| v.as_ptr());
+        // SAFETY: a live library handle; one-point arrays and a writable output.
+        unsafe {
+            let mut value = -7.0;
+            fails(
+                bssrdf_table_eval(c, 0, 0.5, 0.5, 0.3, r, 0.0, &mut value),
+                BSSRDF_ERROR_OUT_OF_RANGE,
+                &["mm is outside [0, inf): a distance"],
+            );
+            for batch in [
+                bssrdf_table_eval_n as BatchFn,
+                bssrdf_table_pdf_n,
+                bssrdf_table_angular_factor_n,
+            ] {
+                let mut out = [-7.0];
+                let status = batch(c, 0, 1, rho, sigma_t, theta, r_mm, phi, out.as_mut_ptr());
+                assert_eq!((status, out[0]), (BSSRDF_OK, 0.0), "r = {r}");
+            }
+            let mut out = [-7.0];
+            let status =
+                bssrdf_table_pdf_radius_n(c, 0, 1, rho, sigma_t, theta, r_mm, out.as_mut_ptr());
+            assert_eq!((status, out[0]), (BSSRDF_OK, 0.0), "r = {r}");
+        }
+        assert_eq!(m.eval(0.3, r, 0.0).unwrap_or(0.0), 0.0, "r = {r}");
+        assert_eq!(m.pdf(0.3, r, 0.0), 0.0, "r = {r}");
+    }
+    // SAFETY: closed once.
+    unsafe { bssrdf_library_close(c) };
+}
+
 #[test]
 fn a_batch_with_arrays_of_other_lengths_is_an_error_naming_the_array() {
     let dir = tempfile::tempdir().unwrap();

@@ -340,6 +340,12 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
                 f64::NEG_INFINITY,
                 "no sample: u_phi = -inf is not finite",
             ),
+            (
+                0.5,
+                1.0,
+                "no sample: u_phi = 1 is outside [0, 1): a uniform random number",
+            ),
+            (0.5, -3.0, "no sample: u_phi = -3 is outside [0, 1)"),
             (0.0, 0.5, "no sample: u_r = 0 draws the entry point itself"),
             (
                 1.0,
@@ -420,6 +426,23 @@ fn every_failure_has_its_code_and_a_message_naming_the_value() {
             BSSRDF_ERROR_NO_SAMPLE,
             "no sample: u[3] = inf is not finite",
         );
+        for (u, cause) in [
+            (
+                [1.0, 0.5, 0.5, 0.5],
+                "no sample: u[0] = 1 is outside [0, 1): a uniform",
+            ),
+            (
+                [0.5, 0.5, 7.0, 0.5],
+                "no sample: u[2] = 7 is outside [0, 1)",
+            ),
+            (
+                [0.5, 0.5, 0.5, -1e300],
+                "no sample: u[3] = -1e300 is outside [0, 1)",
+            ),
+        ] {
+            let status = bssrdf_channel_sample_path(red, u.as_ptr(), &mut path_sample);
+            expect(status, BSSRDF_ERROR_NO_SAMPLE, cause);
+        }
         let status =
             bssrdf_channel_sample_path(red, [0.5, 1.5, 0.5, 0.5].as_ptr(), &mut path_sample);
         expect(

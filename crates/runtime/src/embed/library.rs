@@ -531,12 +531,13 @@ impl TableLookup {
         crate::medium::check_sigma_t_prime(sigma_t_prime).map_err(medium_error)?;
         let axes = &self.prepared().axes;
         if !axes.keeps_rho(rho) {
+            let [min, max] = axes.rho_domain();
             return Err(EmbedError::AlbedoOutsideTable {
                 what: what(),
                 rho,
                 table: self.index,
-                min: axes.rho().first(),
-                max: axes.rho().last(),
+                min,
+                max,
             });
         }
         Ok(ChannelLookup::new(self.clone(), rho, sigma_t_prime))

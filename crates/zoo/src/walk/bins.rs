@@ -10,7 +10,7 @@
 //! Bin (i, j) covers the annular sector r ∈ [r_i, r_{i+1}), φ ∈ [φ_j, φ_{j+1}) of area
 //! (r_{i+1}² − r_i²) Δφ / 2, in squared mean free paths.
 
-use crate::error::{finite, Error, Result};
+use crate::error::{finite, in_range, Error, Result};
 use std::f64::consts::{PI, TAU};
 
 /// Most geometric radial bins accepted.
@@ -19,6 +19,14 @@ pub const MAX_RADIAL: usize = 10_000;
 pub const MAX_PHI: usize = 3_600;
 /// Most bins in all, (radial + 1) · phi; a run keeps a few arrays of this size per thread.
 pub const MAX_BINS: usize = 1 << 18;
+
+/// The largest r_max, mean free paths: beyond about 1.3e154 a bin's area ½(r₂² − r₁²) was
+/// ∞ − ∞ (NaN), and beyond f64's range over r_min the geometric edges were NaN.
+pub const MAX_R: f64 = 1e150;
+
+/// The smallest r_min, mean free paths: below about 1e-154 a point's x² + y² underflows to 0
+/// and the point fell in the first bin whatever its bin.
+pub const MIN_R: f64 = 1e-150;
 
 /// Layout of the (r, φ) exit bins. Built by [`Bins::new`], which checks it.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -41,13 +49,16 @@ impl Bins {
     /// azimuthal bins (1 ≤ phi ≤ [`MAX_PHI`]), at most [`MAX_BINS`] bins in all.
     pub fn new(r_min: f64, r_max: f64, radial: usize, phi: usize) -> Result<Self> {
         finite("r_min", r_min)?;
-        finite("r_max", r_max)?;
+        // Squares of radii neither underflow nor overflow: a point's r from x² + y², and the
+        // bins' areas ½(r₂² − r₁²)
+        in_range("r_max", r_max, f64::MIN, MAX_R)?;
         if r_min <= 0.0 {
             return Err(Error::NotPositive {
                 name: "r_min",
                 value: r_min,
             });
         }
+        in_range("r_min", r_min, MIN_R, f64::MAX)?;
         if r_max <= r_min {
             return Err(Error::EdgesNotIncreasing {
                 lo_name: "r_min",
@@ -166,8 +177,14 @@ impl Bins {
         } else {
             // About 1 + ⌊ln(r/r_min)/ln q⌋, a logarithm in f32 being close enough for a first
             // guess; then nudged so that the published edges decide.
-            let k = ((r / self.r_min) as f32).ln() / self.ln_ratio as f32;
-            (1 + k.max(0.0) as usize).min(last)
+            // (In f64 where r/r_min passes f32's range: its logarithm would be +∞.)
+            let q = r / self.r_min;
+            let k = if q < f64::from(f32::MAX) {
+                (q as f32).ln() / self.ln_ratio as f32
+            } else {
+                (q.ln() / self.ln_ratio) as f32
+            };
+            (k.max(0.0) as usize).saturating_add(1).min(last)
         };
         while i > 1 && r < self.r_edges[i] {
             i -= 1;
@@ -236,6 +253,27 @@ mod tests {
         assert!(b.index(-1.0, -0.0).is_some());
         assert_eq!(b.index(f64::NAN, 0.0), None);
         assert_eq!(b.index(0.0, 0.0), Some(6));
+    }
+
+    /// At the ends of the domain: r/r_min beyond f32's range still finds its bin (it
+    /// overflowed to a panic), every edge and area is finite, and beyond the domain the layout
+    /// is refused naming the value (r_max = 1e308 gave NaN edges, r_min = 1e-300 radii that
+    /// underflowed into the first bin).
+    #[test]
+    fn extreme_layouts_have_finite_bins_or_are_refused() {
+        let b = Bins::new(MIN_R, MAX_R, 3, 2).unwrap();
+        for r in [MIN_R, 1e-100, 0.5, 1e100, 0.999 * MAX_R] {
+            let i = b.index(r, 0.0).unwrap() / 2;
+            assert!(b.r_edges()[i] <= r && r < b.r_edges()[i + 1], "{r}");
+        }
+        assert!(b.r_edges().iter().all(|e| e.is_finite()));
+        assert!((0..b.radial_count()).all(|i| b.area(i, 0).unwrap().is_finite()));
+        for (r_min, r_max, name) in [(0.1, 1e308, "r_max"), (1e-300, 1.0, "r_min")] {
+            match Bins::new(r_min, r_max, 3, 2) {
+                Err(Error::OutOfRange { name: n, .. }) => assert_eq!(n, name),
+                other => panic!("{r_min}, {r_max}: {other:?}"),
+            }
+        }
     }
 
     #[test]

@@ -82,3 +82,36 @@ fn a_nan_random_number_draws_nothing() {
     assert!(view.sample_perpendicular(0.5, 0.4, 0.6).is_some());
     assert!(view.sample_perpendicular(0.5, 0.4, f64::NAN).is_none());
 }
+
+/// Every uniform of a draw is in [0, 1), as the C header and Python say: a finite azimuthal
+/// uniform outside was clamped (u_φ = 7 or 1e300 drew φ = π) and the path draw's u[0] = 1 drew
+/// θ = 90°, where Python refused both. A draw from the largest uniform below 1 works.
+#[test]
+fn a_uniform_outside_0_1_draws_nothing() {
+    let view = fixtures()[0].1.view();
+    let below_one = 1.0 - f64::EPSILON / 2.0;
+    assert!(view.sample(0.5, 0.3, 0.4, below_one).is_some());
+    assert!(view
+        .sample_path(0.5, [below_one, 0.4, below_one, below_one])
+        .is_some());
+    for u in [
+        1.0,
+        7.0,
+        1e300,
+        -3.0,
+        -f64::MIN_POSITIVE,
+        f64::INFINITY,
+        f64::NAN,
+    ] {
+        assert!(view.sample(0.5, 0.3, 0.4, u).is_none(), "u_phi {u}");
+        assert!(
+            view.sample_perpendicular(0.5, 0.4, u).is_none(),
+            "u_phi {u}"
+        );
+        for k in 0..4 {
+            let mut uniforms = [0.3, 0.4, 0.5, 0.6];
+            uniforms[k] = u;
+            assert!(view.sample_path(0.5, uniforms).is_none(), "u[{k}] {u}");
+        }
+    }
+}

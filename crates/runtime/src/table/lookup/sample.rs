@@ -6,12 +6,13 @@ use super::*;
 impl TableRef<'_> {
     /// Draws (r, φ) for (ρ′, θ) from two uniforms (algorithm 2). `None` when the table holds no
     /// energy there (ρ′ = 0, light beyond the critical angle), (ρ′, θ) is outside the axes,
-    /// u_r is outside [0, 1] or draws the entry point (u_r = 0 on every baked table, where the
-    /// density is infinite), or u_φ is not finite (NaN or ±∞): a broken random stream draws
-    /// nothing rather than a plausible point. A finite u_φ outside [0, 1] is clamped into it.
+    /// u_r is outside [0, 1) or draws the entry point (u_r = 0 on every baked table, where the
+    /// density is infinite), or u_φ is outside [0, 1) (NaN and ±∞ included): a broken random
+    /// stream draws nothing rather than a plausible point.
     pub fn sample(&self, rho: f64, theta: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let rho = self.read_albedo(rho);
-        if !self.light_enters(theta) || !u_phi.is_finite() {
+        // (A uniform outside [0, 1) is a broken random stream: no plausible point)
+        if !self.light_enters(theta) || !(0.0..1.0).contains(&u_phi) {
             return None;
         }
         if let Some(ridge) = self.ridge_at(rho, theta) {
@@ -149,10 +150,10 @@ impl TableRef<'_> {
     }
 
     /// Perpendicular model's sampler: r from the θ = 0 slice, φ uniform. `None` as
-    /// [`TableRef::sample`] (a uniform that is not finite included).
+    /// [`TableRef::sample`] (a uniform outside [0, 1) included).
     pub fn sample_perpendicular(&self, rho: f64, u_r: f64, u_phi: f64) -> Option<Sample> {
         let rho = self.read_albedo(rho);
-        if !u_phi.is_finite() {
+        if !(0.0..1.0).contains(&u_phi) {
             return None;
         }
         let radial = self.with_slice(rho, 0.0, |s| self.radius_draw(s, u_r))??;
@@ -165,11 +166,11 @@ impl TableRef<'_> {
     }
 
     /// Path-tracing draw (algorithm 3): θ from ρ_eff(ρ′, ·), then (r, φ), then φ′ uniform.
-    /// `None` without the θ-sampling table, where no energy is stored or for a uniform that
-    /// is not finite (NaN or ±∞).
+    /// `None` without the θ-sampling table, where no energy is stored or for a uniform outside
+    /// [0, 1) (NaN and ±∞ included).
     pub fn sample_path(&self, rho: f64, u: [f64; 4]) -> Option<PathSample> {
         let rho = self.read_albedo(rho);
-        if u.iter().any(|u| !u.is_finite()) {
+        if u.iter().any(|u| !(0.0..1.0).contains(u)) {
             return None;
         }
         let theta_cdf = self.theta_cdf?;

@@ -29,6 +29,7 @@
 //! (the spline of the nodes' lobe shares), which the samplers' φ law approximates (see
 //! [`TableRef::cell_from`]); a separable renderer never uses the latter.
 
+use super::world::mm_to_reduced;
 use super::*;
 
 /// One draw of the exit distance alone, in the units of the lookup that drew it: reduced units
@@ -136,7 +137,10 @@ impl MediumRef<'_> {
     /// Density per mm of [`MediumRef::sample_radius`] at `r_mm`: 0 where it cannot sample.
     pub fn pdf_radius(&self, theta: f64, r_mm: f64) -> f64 {
         let st = self.sigma_t_prime();
-        st * self.world.table.pdf_radius(self.rho, theta, st * r_mm)
+        st * self
+            .world
+            .table
+            .pdf_radius(self.rho, theta, mm_to_reduced(r_mm, st))
     }
 
     /// The angular factor S/S̄ at (θ, r in mm, φ), dimensionless ([`TableRef::angular_factor`]
@@ -146,6 +150,6 @@ impl MediumRef<'_> {
         let st = self.sigma_t_prime();
         self.world
             .table
-            .angular_factor(self.rho, theta, st * r_mm, phi)
+            .angular_factor(self.rho, theta, mm_to_reduced(r_mm, st), phi)
     }
 }

@@ -13,6 +13,19 @@ pub fn reduced_to_mm(r: f64, sigma_t_prime: f64) -> f64 {
     r_mm
 }
 
+/// The reduced distance σ′t·r_mm, negative where r_mm is: a negative r_mm whose product
+/// underflows to −0 (−5e-324 mm at σ′t = 0.5) would be read as r = 0, while every lookup
+/// refuses a negative distance (the C interface's single calls by name, the batches with 0).
+#[inline]
+pub(super) fn mm_to_reduced(r_mm: f64, sigma_t_prime: f64) -> f64 {
+    let r = sigma_t_prime * r_mm;
+    if r == 0.0 && r_mm < 0.0 {
+        -f64::from_bits(1)
+    } else {
+        r
+    }
+}
+
 /// A table looked up in world units for a medium with reduced extinction σ′t (mm⁻¹):
 /// r_reduced = σ′t r_mm and S_world = σ′t² S_reduced (an area density).
 #[derive(Debug, Clone, Copy)]
@@ -39,7 +52,7 @@ impl<'a> World<'a> {
     #[inline]
     pub fn eval(&self, rho: f64, theta: f64, r_mm: f64, phi: f64) -> Option<f64> {
         let st = self.sigma_t_prime;
-        Some(st * st * self.table.eval(rho, theta, st * r_mm, phi)?)
+        Some(st * st * self.table.eval(rho, theta, mm_to_reduced(r_mm, st), phi)?)
     }
     /// Draws (r in mm, φ) with its density per mm², which is [`World::pdf`] there.
     ///
@@ -78,7 +91,7 @@ impl<'a> World<'a> {
     #[inline]
     pub fn pdf(&self, rho: f64, theta: f64, r_mm: f64, phi: f64) -> f64 {
         let st = self.sigma_t_prime;
-        st * st * self.table.pdf(rho, theta, st * r_mm, phi)
+        st * st * self.table.pdf(rho, theta, mm_to_reduced(r_mm, st), phi)
     }
 }
 
@@ -127,11 +140,12 @@ impl<'a> TableRef<'a> {
     pub fn medium(&self, rho_prime: f64, sigma_t_prime: f64) -> crate::Result<MediumRef<'a>> {
         let sigma_t_prime = crate::medium::check_sigma_t_prime(sigma_t_prime)?;
         if !self.keeps_rho(rho_prime) {
-            let rho = self.axes.rho();
+            // (The albedos the lookups take, as θ's errors name theta_domain)
+            let [min, max] = self.rho_domain();
             return Err(crate::Error::AlbedoOutsideTable {
                 rho: rho_prime,
-                min: rho.first(),
-                max: rho.last(),
+                min,
+                max,
             });
         }
         Ok(MediumRef::prevalidated(*self, rho_prime, sigma_t_prime))
