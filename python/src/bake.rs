@@ -321,6 +321,18 @@ pub fn bake(
             "eta is an empty sequence: give at least one eta to bake",
         ));
     }
+    // (One table per η: a repeated one would be baked once, quietly)
+    if let Some((k, &twice)) = etas
+        .iter()
+        .enumerate()
+        .find(|&(k, e)| etas[..k].contains(e))
+    {
+        return Err(PyValueError::new_err(format!(
+            "eta = {} is given twice (at positions {} and {k}): one table per eta",
+            bssrdf_zoo::error::number(twice),
+            etas.iter().position(|e| *e == twice).unwrap_or(0)
+        )));
+    }
     let default = PyString::new(py, "default");
     let settings = Settings::new(grid.unwrap_or(&default), lobes, moments, theta_sampling)?;
     run(py, settings.baker(), &[], &etas, threads, path)

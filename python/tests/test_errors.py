@@ -80,6 +80,8 @@ def test_bad_values_are_value_errors_naming_them(library, table):
         bz.models.eval("dipole", 0.5, 2.0, 1.0, 0.0)
     with pytest.raises(ValueError, match="grid"):
         bz.bake(1.33, grid="huge")
+    with pytest.raises(ValueError, match=r"eta = 1.33 is given twice \(at positions 0 and 2\)"):
+        bz.bake([1.33, 1.5, 1.33], grid=(4, 4, 8))
     # Grid counts are checked before anything is allocated, never silently raised
     for grid, needle in [
         ((3, 3, 2**40), r"grid's n_r = 1099511627776 is outside \[4, 65536\]"),
