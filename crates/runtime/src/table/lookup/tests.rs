@@ -274,6 +274,18 @@ fn two_lobe_lookups_give_the_same_bits_with_and_without_the_precomputed_shares()
     }
 }
 
+/// A one-lobe table on the albedo and θ axes given, six radii 0.5 apart, random valid nodes.
+fn random_table(rng: &mut SplitMix64, rho: Vec<f64>, theta: Vec<f64>) -> AngularTable {
+    let r: Vec<f64> = (0..6).map(|k| 0.5 * k as f64).collect();
+    let cells = rho.len() * theta.len() * r.len();
+    let axes = Axes::new(rho, theta, r).unwrap();
+    let params = (0..cells * PARAMS_PER_NODE)
+        .map(|_| (0.01 + rng.next_f64()) as f32)
+        .collect();
+    let radial_cdf = (0..cells).map(|k| (k % 6) as f32).collect();
+    AngularTable::from_parts(1.33, Moments::Exact, axes, params, radial_cdf, None).unwrap()
+}
+
 /// An angle given in f64 at an end node of a θ axis stored in f32 is the node: 45° lies just
 /// below f32(π/4), the first node of a table kept from 45°, and is looked up there; an angle a
 /// millionth of a radian below is outside.
@@ -284,16 +296,7 @@ fn an_end_node_given_in_f64_is_the_node() {
         .iter()
         .map(|d| f64::from(d.to_radians() as f32))
         .collect();
-    let rho = vec![0.0, 0.3, 0.6, 1.0];
-    let r: Vec<f64> = (0..6).map(|k| 0.5 * k as f64).collect();
-    let cells = rho.len() * theta.len() * r.len();
-    let axes = Axes::new(rho, theta.clone(), r).unwrap();
-    let params = (0..cells * PARAMS_PER_NODE)
-        .map(|_| (0.01 + rng.next_f64()) as f32)
-        .collect();
-    let radial_cdf = (0..cells).map(|k| (k % 6) as f32).collect();
-    let table =
-        AngularTable::from_parts(1.33, Moments::Exact, axes, params, radial_cdf, None).unwrap();
+    let table = random_table(&mut rng, vec![0.0, 0.3, 0.6, 1.0], theta.clone());
     let view = table.view();
     let given = 45f64.to_radians();
     assert!(given < theta[0], "45° in f64 lies below its f32 node");
@@ -317,16 +320,7 @@ fn an_end_node_given_in_f64_is_the_node() {
 fn an_end_albedo_given_in_f64_is_the_row() {
     let mut rng = SplitMix64::seed_from_u64(12);
     let rho: Vec<f64> = [0.3f32, 0.5, 0.7, 0.9].map(f64::from).to_vec();
-    let theta: Vec<f64> = vec![0.0, 0.5, 1.0, FRAC_PI_2];
-    let r: Vec<f64> = (0..6).map(|k| 0.5 * k as f64).collect();
-    let cells = rho.len() * theta.len() * r.len();
-    let axes = Axes::new(rho.clone(), theta, r).unwrap();
-    let params = (0..cells * PARAMS_PER_NODE)
-        .map(|_| (0.01 + rng.next_f64()) as f32)
-        .collect();
-    let radial_cdf = (0..cells).map(|k| (k % 6) as f32).collect();
-    let table =
-        AngularTable::from_parts(1.33, Moments::Exact, axes, params, radial_cdf, None).unwrap();
+    let table = random_table(&mut rng, rho.clone(), vec![0.0, 0.5, 1.0, FRAC_PI_2]);
     let view = table.view();
     let (first, last) = (rho[0], rho[3]);
     // (0.3 lies below its f32 node, 0.9 above; the shortest f32 forms on the other sides)
