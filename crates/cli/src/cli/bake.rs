@@ -84,7 +84,7 @@ impl ComponentArg {
 pub struct BakeArgs {
     /// Where the table's numbers come from: photon beam diffusion, or the Monte Carlo random
     /// walk for one --eta and --g (a walk-angular table, of --component: a few minutes on two
-    /// cores at g = 0 and the default --photons, about 5.8 times as long at g = 0.9;
+    /// cores at g = 0 and the default --photons, about four times as long at g = 0.9;
     /// docs/walk-table.md).
     #[arg(long, value_enum, default_value = "pbd")]
     pub(super) source: SourceArg,
@@ -429,10 +429,17 @@ pub(super) fn check_materials_used<'m>(
 fn custom(args: &BakeArgs, library: &MaterialLibrary) -> Result<Option<MaterialSpec>, CliError> {
     let given = args.sigma_s.is_some() || args.reflectance.is_some();
     if !given {
-        if args.g.is_some() || args.name.is_some() {
-            return Err(CliError::input(
-                "--g and --name describe a material given by --sigma-s/--sigma-a or --reflectance/--mfp; give one of those",
-            ));
+        // (Naming the flags given)
+        let flags = match (args.g.is_some(), args.name.is_some()) {
+            (true, true) => Some("--g and --name describe"),
+            (true, false) => Some("--g describes"),
+            (false, true) => Some("--name describes"),
+            (false, false) => None,
+        };
+        if let Some(flags) = flags {
+            return Err(CliError::input(format!(
+                "{flags} a material given by --sigma-s/--sigma-a or --reflectance/--mfp; give one of those"
+            )));
         }
         return Ok(None);
     }

@@ -38,7 +38,7 @@ fn parse_reflectances(text: &str) -> Result<Reflectances, String> {
 #[derive(Debug, Args)]
 pub struct InvertArgs {
     /// Library file whose table to invert on. Without it, the table `bssrdf bake --eta E` would
-    /// make is baked in memory (a few seconds on the default grid).
+    /// make is baked in memory (under a second on the default grid).
     file: Option<PathBuf>,
     /// The diffuse reflectance A wanted, one value or R,G,B: multiply scattered power leaving
     /// per unit power arriving at θ, the entry Fresnel transmittance included, in

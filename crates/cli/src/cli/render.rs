@@ -66,7 +66,7 @@ pub struct RenderArgs {
     /// Relative index of refraction η in [0.75, 2.5] with --sigma-s [default: 1.33].
     #[arg(long, requires = "sigma_s", conflicts_with_all = ["material", "preset"])]
     eta: Option<f64>,
-    /// Henyey–Greenstein g of every channel with --sigma-s [default: 0].
+    /// Henyey–Greenstein g of every channel with --sigma-s, in (−1, 1) [default: 0].
     #[arg(long, requires = "sigma_s", conflicts_with_all = ["material", "preset"])]
     g: Option<f64>,
     /// Extra material files (TOML file or folder) for --material.
@@ -85,7 +85,7 @@ pub struct RenderArgs {
     /// Photons traced, in [2, 1e12].
     #[arg(long, value_parser = super::values::whole::<u64>, default_value_t = 1_000_000)]
     photons: u64,
-    /// Picture size in pixels.
+    /// Picture size in pixels, each side a whole number in [1, 4096].
     #[arg(long, value_name = "W,H", value_parser = size, default_value = "256,256",
           allow_hyphen_values = true)]
     size: (usize, usize),
@@ -93,7 +93,8 @@ pub struct RenderArgs {
     /// a pixel's exitance (power over its area) underflows the picture's f32.
     #[arg(long, value_name = "MM", default_value_t = 10.0)]
     extent: f64,
-    /// Half-angle of the cone of incident light, degrees (0: collimated).
+    /// Half-angle of the cone of incident light, degrees in [0, 90) (0: collimated), with
+    /// --theta + --cone below 90 (grazing light does not enter).
     #[arg(long, value_name = "DEG", default_value_t = 1.0)]
     cone: f64,
     /// Seed of the per-photon streams (the picture does not depend on the thread count).
@@ -128,7 +129,8 @@ pub struct RenderArgs {
     /// Write no PNG previews.
     #[arg(long)]
     no_preview: bool,
-    /// Decades of exitance below the brightest pixel that the PNG preview shows (log scale).
+    /// Decades of exitance below the brightest pixel that the PNG preview shows (log scale),
+    /// > 0.
     #[arg(long, default_value_t = render::png::DECADES, conflicts_with = "no_preview")]
     decades: f64,
     /// Threads, in [1, 1024] (default: all cores).
@@ -189,6 +191,7 @@ pub fn run(args: RenderArgs) -> Result<ExitCode, CliError> {
     check_used(&args)?;
     let material = material(&args)?;
     let mut config = config(&args, args.model)?;
+    check_light_enters(&args, material.eta())?;
     config.walk_table = walk_table(&args, &material)?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
@@ -287,6 +290,23 @@ fn config(args: &RenderArgs, model: ModelKind) -> Result<Config, CliError> {
     };
     config.validate().map_err(input)?;
     Ok(config)
+}
+
+/// Refuses a beam of which no part enters (η < 1, the whole cone beyond the critical angle):
+/// its picture would be black, where `walk`, `zoo` and `invert` refuse such an incidence.
+fn check_light_enters(args: &RenderArgs, eta: f64) -> Result<(), CliError> {
+    let theta = args.theta.unwrap_or(0.0);
+    let lowest = (theta - args.cone).max(0.0);
+    if super::values::enters(lowest, eta) {
+        return Ok(());
+    }
+    Err(CliError::input(format!(
+        "--theta {} with --cone {} lies beyond the critical angle of eta {}, asin(eta) = {} deg: no light enters; keep --theta - --cone at most that",
+        super::show(theta),
+        super::show(args.cone),
+        super::show(eta),
+        super::show(super::values::critical_deg(eta))
+    )))
 }
 
 /// Refuses --materials without --material, --sigma-a, --eta and --g without --sigma-s, and

@@ -36,7 +36,7 @@ pub struct WalkArgs {
     /// A slab of this optical thickness instead of a half-space.
     #[arg(long, value_name = "TAU")]
     slab: Option<f64>,
-    /// Bins of the profile: r_min,r_max in mean free paths (0 < r_min < r_max), then the
+    /// Bins of the profile: r_min,r_max in mean free paths (1e-150 <= r_min < r_max <= 1e150), then the
     /// radial and φ bin counts, whole numbers in [1, 10000] and [1, 3600], with
     /// (radial + 1) × φ ≤ 262144. With --profile, which writes the binned profile, or --json,
     /// which gives the bins and the reflectance inside them (binned_reflectance).

@@ -534,3 +534,57 @@ fn a_file_and_points_both_on_stdin_are_refused_naming_both() {
     );
     assert!(ok(&o).starts_with("rho,theta_deg,r,phi_deg,value"));
 }
+
+/// Messages name the flags given and the ranges that hold: --name alone is named alone; walk
+/// --bins names its radii's domain; a render beam wholly beyond the critical angle of an
+/// η < 1 is refused as walk and zoo refuse it (it wrote a black picture).
+#[test]
+fn refusals_name_what_was_given_and_the_range_that_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = bssrdf(d, &["bake", "skin1", "--name", "foo", "-o", "x.bssrdf"]);
+    fails_with(&o, 2, "--name describes a material given by --sigma-s");
+    assert!(!text(&o.stderr).contains("--g"), "{}", text(&o.stderr));
+    for (bins, needle) in [
+        ("9e-151,1,1,1", "r_min = 9e-151 is outside [1e-150, 1e150]"),
+        (
+            "0.1,1.1e150,1,1",
+            "r_max = 1.1e150 is outside [1e-150, 1e150]",
+        ),
+    ] {
+        let args = [
+            "walk",
+            "--albedo",
+            "0.5",
+            "--photons",
+            "100",
+            "--json",
+            "--bins",
+            bins,
+        ];
+        fails_with(&bssrdf(d, &args), 2, needle);
+    }
+    let render = |theta: &str, cone: &str| {
+        let mut args = vec!["render", "--sigma-s", "1,1,1", "--sigma-a", "0.1,0.1,0.1"];
+        args.extend([
+            "--eta",
+            "0.8",
+            "--theta",
+            theta,
+            "--cone",
+            cone,
+            "--photons",
+            "100",
+        ]);
+        args.extend(["--size", "8,8", "--grid", "coarse", "-q", "-o", "x.exr"]);
+        bssrdf(d, &args)
+    };
+    fails_with(
+        &render("60", "1"),
+        2,
+        "--theta 60 with --cone 1 lies beyond the critical angle of eta 0.8",
+    );
+    assert!(!d.join("x.exr").exists());
+    // Part of the cone enters: a picture
+    ok(&render("54", "2"));
+}

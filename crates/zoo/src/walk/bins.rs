@@ -44,21 +44,21 @@ pub struct Bins {
 }
 
 impl Bins {
-    /// Bins with first edge `r_min` and last edge `r_max` (mean free paths, 0 < r_min < r_max,
-    /// finite), `radial` geometric bins between them (1 ≤ radial ≤ [`MAX_RADIAL`]) and `phi`
+    /// Bins with first edge `r_min` and last edge `r_max` (mean free paths, [`MIN_R`] ≤ r_min <
+    /// r_max ≤ [`MAX_R`]), `radial` geometric bins between them (1 ≤ radial ≤ [`MAX_RADIAL`]) and `phi`
     /// azimuthal bins (1 ≤ phi ≤ [`MAX_PHI`]), at most [`MAX_BINS`] bins in all.
     pub fn new(r_min: f64, r_max: f64, radial: usize, phi: usize) -> Result<Self> {
         finite("r_min", r_min)?;
-        // Squares of radii neither underflow nor overflow: a point's r from x² + y², and the
-        // bins' areas ½(r₂² − r₁²)
-        in_range("r_max", r_max, f64::MIN, MAX_R)?;
         if r_min <= 0.0 {
             return Err(Error::NotPositive {
                 name: "r_min",
                 value: r_min,
             });
         }
-        in_range("r_min", r_min, MIN_R, f64::MAX)?;
+        // Squares of radii neither underflow nor overflow: a point's r from x² + y², and the
+        // bins' areas ½(r₂² − r₁²)
+        in_range("r_min", r_min, MIN_R, MAX_R)?;
+        in_range("r_max", r_max, MIN_R, MAX_R)?;
         if r_max <= r_min {
             return Err(Error::EdgesNotIncreasing {
                 lo_name: "r_min",
