@@ -207,9 +207,8 @@ impl Library {
                 harmonics: position(SectionKind::Harmonics),
                 rebuild: view.rebuild(),
                 shares: view.harmonics().map(|h| {
-                    let n_r = view.axes().dims().2;
                     let params = table.record().gwc_params();
-                    crate::table::harmonic_shares_of(params, h, n_r, view.rebuild())
+                    crate::table::harmonic_shares_of(params, h, view.rebuild())
                 }),
                 ridge: view.ridge(),
             };

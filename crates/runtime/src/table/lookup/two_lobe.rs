@@ -8,8 +8,10 @@ use crate::table::{node_sharpness, SHARES_PER_NODE};
 pub(super) struct Shares {
     /// Per node, the four harmonics' shares of E.
     shares: [[f64; 4]; 4],
-    /// The sharpest lobe of the nodes blended, which caps the rebuild's.
-    sharpest: f64,
+    /// Per node of the window, the sharpest lobe of the rows blended there (each [`ramped`] in
+    /// by its row's weight); the nodes' own weights along r ramp these in turn into the cap of
+    /// the rebuild ([`TableRef::two_lobe_cell`]).
+    sharpest: [f32; 4],
 }
 
 /// Below this weight |ω| a row's sharpest lobe enters the cap of the rebuild in proportion to
@@ -55,9 +57,10 @@ impl TableRef<'_> {
     /// that at the ends of the albedo axis too, where E takes its own spline (`albedo_ends`)
     /// that a blend of rμₙ would not follow. 0 at a node where no row holds energy.
     ///
-    /// With them, the sharpest lobe among the nodes blended (`table::node_sharpness` of the
-    /// slice's rows of nonzero weight at the four nodes, where they hold energy, each [`ramped`]
-    /// in by its weight): the rebuild gives no sharper lobe ([`TwoLobe::from_moments_capped`]).
+    /// With them, per node of the window, the sharpest lobe of the rows blended there
+    /// (`table::node_sharpness` of the slice's rows of nonzero weight, where they hold energy,
+    /// each [`ramped`] in by its weight), which [`TableRef::two_lobe_cell`] ramps in by the
+    /// nodes' weights along r into the cap of the rebuild.
     pub(super) fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> Shares {
         // (A table of fewer than 4 radii goes node by node below: a window of 4 would run into
         // the next row.)
@@ -68,7 +71,7 @@ impl TableRef<'_> {
         // sum[n][k]: Σ ω × share n at node k; weight[k]: Σ ω over the rows with energy there.
         // In f32, like the stored values and the GWC window (`TableRef::blend`), and laid out per harmonic so the
         // four nodes of a row update together.
-        let (mut sum, mut weight, mut sharpest) = ([[0.0f32; 4]; 4], [0.0f32; 4], 0.0f32);
+        let (mut sum, mut weight, mut sharpest) = ([[0.0f32; 4]; 4], [0.0f32; 4], [0.0f32; 4]);
         let n = s.len.min(16);
         let (_, _, n_r) = self.axes.dims();
         let mut add = |w: f32, p: &[f32; 12], h: &[f32; 8]| {
@@ -91,7 +94,7 @@ impl TableRef<'_> {
                 weight[k] += if e[k] > 0.0 { w } else { 0.0 };
                 if e[k] > 0.0 && w != 0.0 {
                     let cell = [p[3 * k], p[3 * k + 1], p[3 * k + 2], h[2 * k], h[2 * k + 1]];
-                    sharpest = sharpest.max(ramped(w, node_sharpness(cell, self.rebuild)));
+                    sharpest[k] = sharpest[k].max(ramped(w, node_sharpness(cell, self.rebuild)));
                 }
             }
         };
@@ -133,22 +136,19 @@ impl TableRef<'_> {
                 [0.0; 4]
             }
         });
-        Shares {
-            shares,
-            sharpest: f64::from(sharpest),
-        }
+        Shares { shares, sharpest }
     }
 
     /// [`TableRef::harmonic_shares`] from the shares the table's owner computed
     /// (`table::harmonic_shares_of`): one blend of the four nodes' five values, in row order
     /// (the sums of [`TableRef::blend`], the same as dividing row by row, so the same bits), and
-    /// the largest of the window maxima that follow the shares over the rows with weight.
+    /// per node of the window the largest sharpness of the rows with weight, each ramped.
     /// `nodes`: the table's node count.
     fn blended_shares(s: &Slice, shares: &[f32], first: usize, nodes: usize) -> Shares {
         const WINDOW: usize = 4 * SHARES_PER_NODE;
         let mut acc = [0.0f32; WINDOW];
         let sharpness = shares.get(nodes * SHARES_PER_NODE..).unwrap_or_default();
-        let mut sharpest = 0.0f32;
+        let mut sharpest = [0.0f32; 4];
         for (&offset, &w) in s.offsets[..s.len.min(16)].iter().zip(&s.weights) {
             let node = offset as usize + first;
             if let Some(window) = shares
@@ -157,8 +157,14 @@ impl TableRef<'_> {
             {
                 axpy20(&mut acc, w, window);
             }
-            if let Some(&x) = sharpness.get(node).filter(|_| w != 0.0) {
-                sharpest = sharpest.max(ramped(w, x));
+            // (A window's four nodes lie in its row: `table::harmonic_shares_of`.) The branch
+            // of `ramped` once per row, the four nodes lane by lane
+            if let Some(x) = sharpness.get(node..).and_then(<[f32]>::first_chunk::<4>) {
+                if w.abs() >= CAP_RAMP_WEIGHT {
+                    max4(&mut sharpest, x);
+                } else if w != 0.0 {
+                    max4(&mut sharpest, &x.map(|x| ramp_below(w, x)));
+                }
             }
         }
         // Read back from memory: taken lane by lane from registers, the blend above compiles
@@ -175,7 +181,7 @@ impl TableRef<'_> {
         });
         Shares {
             shares: blended,
-            sharpest: f64::from(sharpest),
+            sharpest,
         }
     }
 
@@ -184,7 +190,8 @@ impl TableRef<'_> {
     /// harmonics' shares of E interpolated along r, times E/r (in the first two intervals the
     /// harmonics μₙ themselves, share × E/r at nodes 1 and 2, on the straight line between them,
     /// as the one-lobe β is there: the ln(1/r) growth of E is isotropic), and the profile of
-    /// [`TwoLobe::from_moments_capped`] with the sharpest node's concentration `cap`.
+    /// [`TwoLobe::from_moments_capped`] capped at the sharpest node's concentration, each node's
+    /// ramped in by its weight along r.
     pub(super) fn two_lobe_cell(
         &self,
         window: impl FnOnce() -> [f32; 12],
@@ -194,7 +201,16 @@ impl TableRef<'_> {
         w: &Weights,
         e_per_r: f64,
     ) -> TwoLobe {
-        let (shares, cap) = (&blended.shares, blended.sharpest);
+        let shares = &blended.shares;
+        // The cap: each node's sharpest lobe ramped in by its weight along r, as the rows' are
+        // by theirs, so that it moves on continuously where the window does (at a node, the
+        // node it drops has weight 0)
+        let cap = |weights: [f64; 4]| {
+            let ramped = std::array::from_fn::<f32, 4, _>(|k| {
+                ramped(weights[k] as f32, blended.sharpest[k])
+            });
+            f64::from(ramped.into_iter().fold(0.0f32, f32::max))
+        };
         let r_nodes = self.axes.r().as_slice();
         if w.segment() <= 1 && r_nodes[0] == 0.0 {
             let acc = window();
@@ -208,7 +224,13 @@ impl TableRef<'_> {
                 None => (a, 0.0),
             };
             let m = std::array::from_fn(|j| a[j] + t * (b[j] - a[j]));
-            return TwoLobe::from_moments_capped(e_per_r, m, cap, self.rebuild);
+            // (nodes 1 and 2 on the line between them)
+            let mut weights = [0.0; 4];
+            weights[1 - first] = 1.0 - t;
+            if r_nodes.len() > 2 {
+                weights[2 - first] = t;
+            }
+            return TwoLobe::from_moments_capped(e_per_r, m, cap(weights), self.rebuild);
         }
         let weights = node_weights(first, w);
         let mut share = [0.0; 4];
@@ -219,6 +241,7 @@ impl TableRef<'_> {
                 }
             }
         }
+        let cap = cap(weights);
         TwoLobe::from_moments_capped(e_per_r, share.map(|x| x * e_per_r), cap, self.rebuild)
     }
 
@@ -302,6 +325,14 @@ impl TableRef<'_> {
             self.two_lobe_cell(window, &shares, first, r_eval, &w, e_per_r)
                 .eval(wrap_phi(phi))
         })
+    }
+}
+
+/// m = max(m, x) lane by lane (the values are concentrations, never NaN), packed.
+#[inline(always)]
+fn max4(m: &mut [f32; 4], x: &[f32; 4]) {
+    for k in 0..4 {
+        m[k] = if x[k] > m[k] { x[k] } else { m[k] };
     }
 }
 
