@@ -36,7 +36,7 @@ struct Prepared {
     harmonics: Option<usize>,
     /// How its lookups rebuild the lobes (the file's rule).
     rebuild: Rebuild,
-    /// A two-lobe table's `table::harmonic_shares_of`, computed at open: 24 bytes per node,
+    /// A two-lobe table's `table::harmonic_shares_of`, computed at open: 28 bytes per node,
     /// which take its lookups from dividing 16 rows × 4 nodes each to one blend.
     shares: Option<Vec<f32>>,
     /// What its nodes hold less, the ridge its lookups add back (the record's `ridge`).
@@ -207,8 +207,9 @@ impl Library {
                 harmonics: position(SectionKind::Harmonics),
                 rebuild: view.rebuild(),
                 shares: view.harmonics().map(|h| {
+                    let n_r = view.axes().dims().2;
                     let params = table.record().gwc_params();
-                    crate::table::harmonic_shares_of(params, h, view.rebuild())
+                    crate::table::harmonic_shares_of(params, h, n_r, view.rebuild())
                 }),
                 ridge: view.ridge(),
             };

@@ -236,10 +236,16 @@ pub(crate) const SHARES_PER_NODE: usize = 5;
 /// and of rμ₃, rμ₄, each times 1/E where the node holds energy (E > 0) and 0 elsewhere, then
 /// 1 or 0 for whether it does. In f32 with the lookups' own operations, so that blending these
 /// gives bit for bit what dividing row by row gives (tested in `lookup/tests.rs`). After these
-/// [`SHARES_PER_NODE`] values of every node, one more per node: its [`node_sharpness`] by the
-/// table's `rebuild` (0 where it holds no energy), which lookups ramp in by the node's weight
-/// (`lookup::two_lobe`).
-pub(crate) fn harmonic_shares_of(params: &[f32], harmonics: &[f32], rebuild: Rebuild) -> Vec<f32> {
+/// [`SHARES_PER_NODE`] values of every node, one more per node: the largest [`node_sharpness`]
+/// of it and the next three along r (the window a lookup from it reads; 0 where none holds
+/// energy), then one more: its own, which lookups near a radius node ramp in by the node's
+/// weight (`lookup::two_lobe`). `n_r`: the radii per row.
+pub(crate) fn harmonic_shares_of(
+    params: &[f32],
+    harmonics: &[f32],
+    n_r: usize,
+    rebuild: Rebuild,
+) -> Vec<f32> {
     let cells = || {
         params
             .chunks_exact(PARAMS_PER_NODE)
@@ -258,7 +264,17 @@ pub(crate) fn harmonic_shares_of(params: &[f32], harmonics: &[f32], rebuild: Reb
         let [s1, s2, s3, s4] = node_shares([p[0], p[1], p[2], h[0], h[1]]);
         [s1, s2, s3, s4, if p[0] > 0.0 { 1.0 } else { 0.0 }]
     });
-    shares.chain(sharpness).collect()
+    // Each node's window of four along r (within its row), for the lookups away from nodes
+    let n_r = n_r.max(1);
+    let window_max: Vec<f32> = (0..sharpness.len())
+        .map(|node| {
+            let end = (node / n_r + 1) * n_r;
+            sharpness[node..(node + 4).min(end)]
+                .iter()
+                .fold(0.0f32, |m, &x| m.max(x))
+        })
+        .collect();
+    shares.chain(window_max).chain(sharpness).collect()
 }
 
 /// How far (relative to E) a node's stored r·μ₃ and r·μ₄ must depart from its one lobe's,
@@ -595,7 +611,12 @@ impl AngularTable {
     ) -> Result<Self, TableError> {
         self.view().with_harmonics(&harmonics)?;
         Ok(Self {
-            shares: Some(harmonic_shares_of(&self.params, &harmonics, rebuild)),
+            shares: Some(harmonic_shares_of(
+                &self.params,
+                &harmonics,
+                self.axes.dims().2,
+                rebuild,
+            )),
             harmonics: Some(harmonics),
             rebuild,
             ..self

@@ -115,3 +115,23 @@ fn a_uniform_outside_0_1_draws_nothing() {
         }
     }
 }
+
+/// Below η = 1 the θ axis ends at the critical angle rounded to f32, a little above asin η:
+/// a path draw whose θ uniform was within about 10⁻⁷ of 1 fell between the two and drew
+/// nothing (3.7·10⁻⁸ of uniforms at η = 0.75, found from outside). It draws the critical
+/// angle now, with its density.
+#[test]
+fn a_path_draw_at_the_end_of_the_theta_uniform_is_lit_below_eta_1() {
+    use bssrdf_zoo::table::{bake, GridPreset, Lobes};
+    let grid = GridPreset::Coarse.grid(0.75, Lobes::One);
+    let (table, _) = bake(0.75, bssrdf_zoo::fresnel::Moments::Exact, &grid, true).unwrap();
+    let view = table.view();
+    let last = f64::from(1.0f32 - f32::EPSILON / 2.0);
+    for u0 in [0.999_999_97, 1.0 - 1e-12, 1.0 - f64::EPSILON / 2.0, last] {
+        let p = view.sample_path(0.5, [u0, 0.3, 0.4, 0.5]);
+        let p = p.unwrap_or_else(|| panic!("u0 = {u0}: no draw"));
+        assert!(p.theta <= 0.75f64.asin() + 1e-15, "u0 = {u0}: {}", p.theta);
+        assert_eq!(p.pdf_theta, view.pdf_theta(0.5, p.theta), "u0 = {u0}");
+        assert!(p.pdf_theta > 0.0 && p.pdf > 0.0, "u0 = {u0}");
+    }
+}

@@ -247,7 +247,7 @@ impl<'a> TableRef<'a> {
         if let Some(second) = self.harmonics {
             // The samplers' profile: normalised (E/r = 1) except in the first two intervals,
             // where the harmonics are outright and E/r the plain spline's
-            let shares = self.harmonic_shares(s, second, first);
+            let shares = self.harmonic_shares(s, second, first, w);
             let e_per_r = if w.segment() <= 1 && self.axes.r().as_slice()[0] == 0.0 {
                 let (e, _, _) = self.cell_from::<false>(acc, first, r_eval, w, s.blend);
                 (e / r_eval).max(0.0)

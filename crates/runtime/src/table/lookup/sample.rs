@@ -178,9 +178,14 @@ impl TableRef<'_> {
         let (_, n_theta, _) = self.axes.dims();
         let rho_eff = |j: usize| w_rho.apply_rows(|i| self.node_total(i, j));
         let cdf = |j: usize| w_rho.apply_rows(|i| f64::from(theta_cdf[i * n_theta + j]));
-        let t = self.axes.theta().sample(rho_eff, cdf, u[0])?;
+        let mut t = self.axes.theta().sample(rho_eff, cdf, u[0])?;
         if !self.light_enters(t.x) {
-            return None;
+            // Below η = 1 the last lit node is the critical angle rounded to f32, a little
+            // above asin η where light stops entering: a θ drawn between the two (u[0] within
+            // about 10⁻⁷ of 1) is the critical angle itself, with its density
+            let lit = self.critical_below(t.x)?;
+            t.pdf = self.axes.theta().pdf(rho_eff, cdf, lit);
+            t.x = lit;
         }
         let w_theta = self.axes.theta().weights(t.x)?;
         let s = self.slice_of(&w_rho.energy, &w_theta, Blend::new(&w_rho, rho, t.x));
@@ -197,6 +202,23 @@ impl TableRef<'_> {
             pdf_theta: t.pdf,
             pdf: t.pdf * rphi.pdf / TAU,
         })
+    }
+
+    /// The largest angle at most `theta` where light enters, if one lies within f32 rounding
+    /// (2⁻²³ of it) below: the critical angle of an η < 1 as the lookups see it.
+    fn critical_below(&self, theta: f64) -> Option<f64> {
+        let floor = theta * (1.0 - 1.0 / f64::from(1u32 << 23));
+        let critical = self.eta.asin();
+        (critical >= floor && critical <= theta)
+            .then(|| {
+                // asin η's sine can round above η: step down to the first angle that enters
+                let mut x = critical;
+                while !self.light_enters(x) && x > floor {
+                    x = crate::float::next_down(x);
+                }
+                x
+            })
+            .filter(|&x| self.light_enters(x))
     }
 
     /// Density of θ in [`TableRef::sample_path`], per radian: 0 where no light enters (beyond

@@ -61,12 +61,25 @@ impl TableRef<'_> {
     /// (`table::node_sharpness` of the slice's rows of nonzero weight, where they hold energy,
     /// each [`ramped`] in by its weight), which [`TableRef::two_lobe_cell`] ramps in by the
     /// nodes' weights along r into the cap of the rebuild.
-    pub(super) fn harmonic_shares(&self, s: &Slice, second: &[f32], first: usize) -> Shares {
+    pub(super) fn harmonic_shares(
+        &self,
+        s: &Slice,
+        second: &[f32],
+        first: usize,
+        w: &Weights,
+    ) -> Shares {
         // (A table of fewer than 4 radii goes node by node below: a window of 4 would run into
         // the next row.)
         if let Some(shares) = self.shares.filter(|_| self.axes.dims().2 >= 4) {
             let (n_rho, n_theta, n_r) = self.axes.dims();
-            return Self::blended_shares(s, shares, first, n_rho * n_theta * n_r);
+            // Where every node of the window weighs at least the ramp's weight along r (away
+            // from the nodes and the first two intervals), the ramp leaves each node's
+            // sharpness whole: the window's precomputed maximum, one read per row, is the cap
+            let whole = w.segment() > 1
+                && w.as_array()
+                    .iter()
+                    .all(|x| x.abs() >= f64::from(CAP_RAMP_WEIGHT));
+            return Self::blended_shares(s, shares, first, n_rho * n_theta * n_r, whole);
         }
         // sum[n][k]: Σ ω × share n at node k; weight[k]: Σ ω over the rows with energy there.
         // In f32, like the stored values and the GWC window (`TableRef::blend`), and laid out per harmonic so the
@@ -144,10 +157,17 @@ impl TableRef<'_> {
     /// (the sums of [`TableRef::blend`], the same as dividing row by row, so the same bits), and
     /// per node of the window the largest sharpness of the rows with weight, each ramped.
     /// `nodes`: the table's node count.
-    fn blended_shares(s: &Slice, shares: &[f32], first: usize, nodes: usize) -> Shares {
+    fn blended_shares(
+        s: &Slice,
+        shares: &[f32],
+        first: usize,
+        nodes: usize,
+        whole: bool,
+    ) -> Shares {
         const WINDOW: usize = 4 * SHARES_PER_NODE;
         let mut acc = [0.0f32; WINDOW];
-        let sharpness = shares.get(nodes * SHARES_PER_NODE..).unwrap_or_default();
+        let after = shares.get(nodes * SHARES_PER_NODE..).unwrap_or_default();
+        let (window_max, own) = after.split_at(nodes.min(after.len()));
         let mut sharpest = [0.0f32; 4];
         for (&offset, &w) in s.offsets[..s.len.min(16)].iter().zip(&s.weights) {
             let node = offset as usize + first;
@@ -157,15 +177,22 @@ impl TableRef<'_> {
             {
                 axpy20(&mut acc, w, window);
             }
+            if whole {
+                if let Some(&x) = window_max.get(node).filter(|_| w != 0.0) {
+                    sharpest[0] = sharpest[0].max(ramped(w, x));
+                }
             // (A window's four nodes lie in its row: `table::harmonic_shares_of`.) The branch
             // of `ramped` once per row, the four nodes lane by lane
-            if let Some(x) = sharpness.get(node..).and_then(<[f32]>::first_chunk::<4>) {
+            } else if let Some(x) = own.get(node..).and_then(<[f32]>::first_chunk::<4>) {
                 if w.abs() >= CAP_RAMP_WEIGHT {
                     max4(&mut sharpest, x);
                 } else if w != 0.0 {
                     max4(&mut sharpest, &x.map(|x| ramp_below(w, x)));
                 }
             }
+        }
+        if whole {
+            sharpest = [sharpest[0]; 4];
         }
         // Read back from memory: taken lane by lane from registers, the blend above compiles
         // to half-filled vectors (a third more instructions per row, 8 % of an evaluation)
@@ -293,7 +320,7 @@ impl TableRef<'_> {
         // E/r as `Cell::profile` takes it (the one lobe's β and c are not needed here)
         let (e, _, _) = self.cell_from::<true>(acc, first, r_eval, &w, blend);
         let e_per_r = (e / r_eval).max(0.0);
-        let shares = self.harmonic_shares(&s, second, first);
+        let shares = self.harmonic_shares(&s, second, first, &w);
         Some(
             self.two_lobe_cell(|| acc, &shares, first, r_eval, &w, e_per_r)
                 .eval(wrap_phi(phi)),
@@ -319,7 +346,7 @@ impl TableRef<'_> {
                 return 0.0;
             };
             let first = self.radial_window(&w);
-            let shares = self.harmonic_shares(s, second, first);
+            let shares = self.harmonic_shares(s, second, first, &w);
             // The first array's window only in the first two intervals, which read it
             let window = || self.window(s, first);
             self.two_lobe_cell(window, &shares, first, r_eval, &w, e_per_r)
