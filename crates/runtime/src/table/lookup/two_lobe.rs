@@ -156,7 +156,8 @@ impl TableRef<'_> {
     /// (`table::harmonic_shares_of`): one blend of the four nodes' five values, in row order
     /// (the sums of [`TableRef::blend`], the same as dividing row by row, so the same bits), and
     /// per node of the window the largest sharpness of the rows with weight, each ramped.
-    /// `nodes`: the table's node count.
+    /// `nodes`: the table's node count; `whole`: every node of the window weighs at least the
+    /// ramp's weight along r, so that each node counts whole and the window's maximum serves.
     fn blended_shares(
         s: &Slice,
         shares: &[f32],
@@ -177,12 +178,13 @@ impl TableRef<'_> {
             {
                 axpy20(&mut acc, w, window);
             }
+            // The sharpness: the window's maximum (in lane 0), or each of its four nodes (they
+            // lie in the row, `table::harmonic_shares_of`) lane by lane, `ramped`'s branch once
+            // per row
             if whole {
                 if let Some(&x) = window_max.get(node).filter(|_| w != 0.0) {
                     sharpest[0] = sharpest[0].max(ramped(w, x));
                 }
-            // (A window's four nodes lie in its row: `table::harmonic_shares_of`.) The branch
-            // of `ramped` once per row, the four nodes lane by lane
             } else if let Some(x) = own.get(node..).and_then(<[f32]>::first_chunk::<4>) {
                 if w.abs() >= CAP_RAMP_WEIGHT {
                     max4(&mut sharpest, x);
