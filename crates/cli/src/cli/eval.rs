@@ -264,7 +264,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode, CliError> {
         }
     }
     if let (Some(file), Some(points)) = (&args.file, &args.points) {
-        if points.as_os_str() == "-" && is_stdin(file) {
+        if points.as_os_str() == "-" && super::output::is_stream_of(file, "/dev/stdin") {
             return Err(CliError::input(format!(
                 "FILE {} and --points - both read standard input: give one of them as a file",
                 file.display()
@@ -456,26 +456,6 @@ fn json_limit(v: f64) -> serde_json::Value {
         serde_json::json!(v.to_string())
     } else {
         serde_json::Value::Null
-    }
-}
-
-/// Whether `path` is this process's standard input (`/dev/stdin`, `/proc/self/fd/0`, or any
-/// other name of the same open file).
-fn is_stdin(path: &std::path::Path) -> bool {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        let same =
-            |a: &std::fs::Metadata, b: &std::fs::Metadata| a.dev() == b.dev() && a.ino() == b.ino();
-        match (std::fs::metadata(path), std::fs::metadata("/dev/stdin")) {
-            (Ok(a), Ok(b)) => same(&a, &b),
-            _ => false,
-        }
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = path;
-        false
     }
 }
 

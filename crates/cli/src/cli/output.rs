@@ -99,7 +99,7 @@ pub fn not_on_stdout(what: &str, path: &Path, prints: &str, instead: &str) -> Re
     Ok(())
 }
 
-/// Whether `path` is the file a standard stream (`/dev/stdout`, `/dev/stderr`) leads to: the
+/// Whether `path` is the file a standard stream (`/dev/stdin`, `/dev/stdout`, `/dev/stderr`) leads to: the
 /// same device and inode, whatever the path's spelling (`/dev/fd/2`, `/proc/self/fd/2`).
 pub fn is_stream_of(path: &Path, stream: &str) -> bool {
     #[cfg(unix)]
